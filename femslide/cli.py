@@ -1,0 +1,221 @@
+"""The command-line contract of SPEC section 7.
+
+    femslide scenes
+    femslide solve SCENE [--set NAME=VALUE]... [--json] [--out DIR]
+    femslide simulate SCENE [--set NAME=VALUE]... [--json] [--out DIR]
+    femslide sweep SCENE --vary NAME=V1,V2,... [--set NAME=VALUE]... [--json] [--out DIR] [--jobs N]
+
+Exit status: 0 converged, 1 failed to converge (reason on stderr), 2 bad input (the message names
+the parameter and its allowed range).  This module imports nothing heavy: the scene's runner pulls in
+what that scene needs.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import time
+
+from .errors import BadInput, SolverFailure
+from .params import parse_assignments
+from .scenes import SCENES, get as _get_scene
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # argparse exits 2 too, but without a traceback and with our prefix
+        self.print_usage(sys.stderr)
+        raise BadInput(message)
+
+
+def _build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="femslide", description="Planar structures on flexible rods with sliding joints.")
+    sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser)
+    sc = sub.add_parser("scenes", help="list the built-in scenes, their parameters and defaults")
+    sc.add_argument("--json", action="store_true")
+    for name in ("solve", "simulate", "sweep"):
+        s = sub.add_parser(name)
+        s.add_argument("scene")
+        s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
+        s.add_argument("--json", action="store_true")
+        s.add_argument("--out", metavar="DIR")
+        s.add_argument("--quiet", action="store_true", help="no progress bar")
+        if name == "sweep":
+            s.add_argument("--vary", required=True, metavar="NAME=V1,V2,...")
+            s.add_argument("--jobs", type=int, default=1)
+    return p
+
+
+def _fmt(v):
+    if isinstance(v, float):
+        return f"{v:.10g}"
+    if v is None:
+        return "-"
+    return str(v)
+
+
+def _print_scenes(as_json: bool):
+    if as_json:
+        out = []
+        for s in SCENES.values():
+            out.append({"name": s.name, "command": s.command, "model": s.model,
+                        "params": [{"name": p.name, "default": p.default, "unit": p.unit,
+                                    "allowed": p.range_text(), "meaning": p.meaning,
+                                    **({"derived": p.derived} if p.derived else {})}
+                                   for p in s.params.params()]})
+        print(json.dumps(out, indent=1))
+        return
+    for s in SCENES.values():
+        print(f"{s.name}  ({s.command})  {s.model}")
+        for p in s.params.params():
+            default = p.derived if p.default is None and p.derived else _fmt(p.default)
+            print(f"    {p.name:<12} {default:>12} {p.unit:<8} {p.range_text():<28} {p.meaning}")
+        print()
+
+
+def _print_result(res: dict):
+    for key, val in res.items():
+        if isinstance(val, dict):
+            inner = ", ".join(f"{k}={_fmt(x) if not isinstance(x, dict) else x}" for k, x in val.items())
+            print(f"{key:>16}: {inner}")
+        elif isinstance(val, list):
+            print(f"{key:>16}: [{len(val)} entries]")
+        else:
+            print(f"{key:>16}: {_fmt(val)}")
+
+
+def _clean(obj):
+    """JSON-safe copy: numpy scalars to float, non-finite floats to null."""
+    if isinstance(obj, dict):
+        return {k: _clean(v) for k, v in obj.items() if not str(k).startswith("_")}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
+        return obj
+    if isinstance(obj, int):
+        return obj
+    try:
+        x = float(obj)
+    except (TypeError, ValueError):
+        return str(obj)
+    return x if math.isfinite(x) else None
+
+
+def run_one(scene, values, warm=None, out=None):
+    """Run a scene; return (result dict, state).  The result carries ``wall_time_s``."""
+    t0 = time.perf_counter()
+    res, state = scene.run(values, warm)
+    res = dict(res)
+    res["wall_time_s"] = time.perf_counter() - t0
+    if out:
+        os.makedirs(out, exist_ok=True)
+        writer = res.pop("_write", None)
+        if writer is not None:
+            res["files"] = writer(out)
+        with open(os.path.join(out, "result.json"), "w") as fh:
+            json.dump(_clean(res), fh, indent=1)
+    res.pop("_write", None)
+    return res, state
+
+
+def _solve(args, command):
+    scene = _get_scene(args.scene)
+    if scene.command != command:
+        raise BadInput(f"scene {scene.name} is a '{scene.command}' scene; run: femslide {scene.command} {scene.name}")
+    values = scene.resolve(parse_assignments(args.set))
+    try:
+        res, _ = run_one(scene, values, out=args.out)
+    except SolverFailure as exc:
+        if args.json:
+            print(json.dumps({"converged": False, "reason": exc.reason,
+                              "history": _clean(exc.history)}))
+        print(f"femslide: {scene.name} failed to converge: {exc}", file=sys.stderr)
+        return 1
+    if args.json:
+        print(json.dumps(_clean(res)))
+    else:
+        _print_result(_clean(res))
+    return 0 if res.get("converged", True) else 1
+
+
+def _parse_vary(text):
+    if "=" not in text:
+        raise BadInput(f"--vary expects NAME=V1,V2,..., got {text!r}")
+    name, vals = text.split("=", 1)
+    items = [v.strip() for v in vals.split(",") if v.strip()]
+    if not items:
+        raise BadInput(f"--vary {name}: no values given")
+    return name.strip(), items
+
+
+def _sweep(args):
+    scene = _get_scene(args.scene)
+    name, items = _parse_vary(args.vary)
+    base = parse_assignments(args.set)
+    if name in base:
+        raise BadInput(f"parameter {name} is both set and varied")
+    cases = [scene.resolve({**base, name: item}) for item in items]  # all checked before any run
+    rows, warm, status = [], None, 0
+    stream = None
+    if args.out:
+        os.makedirs(args.out, exist_ok=True)
+        stream = open(os.path.join(args.out, "sweep.jsonl"), "a")
+    try:
+        for i, values in enumerate(cases):
+            out_i = os.path.join(args.out, f"case_{i:03d}") if args.out else None
+            try:
+                res, warm = run_one(scene, values, warm, out=out_i)
+            except SolverFailure as exc:
+                res, warm = {"converged": False, "reason": exc.reason}, None
+                print(f"femslide: {scene.name} {name}={values[name]:g} failed: {exc}", file=sys.stderr)
+                status = 1
+            res = {name: values[name], **_clean(res)}
+            rows.append(res)
+            if stream:
+                stream.write(json.dumps(res) + "\n")
+                stream.flush()
+            if not args.json:
+                _print_row(name, res)
+    finally:
+        if stream:
+            stream.close()
+    if args.json:
+        print(json.dumps(rows))
+    return status
+
+
+def _print_row(name, res):
+    keys = [k for k in ("phi", "M_max", "slide", "iterations", "error_estimate", "wall_time_s") if k in res]
+    print(f"{name}={_fmt(res[name]):>12}  converged={res.get('converged')}  "
+          + "  ".join(f"{k}={_fmt(res[k])}" for k in keys), flush=True)
+
+
+def main(argv=None) -> int:
+    try:
+        args = _build_parser().parse_args(argv)
+        if args.cmd == "scenes":
+            _print_scenes(args.json)
+            return 0
+        if args.cmd in ("solve", "simulate"):
+            return _solve(args, args.cmd)
+        return _sweep(args)
+    except BadInput as exc:
+        print(f"femslide: error: {exc}", file=sys.stderr)
+        return 2
+    except SolverFailure as exc:
+        print(f"femslide: failed: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("femslide: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # an internal error: say so plainly; FEMSLIDE_DEBUG=1 shows the traceback
+        if os.environ.get("FEMSLIDE_DEBUG"):
+            raise
+        print(f"femslide: internal error: {type(exc).__name__}: {exc} "
+              f"(set FEMSLIDE_DEBUG=1 for the traceback)", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,59 @@
+"""Built-in scenes as data: the parameters each accepts, its defaults, its rules and its runner.
+
+A runner is named ``"module:function"`` and imported only when the scene runs, so listing scenes or
+solving a spring-hinge scene never imports the FE machinery (or numpy).  A runner has the signature
+``run(values: dict, warm=None) -> (result: dict, state)``: ``values`` are validated parameters,
+``warm`` the ``state`` a previous run of the same scene returned (sweeps continue from it), and
+``result`` the JSON object of the contract (SPEC section 7).  Runners raise
+:class:`~femslide.errors.SolverFailure` when they do not converge.
+"""
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+
+from .errors import BadInput
+from .params import ParamSet, rule_l1_lt_l, rule_mu0_ge_mu
+
+GEOMETRY = ("a", "b", "d", "l", "m", "g")
+
+
+@dataclass(frozen=True)
+class Scene:
+    name: str
+    command: str  # "solve" or "simulate"
+    model: str
+    params: ParamSet
+    runner: str
+
+    def resolve(self, given: dict) -> dict:
+        return self.params.resolve(given, scene=self.name)
+
+    def run(self, values: dict, warm=None):
+        module, func = self.runner.split(":")
+        return getattr(importlib.import_module(module, __package__), func)(values, warm)
+
+
+def _rule_fe_l1(v):
+    return None
+
+
+SCENES: dict[str, Scene] = {s.name: s for s in [
+    Scene("hinge-slider", "solve", "section 2: rigid fixed rod; sliding rod with a spring hinge at height l1",
+          ParamSet(GEOMETRY + ("l1", "c"), rules=(rule_l1_lt_l,)), ".runners:hinge_slider"),
+    Scene("hinge-fixed", "solve", "section 3: fixed rod with a spring hinge at l/2; rigid sliding rod",
+          ParamSet(GEOMETRY + ("c",)), ".runners:hinge_fixed"),
+    Scene("hinge-spring", "solve", "section 4: section 2 plus a linear spring k between rod and guide",
+          ParamSet(GEOMETRY + ("l1", "c", "k"), rules=(rule_l1_lt_l,)), ".runners:hinge_spring"),
+    Scene("hinge-extra-mass", "solve",
+          "section 5.1: preloaded slider spring, telescopic rod piece (m1, l2), extra mass dm on the body",
+          ParamSet(GEOMETRY + ("l1", "c", "k", "dm", "m1", "l2"), defaults={"dm": 1e-3},
+                   rules=(rule_l1_lt_l,)), ".runners:hinge_extra_mass"),
+]}
+
+
+def get(name: str) -> Scene:
+    try:
+        return SCENES[name]
+    except KeyError:
+        raise BadInput(f"unknown scene {name!r}; built-in scenes: {', '.join(SCENES)}") from None
