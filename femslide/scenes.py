@@ -34,10 +34,6 @@ class Scene:
         return getattr(importlib.import_module(module, __package__), func)(values, warm)
 
 
-def _rule_fe_l1(v):
-    return None
-
-
 SCENES: dict[str, Scene] = {s.name: s for s in [
     Scene("hinge-slider", "solve", "section 2: rigid fixed rod; sliding rod with a spring hinge at height l1",
           ParamSet(GEOMETRY + ("l1", "c"), rules=(rule_l1_lt_l,)), ".runners:hinge_slider"),
@@ -49,6 +45,8 @@ SCENES: dict[str, Scene] = {s.name: s for s in [
           "section 5.1: preloaded slider spring, telescopic rod piece (m1, l2), extra mass dm on the body",
           ParamSet(GEOMETRY + ("l1", "c", "k", "dm", "m1", "l2"), defaults={"dm": 1e-3},
                    rules=(rule_l1_lt_l,)), ".runners:hinge_extra_mass"),
+    # -- FE statics scenes (femslide/statics.py) --
+    # -- one-mass dynamic scenes (femslide/sdof.py) --
 ]}
 
 
