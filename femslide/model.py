@@ -1,0 +1,175 @@
+"""Assembly of a planar model: flexible rods, one rigid body, joints and loads.
+
+Unknowns y = [q, mu] (+ lam in displacement control): q holds the nodal dofs (u, v, theta) of every
+rod node, then the body dofs (U, V, Theta); mu the constraint multipliers.  The equations are the
+stationarity of the Lagrangian  U_rods(q) + lam V_loads(q) + sum mu_i g_i(q):
+
+    R(q) + lam f(q) + G(q)^T mu = 0,    g(q) = 0,
+
+solved by Newton with the consistent tangent [[K + lam K_V + sum mu_i H_i, G^T], [G, 0]].
+In displacement control the body rotation is prescribed (Theta = Theta_c) and lam is unknown.
+
+All quantities are whatever units the caller builds the model in; the statics driver builds it
+nondimensional (lengths by a reference length, forces by a reference force).
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg.lapack import dgesv as _gesv
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from . import corotational
+from .body import Body
+from .forms import basic_stiffness
+
+DENSE_LIMIT = 600  # unknowns; above it the sparse LU is faster
+
+
+class Model:
+    """Rods are meshed at construction; joints and loads are added, then :meth:`finalize`."""
+
+    def __init__(self, rods, body_A0=None):
+        self.rods = list(rods)
+        Xs, conn, s0s, L0s, rod_of = [], [], [], [], []
+        self.rod_nodes = []
+        off = 0
+        kbs = []
+        for k, rod in enumerate(self.rods):
+            X, s = rod.nodes()
+            n = rod.n
+            Xs.append(X)
+            c = off + np.stack([np.arange(n), np.arange(1, n + 1)], axis=1)
+            conn.append(c)
+            L0 = np.diff(s)
+            kbs.append(basic_stiffness(L0, s[:-1], rod.EI, rod.EA))
+            rod_of.append(np.full(n, k))
+            self.rod_nodes.append(np.arange(off, off + n + 1))
+            off += n + 1
+        self.X0 = np.concatenate(Xs) if Xs else np.zeros((0, 2))
+        self.n_nodes = off
+        if conn:
+            conn = np.concatenate(conn)
+            D0 = self.X0[conn[:, 1]] - self.X0[conn[:, 0]]
+            self.elements = corotational.ElementSet(
+                conn, D0, np.hypot(D0[:, 0], D0[:, 1]), np.arctan2(D0[:, 1], D0[:, 0]),
+                np.concatenate(kbs))
+            self.elem_rod = np.concatenate(rod_of)
+        else:
+            self.elements = None
+        self.body = Body(np.asarray(body_A0, float), 3 * off) if body_A0 is not None else None
+        self.n_q = 3 * off + (3 if self.body is not None else 0)
+        self.constraints = []
+        self.terms = []
+
+    # -- building -------------------------------------------------------------------------------
+    def node(self, rod: int, i: int) -> int:
+        """Model index of node i (negative counts from the end) of rod number ``rod``."""
+        return int(self.rod_nodes[rod][i])
+
+    def add_constraint(self, c):
+        self.constraints.append(c)
+        return c
+
+    def add_term(self, t):
+        self.terms.append(t)
+        return t
+
+    def finalize(self):
+        sizes = [c.size for c in self.constraints]
+        self.c_off = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
+        self.n_c = int(self.c_off[-1])
+        self.n = self.n_q + self.n_c
+        if self.elements is not None:
+            c = self.elements.conn
+            ed = np.concatenate([3 * c[:, :1] + np.arange(3), 3 * c[:, 1:] + np.arange(3)], axis=1)
+            self.edofs = ed
+            self._er = np.repeat(ed, 6, axis=1).ravel()
+            self._ec = np.tile(ed, (1, 6)).ravel()
+        return self
+
+    def zero_state(self):
+        ne = self.elements.size if self.elements is not None else 0
+        return np.zeros(self.n), np.zeros(ne)
+
+    # -- evaluation ------------------------------------------------------------------------------
+    def nodal(self, q):
+        return q[: 3 * self.n_nodes].reshape(-1, 3)
+
+    def element_forces(self, q, alpha_ref):
+        """Basic forces (N, M1, M2) of every element and the chord rotations alpha."""
+        if self.elements is None:
+            return np.zeros((0, 3)), np.zeros(0)
+        _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False)
+        return qb, alpha
+
+    def system(self, y, alpha_ref, lam=1.0, control=None):
+        """Residual and Jacobian of the equations at y.
+
+        ``control``: None (load ``lam`` given) or (dof, value): the dof is prescribed, lam is the
+        last unknown y[-1].  Returns (r, A, info) with A dense or sparse CSC.
+        """
+        n_q, n_c = self.n_q, self.n_c
+        q, mu = y[:n_q], y[n_q:n_q + n_c]
+        if control is not None:
+            lam = y[-1]
+        size = self.n + (1 if control is not None else 0)
+        r = np.zeros(size)
+        fl = np.zeros(n_q)
+        rows, cols, vals = [], [], []
+        fmax = noise = 0.0
+        if self.elements is not None:
+            f, K, qb, _, enoise = corotational.evaluate(self.elements, self.nodal(q), alpha_ref)
+            r[:n_q] += np.bincount(self.edofs.ravel(), weights=f.ravel(), minlength=n_q)
+            rows.append(self._er)
+            cols.append(self._ec)
+            vals.append(K.ravel())
+            fmax = float(np.abs(f).max()) if f.size else 0.0
+            noise = 4.0 * float(enoise.max()) * (1.0 + 1.0 / self.elements.L0.min())
+        for t in self.terms:
+            d = t.dofs
+            _, gt, Ht, g0 = t.eval(q[d], lam)
+            r[d] += gt
+            fl[d] += g0
+            rows.append(np.repeat(d, d.size))
+            cols.append(np.tile(d, d.size))
+            vals.append(Ht.ravel())
+        for i, c in enumerate(self.constraints):
+            d = c.dofs
+            g, G, H = c.eval(q[d])
+            o = n_q + self.c_off[i]
+            m = c.size
+            mi = mu[self.c_off[i]:self.c_off[i] + m]
+            r[d] += G.T @ mi
+            r[o:o + m] = g
+            Hm = np.einsum("i,ijk->jk", mi, H)
+            rows += [np.repeat(d, d.size), np.repeat(np.arange(o, o + m), d.size),
+                     np.tile(d, m)]
+            cols += [np.tile(d, d.size), np.tile(d, m), np.repeat(np.arange(o, o + m), d.size)]
+            vals += [Hm.ravel(), G.ravel(), G.ravel()]
+        if control is not None:
+            dof, value = control
+            j = size - 1
+            r[j] = q[dof] - value
+            nz = np.nonzero(fl)[0]
+            rows += [np.array([j]), nz]
+            cols += [np.array([dof]), np.full(nz.size, j)]
+            vals += [np.array([1.0]), fl[nz]]
+        rows = np.concatenate(rows)
+        cols = np.concatenate(cols)
+        vals = np.concatenate(vals)
+        if size <= DENSE_LIMIT:
+            A = np.bincount(rows * size + cols, weights=vals, minlength=size * size).reshape(size, size)
+        else:
+            A = sp.csc_matrix((vals, (rows, cols)), shape=(size, size))
+        return r, A, {"fl": fl, "fmax": fmax, "noise": noise, "lam": lam}
+
+
+def solve_linear(A, b):
+    """Solve A x = b for the dense or sparse Jacobian of :meth:`Model.system`."""
+    if isinstance(A, np.ndarray):
+        lu, piv, x, info = _gesv(A, b, overwrite_a=1, overwrite_b=0)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"singular matrix (LAPACK gesv info {info})")
+        return x
+    return spla.splu(A, permc_spec="COLAMD").solve(b)

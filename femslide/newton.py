@@ -1,0 +1,174 @@
+"""Newton's method on a model, and the path following that keeps it on the principal branch.
+
+The structures of femslide are mechanisms to first order in the rigid limit: the tangent at phi = 0 is
+singular and the potential quartic in phi (SPEC section 4), so load control from the undeformed state
+fails or lands on the wrong branch.  :func:`principal_branch` therefore controls the body rotation
+phi: for a prescribed phi the system is well posed and the load factor lam(phi) that holds it is an
+unknown.  Starting at phi = 0 (lam = 0) and moving phi towards the side the load pushes, the
+principal equilibrium is the first phi with lam(phi) = 1 — exactly the state reached by ramping
+gravity from zero.  A final Newton solve with lam = 1 and phi free confirms it (quadratic convergence,
+residual history reported).
+
+Convergence: force residual below ``tol`` (1 + largest internal nodal force) and constraint residual
+below ``tol`` (model units are nondimensional: lengths by a, forces by P).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import SolverFailure
+from .model import solve_linear
+
+
+@dataclass
+class NewtonInfo:
+    converged: bool
+    iterations: int
+    history: list = field(default_factory=list)
+    reason: str = ""
+
+
+def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_rot=0.5):
+    """Newton iterations from y (modified copy returned).  Never raises: check ``info.converged``.
+
+    Steps whose largest rotation increment exceeds ``max_rot`` [rad] are scaled down (a trust
+    region for the corotational kinematics, which are exact but strongly nonlinear).
+    """
+    y = y.copy()
+    n_q, n = model.n_q, model.n
+    rot = np.zeros(n_q, bool)
+    rot[2:3 * model.n_nodes:3] = True
+    if model.body is not None:
+        rot[model.body.dof0 + 2] = True
+    hist = []
+    prev = math.inf
+    for it in range(1, maxit + 1):
+        r, A, info = model.system(y, alpha_ref, lam, control)
+        # relative to the internal forces, floored at the round-off level of the element forces
+        res_f = float(np.abs(r[:n_q]).max()) / (1.0 + info["fmax"])
+        floor = info["noise"] / (1.0 + info["fmax"])
+        res_f = res_f if res_f > floor else 0.0
+        res_g = float(np.abs(r[n_q:]).max()) if r.size > n_q else 0.0
+        res = max(res_f, res_g)
+        hist.append(res)
+        if not np.isfinite(res):
+            return y, NewtonInfo(False, it, hist, "residual is not finite")
+        if res_f <= tol and res_g <= tol:
+            return y, NewtonInfo(True, it - 1, hist)
+        try:
+            dy = -solve_linear(A, r)
+        except (np.linalg.LinAlgError, RuntimeError, ValueError) as exc:
+            return y, NewtonInfo(False, it, hist, f"singular tangent ({exc})")
+        if not np.all(np.isfinite(dy)):
+            return y, NewtonInfo(False, it, hist, "singular tangent (non-finite step)")
+        big = np.abs(dy[:n_q][rot]).max() if rot.any() else 0.0
+        if big > max_rot:
+            dy *= max_rot / big
+        y += dy
+        # round-off floor: a step at the level of machine precision cannot improve further
+        step = np.abs(dy[:n_q]).max()
+        if step <= 1e-14 * (1.0 + np.abs(y[:n_q]).max()) and res <= 1e3 * tol and res >= 0.5 * prev:
+            r, _, info = model.system(y, alpha_ref, lam, control)
+            hist.append(float(np.abs(r).max()))
+            return y, NewtonInfo(True, it, hist)
+        prev = res
+    return y, NewtonInfo(False, maxit, hist, f"no convergence in {maxit} iterations")
+
+
+@dataclass
+class Branch:
+    y: np.ndarray
+    alpha: np.ndarray
+    iterations: int
+    history: list
+    path: list  # (phi, lam) points visited
+
+
+def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alpha0=None,
+                     phi_max=math.pi, tol=1e-11):
+    """Principal equilibrium at lam = 1 by control of the body rotation phi = -Theta.
+
+    ``phi_guess`` (magnitude, rad) is a first estimate (the equivalent spring-hinge model); ``y0``,
+    ``alpha0`` a state to start from (a previous sweep point or a coarser mesh).
+    Raises :class:`SolverFailure` with the residual history when it does not converge.
+    """
+    total_it = 0
+    hist_all = []
+    path = []
+
+    def controlled(phi, z0, a0):
+        nonlocal total_it
+        z, info = newton(model, z0, a0, control=(theta_dof, -phi_dir * phi), tol=tol)
+        total_it += info.iterations
+        hist_all.extend(info.history)
+        if not info.converged:
+            return None
+        _, a = model.element_forces(z[:model.n_q], a0)
+        return z, a
+
+    def tangent(z, a):
+        """d z / d phi along the controlled path (its last entry is d lam / d phi)."""
+        _, A, _ = model.system(z, a, control=(theta_dof, 0.0))
+        rhs = np.zeros(z.size)
+        rhs[-1] = -phi_dir
+        return solve_linear(A, rhs)
+
+    if y0 is None:
+        y0, alpha0 = model.zero_state()
+        phi = min(phi_guess, 0.05) if phi_guess else 0.01
+        lam0 = 0.0
+    else:
+        phi = abs(y0[theta_dof]) or (phi_guess or 0.01)
+        lam0 = 1.0
+    z_c, a_c = np.concatenate([y0, [lam0]]), alpha0.copy()
+    pred = z_c
+    phi_lo, phi_hi = 0.0, None
+    for _ in range(200):
+        out = controlled(phi, pred, a_c)
+        if out is None:
+            if phi - phi_lo <= 1e-12 * max(phi, 1e-300):
+                raise SolverFailure(f"path following stalled at phi = {phi_dir * phi:.6g} rad", hist_all)
+            phi = phi_lo + 0.5 * (phi - phi_lo)
+            pred = z_c
+            continue
+        z, a = out
+        lam = z[-1]
+        path.append((phi_dir * phi, lam))
+        z_c, a_c = z, a
+        if abs(lam - 1.0) <= 1e-13:
+            break
+        dz = tangent(z, a)
+        slope = dz[-1]
+        if lam > 1.0:
+            phi_hi = phi
+            new = phi - (lam - 1.0) / slope if slope > 0 else 0.5 * (phi + phi_lo)
+            if not phi_lo < new < phi:
+                new = 0.5 * (phi + phi_lo)
+        else:
+            phi_lo = phi
+            if slope > 0 and lam > 0:
+                # Newton in log-log: lam ~ phi^p near the rigid limit (p = 3 for a quartic potential)
+                p = max(slope * phi / lam, 0.5)
+                new = min(phi * lam ** (-1.0 / p), 2.0 * phi, phi + 0.2)
+            else:
+                new = phi + min(0.1, phi)  # before/past a limit point: keep marching
+            if phi_hi is not None and not new < phi_hi:
+                new = 0.5 * (phi + phi_hi)
+            if new >= phi_max:
+                raise SolverFailure(f"no equilibrium on the principal branch up to |phi| = {phi_max:g} rad",
+                                    hist_all)
+        if abs(new - phi) <= 1e-15 * phi:
+            break
+        pred = z + dz * (new - phi) if abs(new - phi) < 0.1 else z.copy()
+        phi = new
+    else:
+        raise SolverFailure("path following did not reach the full load in 200 steps", hist_all)
+    y, info = newton(model, z_c[:model.n], a_c, lam=1.0, tol=tol)
+    total_it += info.iterations
+    if not info.converged:
+        raise SolverFailure(f"final Newton solve at full load: {info.reason}", info.history)
+    _, a = model.element_forces(y[:model.n_q], a_c)
+    return Branch(y, a, total_it, info.history, path)

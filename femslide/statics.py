@@ -1,0 +1,358 @@
+"""FE statics scenes: builders (scene parameters -> nondimensional model), solution, and results.
+
+Structures (SPEC sections 1, 3): ground hinges A1 = (0, 0), B1 = (2a, 0); rigid body ABCD with A at
+the top of the left rod; flexible rods are meshes of corotational beams.  The model is built in
+nondimensional units (lengths by a, forces by P = m g) so that EI/(P a^2) from 1 to 1e12 needs no
+tuning.  Cantilevers use L and EI/L^2.
+
+Accuracy: with ``n_elements`` unset the mesh is refined by doubling (n, 2n, 4n, ...) and the reported
+values are Richardson-extrapolated from the two finest meshes (the corotational discretisation error
+is O(h^2)); ``error_estimate`` is the estimated relative error of the reported M_max, from the change of
+the extrapolated values between successive levels (/15 for an O(h^4) remainder).  With
+``n_elements`` = N the values are those of the N-element mesh and the estimate compares N with N/2.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import hinge
+from .errors import BadInput, SolverFailure
+from .joints import BodyPin, GuideLine, NodePin, SliderSpring, SlidingClamp, Weld
+from .loads import BodyWeight, NodeLoad, RigidPieceWeight
+from .model import Model
+from .newton import newton, principal_branch
+from .rod import Rod
+
+TARGET = 1e-8     # estimated relative error of M_max the adaptive refinement aims for
+N_START = 2       # elements per rod on the coarsest adaptive level
+N_MAX = 4096
+
+
+@dataclass
+class Built:
+    """A model and what the result extraction needs to know about it."""
+
+    model: Model
+    kind: str           # "structure" or "cantilever"
+    Lref: float
+    Fref: float
+    clamp: object = None
+    guide: object = None
+    pin_A1: object = None
+    pin_B1: object = None
+    tip_node: int = -1
+    phi_dir: float = 1.0
+    phi_guess: float = 0.0
+    load_steps: int = 1
+
+
+# -- builders ---------------------------------------------------------------------------------------
+
+def _structure(v, n, left_flexible, right_flexible, spring=False, extra_mass=False):
+    a, P = v["a"], v["m"] * v["g"]
+    l, b, d = v["l"] / a, v["b"] / a, v["d"] / a
+    EI, EA = v["EI"] / (P * a * a), v["EA"] / P
+    L = (v.get("L") or v["l"]) / a if right_flexible else l
+    rods = []
+    if left_flexible:
+        rods.append(Rod("left", (0.0, 0.0), (0.0, l), n, EI, EA))
+    if right_flexible:
+        rods.append(Rod("right", (2.0, 0.0), (2.0, L), n, EI, EA))
+    m = Model(rods, body_A0=(0.0, l))
+    body = m.body
+    bt = Built(m, "structure", a, P)
+    if left_flexible:
+        bt.pin_A1 = m.add_constraint(NodePin(m.node(0, 0), name="A1"))
+        m.add_constraint(Weld(m.node(0, -1), m.X0[m.node(0, -1)], body, np.zeros(2), name="A"))
+    else:
+        bt.pin_A1 = m.add_constraint(BodyPin(body, np.array([0.0, -l]), np.zeros(2), name="A1"))
+    r = len(rods) - 1
+    if right_flexible:
+        bt.pin_B1 = m.add_constraint(NodePin(m.node(r, 0), name="B1"))
+        top = m.node(r, -1)
+        bt.clamp = m.add_constraint(SlidingClamp(top, m.X0[top], body, np.array([2.0, L - l]), name="clamp"))
+    else:
+        bt.guide = m.add_constraint(GuideLine(body, np.array([2.0, 0.0]), np.array([2.0, 0.0]), name="B1"))
+    W = 1.0
+    if extra_mass:
+        W = (v["m"] + v["dm"]) / v["m"]
+        F_el = (1.0 + d) / 2.0
+        m.add_term(SliderSpring(bt.clamp, v["k"] * a / P, F_el))
+        if v["m1"] > 0:
+            m.add_term(RigidPieceWeight(top, m.X0[top], body, 0.5 * v["l2"] / a, v["m1"] / v["m"]))
+    elif spring:
+        m.add_term(SliderSpring(bt.clamp, v["k"] * a / P))
+    m.add_term(BodyWeight(body, np.array([1.0 + d, b]), W))
+    m.finalize()
+    bt.phi_dir = 1.0 if (1.0 + d) >= 0 else -1.0
+    return bt
+
+
+def _guess(v, kind):
+    """phi [rad] of the equivalent spring-hinge model (start of the path following)."""
+    try:
+        if kind == "fixed":
+            c = 3.0 * v["EI"] / (4.0 * v["l"])
+            return abs(hinge.solve_fixed(**{**v, "c": c})["phi"])
+        L = v.get("L") or v["l"]
+        c = 3.0 * v["EI"] / L
+        return abs(hinge.solve_slider(**{**v, "c": c, "l1": L, "k": v.get("k", 0.0) if kind == "spring" else 0.0})["phi"])
+    except SolverFailure:
+        return 0.05
+
+
+def build_slider(v, n):
+    bt = _structure(v, n, False, True)
+    bt.phi_guess = _guess(v, "slider")
+    return bt
+
+
+def build_fixed(v, n):
+    bt = _structure(v, n, True, False)
+    bt.phi_guess = _guess(v, "fixed")
+    return bt
+
+
+def build_both(v, n):
+    bt = _structure(v, n, True, True)
+    bt.phi_guess = 0.8 * _guess(v, "slider")
+    return bt
+
+
+def build_spring(v, n):
+    bt = _structure(v, n, False, True, spring=True)
+    bt.phi_guess = _guess(v, "spring")
+    return bt
+
+
+def build_extra_mass(v, n):
+    kc = hinge.k_crit(**v)
+    if not v["k"] > kc:
+        raise BadInput(f"parameter k = {v['k']:g} N/m is not above k_crit = {kc:.6g} N/m: the vertical "
+                       f"state is unstable even at dm = 0; allowed: k > {kc:.6g}")
+    bt = _structure(v, n, False, True, extra_mass=True)
+    bt.phi_guess = 0.0
+    return bt
+
+
+def _cantilever(v, n, load):
+    L, EI = v["L"], v["EI"]
+    F = EI / L ** 2
+    m = Model([Rod("cantilever", (0.0, 0.0), (1.0, 0.0), n, 1.0, v["EA"] * L * L / EI)])
+    m.add_constraint(NodePin(m.node(0, 0), clamp=True, name="clamp"))
+    tip = m.node(0, -1)
+    m.add_term(NodeLoad(tip, load))
+    m.finalize()
+    bt = Built(m, "cantilever", L, F, tip_node=tip)
+    return bt
+
+
+def build_cantilever_moment(v, n):
+    M = v["m_ratio"] * 2 * math.pi
+    bt = _cantilever(v, n, np.array([0.0, 0.0, M]))
+    bt.load_steps = max(1, math.ceil(abs(v["m_ratio"]) * 8))
+    return bt
+
+
+def build_cantilever_load(v, n):
+    bt = _cantilever(v, n, np.array([0.0, v["p_ratio"], 0.0]))
+    bt.load_steps = max(1, math.ceil(abs(v["p_ratio"]) / 2))
+    return bt
+
+
+# -- solution ---------------------------------------------------------------------------------------
+
+def _solve_cantilever(bt, warm=None):
+    m = bt.model
+    y, alpha = m.zero_state()
+    lam, step, its, hist = 0.0, 1.0 / bt.load_steps, 0, []
+    while lam < 1.0:
+        target = min(1.0, lam + step)
+        y_new, info = newton(m, y, alpha, lam=target)
+        its += info.iterations
+        if not info.converged:
+            step *= 0.5
+            if step < 1e-6:
+                raise SolverFailure(f"load stepping stalled at load factor {lam:.6g}: {info.reason}",
+                                    info.history)
+            continue
+        _, alpha = m.element_forces(y_new[:m.n_q], alpha)
+        y, lam = y_new, target
+        hist = info.history
+    return y, alpha, its, hist
+
+
+def _solve_structure(bt, warm=None):
+    m = bt.model
+    y0 = alpha0 = None
+    if warm is not None:
+        y0, alpha0 = warm
+    br = principal_branch(m, m.body.dof0 + 2, bt.phi_dir, bt.phi_guess, y0, alpha0)
+    return br.y, br.alpha, br.iterations, br.history
+
+
+def prolong(coarse: Built, y, alpha, fine: Built):
+    """Interpolate a solution onto the mesh with twice as many elements per rod (start values)."""
+    mc, mf = coarse.model, fine.model
+    yf = np.zeros(mf.n)
+    af = np.zeros(mf.elements.size)
+    Uc = mc.nodal(y[:mc.n_q])
+    Uf = mf.nodal(yf[:mf.n_q])
+    for r in range(len(mc.rods)):
+        nc, nf = mc.rod_nodes[r], mf.rod_nodes[r]
+        Uf[0::2][: nc.size] = 0  # placeholder for shape
+        Uf[nf[0::2]] = Uc[nc]
+        Uf[nf[1::2]] = 0.5 * (Uc[nc[:-1]] + Uc[nc[1:]])
+        ec = np.nonzero(mc.elem_rod == r)[0]
+        ef = np.nonzero(mf.elem_rod == r)[0]
+        af[ef[0::2]] = alpha[ec]
+        af[ef[1::2]] = alpha[ec]
+    yf[: 3 * mf.n_nodes] = Uf.ravel()
+    yf[3 * mf.n_nodes:mf.n_q] = y[3 * mc.n_nodes:mc.n_q]
+    yf[mf.n_q:] = y[mc.n_q:]
+    return yf, af
+
+
+def extract(bt: Built, y, alpha, v) -> dict:
+    """The contract's result values (SI units) from a converged state."""
+    m = bt.model
+    q = y[:m.n_q]
+    qb, _ = m.element_forces(q, alpha)
+    Lr, Fr = bt.Lref, bt.Fref
+    M_max = float(np.abs(qb[:, 1:]).max()) * Fr * Lr if qb.size else 0.0
+    out = {"M_max": M_max}
+    mu = y[m.n_q:]
+
+    def mult(c):
+        i = m.constraints.index(c)
+        return mu[m.c_off[i]:m.c_off[i] + c.size]
+
+    if bt.kind == "cantilever":
+        U = m.nodal(q)
+        tip = U[bt.tip_node]
+        out["tip"] = {"u": tip[0] * Lr, "v": tip[1] * Lr, "theta": tip[2]}
+        return out
+    th = q[m.body.dof0 + 2]
+    out["phi"] = -th
+    if bt.clamp is not None:
+        d = bt.clamp.dofs
+        out["slide"] = bt.clamp.slide(q[d])[0] * Lr
+    else:
+        out["slide"] = bt.guide.slide(q[bt.guide.dofs]) * Lr
+    RA = -mult(bt.pin_A1) * Fr
+    if bt.pin_B1 is not None:
+        RB = -mult(bt.pin_B1) * Fr
+    else:
+        mu_g = mult(bt.guide)[0]
+        RB = -mu_g * np.array([math.cos(th), math.sin(th)]) * Fr
+    out["reactions"] = {"A1": {"Fx": float(RA[0]), "Fy": float(RA[1])},
+                        "B1": {"Fx": float(RB[0]), "Fy": float(RB[1])}}
+    return out
+
+
+def _flat(res):
+    vals = [res["M_max"]]
+    if "phi" in res:
+        vals += [res["phi"], res["slide"]] + [res["reactions"][p][k] for p in ("A1", "B1") for k in ("Fx", "Fy")]
+    if "tip" in res:
+        vals += [res["tip"][k] for k in ("u", "v", "theta")]
+    return np.array(vals)
+
+
+def _unflat(template, vals):
+    out = dict(template)
+    out["M_max"] = float(vals[0])
+    if "phi" in template:
+        out["phi"], out["slide"] = float(vals[1]), float(vals[2])
+        it = iter(vals[3:7])
+        out["reactions"] = {p: {k: float(next(it)) for k in ("Fx", "Fy")} for p in ("A1", "B1")}
+    if "tip" in template:
+        out["tip"] = dict(zip(("u", "v", "theta"), map(float, vals[-3:])))
+    return out
+
+
+BUILDERS = {
+    "beam-slider": build_slider, "beam-fixed": build_fixed, "beam-both": build_both,
+    "beam-spring": build_spring, "beam-extra-mass": build_extra_mass,
+    "cantilever-moment": build_cantilever_moment, "cantilever-load": build_cantilever_load,
+}
+
+
+def solve_scene(scene: str, v: dict, warm=None):
+    """Solve a static FE scene; returns (result dict, warm state for a continuation)."""
+    build = BUILDERS[scene]
+    solve = _solve_cantilever if scene.startswith("cantilever") else _solve_structure
+    fixed_n = v.get("n_elements")
+    levels = []  # (n, built, y, alpha, values)
+    its = 0
+    hist = []
+
+    def run(n, start):
+        nonlocal its, hist
+        bt = build(v, n)
+        y, a, k, h = solve(bt, start)
+        its += k
+        hist = h
+        res = extract(bt, y, a, v)
+        levels.append((n, bt, y, a, res))
+        return bt, y, a
+
+    start = None
+    if warm is not None and warm.get("n") is not None:
+        start = None  # a different EI: the state is reused only when the mesh matches
+    if fixed_n:
+        n_list = [fixed_n // 2, fixed_n] if fixed_n >= 2 else [fixed_n]
+        for n in n_list:
+            bt, y, a = run(n, _warm_for(warm, n, levels))
+        res = levels[-1][4]
+        if len(levels) == 2:
+            f1, f2 = _flat(levels[0][4]), _flat(levels[1][4])
+            err = abs(f2[0] - f1[0]) / 3.0 / max(abs(f2[0]), 1e-300)
+        else:
+            err = None
+    else:
+        n = N_START
+        bt, y, a = run(n, _warm_for(warm, n, levels))
+        ext = []
+        err = math.inf
+        while True:
+            n2 = 2 * n
+            y2, a2 = prolong(bt, y, a, build(v, n2)) if scene not in ("cantilever-moment", "cantilever-load") else (None, None)
+            bt, y, a = run(n2, (y2, a2) if y2 is not None else _warm_for(warm, n2, levels))
+            f1, f2 = _flat(levels[-2][4]), _flat(levels[-1][4])
+            ext.append((4.0 * f2 - f1) / 3.0)
+            scale = max(abs(ext[-1][0]), 1e-300)
+            if len(ext) >= 2:
+                err = abs(ext[-1][0] - ext[-2][0]) / 15.0 / scale
+            # a change below round-off counts as converged
+            raw = abs(f2[0] - f1[0]) / scale
+            if err <= TARGET or raw <= 1e-13:
+                err = min(err, raw / 3.0)
+                break
+            if n2 >= N_MAX:
+                break
+            n = n2
+        res = _unflat(levels[-1][4], ext[-1])
+        bt = levels[-1][1]
+    n_used = levels[-1][0]
+    out = {"converged": True, **res, "iterations": its, "error_estimate": err, "n_elements": n_used}
+    if "phi" not in out and bt.kind == "cantilever":
+        pass
+    out["_model"] = (levels[-1][1], levels[-1][2], levels[-1][3])
+    state = {"n": n_used, "y": levels[-1][2], "alpha": levels[-1][3], "n_first": levels[0][0],
+             "first": (levels[0][2], levels[0][3])}
+    return out, state
+
+
+def _warm_for(warm, n, levels):
+    """A sweep's previous solution is a valid start only on the same mesh."""
+    if warm is None:
+        return None
+    if warm.get("n_first") == n:
+        return warm["first"]
+    if warm.get("n") == n:
+        return warm["y"], warm["alpha"]
+    return None
