@@ -47,6 +47,27 @@ SCENES: dict[str, Scene] = {s.name: s for s in [
                    rules=(rule_l1_lt_l,)), ".runners:hinge_extra_mass"),
     # -- FE statics scenes (femslide/statics.py) --
     # -- one-mass dynamic scenes (femslide/sdof.py) --
+    Scene("sdof-free", "simulate",
+          "paper 003 ex. 1: free vibration of a mass on a spring with Coulomb friction (mu, mu0), exact",
+          ParamSet(("m", "k", "g", "mu", "mu0", "c_v", "w0", "t_end"),
+                   defaults={"m": 1.0, "k": 200.0, "g": 9.81, "mu": 0.2, "mu0": 0.24, "c_v": 0.0,
+                             "w0": 0.07, "t_end": 2.0},
+                   rules=(rule_mu0_ge_mu,)), ".sdof:run_free"),
+    Scene("sdof-decay", "simulate",
+          "paper 003 ex. 2: decaying oscillation under constant friction (N = m g = 20 N), exact",
+          ParamSet(("m", "k", "g", "mu", "mu0", "c_v", "w0", "t_end"),
+                   defaults={"m": 20.0 / 9.81, "k": 1000.0, "g": 9.81, "mu": 0.15, "mu0": 0.18,
+                             "c_v": 0.0, "w0": 0.08, "t_end": 3.0},
+                   rules=(rule_mu0_ge_mu,)), ".sdof:run_decay"),
+    Scene("sdof-harmonic", "simulate",
+          "paper 003 ex. 3: ex. 2 from rest under F = P0 sin(theta t) - m ag sin(theta t) - m a_rec(t); "
+          "P0 defaults to 10 N, or to 0 when ag or record is given",
+          ParamSet(("m", "k", "g", "mu", "mu0", "c_v", "w0", "P0", "theta_ratio", "ag", "record",
+                    "t_end"),
+                   defaults={"m": 20.0 / 9.81, "k": 1000.0, "g": 9.81, "mu": 0.15, "mu0": 0.18,
+                             "c_v": 0.0, "w0": 0.0, "P0": None, "theta_ratio": 0.5, "ag": 0.0,
+                             "record": None, "t_end": 30.0},
+                   rules=(rule_mu0_ge_mu,)), ".sdof:run_harmonic"),
 ]}
 
 

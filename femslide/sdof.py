@@ -1,0 +1,786 @@
+"""One-mass Coulomb-friction oscillator integrated exactly, event by event (SPEC section 5).
+
+Model (SI units: m [kg], k [N/m], c_v [N s/m], forces [N], w [m], t [s])::
+
+    m w'' + c_v w' + k w + f = F(t),      N = m g,
+    F(t) = P0 sin(theta t) - m ag sin(theta t) - m a_rec(t),     theta = theta_ratio * omega,
+
+``w`` is the displacement of the mass relative to its base (positive along the guide), ``F`` the
+applied force (for base excitation the inertia force -m z0'' of the moving frame) and ``f`` the
+friction force on the mass, opposite to the relative velocity:
+
+* sliding (w' != 0): f = mu N sgn(w');
+* at rest (w' = 0): the mass sticks while |F - k w| <= mu0 N (mu0 >= mu, the static coefficient);
+  otherwise it starts to slide in the direction of the net force F - k w.
+
+While stuck the velocity is exactly 0 and the position constant (no regularised sign function).
+Between events the equation is linear with a constant friction force and a forcing that is a sine
+plus a linear function of time (the record is interpolated linearly), so each segment is solved in
+closed form: homogeneous part (under-, critically or over-damped) plus the exact particular
+solution.  For c_v = 0 the harmonic response is written in a form that stays exact and stable at and
+near resonance (theta = omega).  Events are found on the closed form:
+
+* sliding -> velocity zero: analytically (atan2) for unforced under-damped segments, otherwise by a
+  scan in sub-steps of 1/8 of the shortest period (with a check of interior extrema, so that a zero
+  touched between two samples is not missed) and a bracketing root finder to ~1e-14 s;
+* stuck -> breakaway, the first time |F(t) - k w| exceeds mu0 N: analytically for a harmonic force,
+  exactly per record interval for a record, by scan + root for both together.
+
+The record acceleration is zero outside its time range.  Energy balance, dense histories and
+per-period amplitudes are evaluated afterwards, vectorised, from the stored closed forms.
+"""
+from __future__ import annotations
+
+import bisect
+import math
+import os
+
+from .errors import BadInput, SolverFailure
+
+TWO_PI = 2.0 * math.pi
+STEADY_TOL = 1e-10      # m: two successive forcing periods must agree to this for a steady state
+MAX_STEPS = 5_000_000   # closed-form segments before the run is declared failed
+
+
+# ---------------------------------------------------------------------------------------------
+# Excitation
+# ---------------------------------------------------------------------------------------------
+
+def read_record(path: str):
+    """Read a base-acceleration record: CSV with columns t [s], a [m/s^2].
+
+    One header line (non-numeric first field) and blank or ``#`` comment lines are allowed; times
+    must be finite and strictly increasing, at least two rows.  Returns ``(times, accelerations)``
+    as lists of floats.  Raises :class:`BadInput` naming ``record`` otherwise.
+    """
+    try:
+        with open(path, newline="") as fh:
+            text = fh.read()
+    except OSError as exc:
+        raise BadInput(f"parameter record: cannot read {path!r} ({exc.strerror or exc}); "
+                       f"allowed: a readable CSV file with columns t [s], a [m/s^2]") from None
+    ts, acc = [], []
+    seen_data = False
+    for lineno, line in enumerate(text.splitlines(), 1):
+        s = line.strip()
+        if not s or s.startswith("#"):
+            continue
+        parts = [p.strip() for p in s.replace(";", ",").split(",")]
+        if len(parts) == 1:
+            parts = s.split()
+        try:
+            if len(parts) < 2:
+                raise ValueError
+            t, a = float(parts[0]), float(parts[1])
+        except ValueError:
+            if not seen_data and not ts:
+                seen_data = True  # the header line
+                continue
+            raise BadInput(f"parameter record: {path!r} line {lineno}: expected two numbers "
+                           f"'t, a', got {s[:60]!r}") from None
+        seen_data = True
+        if not (math.isfinite(t) and math.isfinite(a)):
+            raise BadInput(f"parameter record: {path!r} line {lineno}: non-finite value")
+        if ts and not t > ts[-1]:
+            raise BadInput(f"parameter record: {path!r} line {lineno}: times must be strictly "
+                           f"increasing (t = {t:g} s after {ts[-1]:g} s)")
+        ts.append(t)
+        acc.append(a)
+    if len(ts) < 2:
+        raise BadInput(f"parameter record: {path!r} has {len(ts)} data rows; "
+                       f"allowed: a CSV file with at least two rows 't, a'")
+    return ts, acc
+
+
+class Forcing:
+    """F(t) = A sin(theta t) + R(t), R linear between record nodes, 0 outside them [N]."""
+
+    def __init__(self, A=0.0, theta=0.0, rec_t=None, rec_F=None):
+        self.A = float(A)
+        self.theta = float(theta)
+        self.harmonic = self.A != 0.0 and self.theta > 0.0
+        if not self.harmonic:
+            self.A = 0.0
+        self.rt = list(rec_t) if rec_t is not None else []
+        self.rF = list(rec_F) if rec_F is not None else []
+        self.has_record = bool(self.rt)
+        self.forced = self.harmonic or self.has_record
+
+    def piece(self, t):
+        """(p, q, t_next): R(t + tau) = p + q tau until the next record node t_next."""
+        rt = self.rt
+        if not rt:
+            return 0.0, 0.0, math.inf
+        i = bisect.bisect_right(rt, t) - 1
+        if i < 0:
+            return 0.0, 0.0, rt[0]
+        if i >= len(rt) - 1:
+            return 0.0, 0.0, math.inf
+        q = (self.rF[i + 1] - self.rF[i]) / (rt[i + 1] - rt[i])
+        return self.rF[i] + q * (t - rt[i]), q, rt[i + 1]
+
+    def record_value(self, t):
+        p, q, _ = self.piece(t)
+        return p
+
+    def value(self, t):
+        F = self.record_value(t) if self.has_record else 0.0
+        if self.harmonic:
+            F += self.A * math.sin(self.theta * t)
+        return F
+
+    def slope(self, t):
+        d = self.piece(t)[1] if self.has_record else 0.0
+        if self.harmonic:
+            d += self.A * self.theta * math.cos(self.theta * t)
+        return d
+
+    def eval_np(self, t):
+        import numpy as np
+        t = np.asarray(t, dtype=float)
+        F = np.zeros_like(t)
+        if self.has_record:
+            rt = np.asarray(self.rt)
+            inside = (t >= rt[0]) & (t < rt[-1])
+            F = np.where(inside, np.interp(t, rt, np.asarray(self.rF)), 0.0)
+        if self.harmonic:
+            F = F + self.A * np.sin(self.theta * t)
+        return F
+
+
+# ---------------------------------------------------------------------------------------------
+# Bracketing root finder (keeps the bracket; returns the point on the "f >= 0" side)
+# ---------------------------------------------------------------------------------------------
+
+def _root_up(f, lo, hi, flo, fhi, xtol=1e-14):
+    """Root of f on [lo, hi] with f(lo) < 0 <= f(hi); Anderson-Bjorck regula falsi + bisection.
+
+    Returns a point x with f(x) >= 0 and a point of the bracket no further than ``xtol``
+    (relative to max(1, |x|)) below it, so the event is never placed before it happens.
+    """
+    tol = xtol * max(1.0, abs(hi))
+    side = 0
+    for _ in range(200):
+        if hi - lo <= tol or fhi == 0.0:
+            return hi
+        x = hi - fhi * (hi - lo) / (fhi - flo)
+        if not (lo < x < hi) or side == 2:  # safeguard: bisect
+            x = 0.5 * (lo + hi)
+            side = 0
+        # keep steps away from the endpoints so both ends shrink
+        w = hi - lo
+        if x - lo < 0.5 * tol:
+            x = lo + 0.5 * tol
+        elif hi - x < 0.5 * tol:
+            x = hi - 0.5 * tol
+        fx = f(x)
+        if fx >= 0.0:
+            g = 1.0 - fx / fhi if fhi != 0 else 0.5
+            hi, fhi = x, fx
+            if side == -1:
+                flo *= g if g > 0 else 0.5
+            side = -1 if side != -1 else 2
+        else:
+            g = 1.0 - fx / flo
+            lo, flo = x, fx
+            if side == 1:
+                fhi *= g if g > 0 else 0.5
+            side = 1 if side != 1 else 2
+        if hi - lo > 0.9 * w and side != 2:
+            side = 2  # poor progress: bisect next
+    return hi
+
+
+def _first_up(fd, tau_max, h, from_zero=False):
+    """First tau in (0, tau_max] where f(tau) reaches 0 from below, or None.
+
+    ``fd(tau) -> (f, f')``.  ``f(0) <= 0``; with ``from_zero`` f(0) = 0 is a start (f < 0 just
+    after 0), otherwise f(0) = 0 with f'(0) > 0 counts as an event at 0.  Samples every ``h``
+    (<= 1/8 of the shortest period of f) and checks interior maxima between samples.
+    """
+    f = lambda x: fd(x)[0]  # noqa: E731
+    dfun = lambda x: fd(x)[1]  # noqa: E731
+    flo, dlo = fd(0.0)
+    if not from_zero and (flo > 0.0 or (flo == 0.0 and dlo > 0.0)):
+        return 0.0
+    lo = 0.0
+    while lo < tau_max:
+        hi = lo + h
+        if hi > tau_max:
+            hi = tau_max
+        fhi, dhi = fd(hi)
+        if fhi >= 0.0:
+            if flo >= 0.0:  # starting from f(0) = 0: find a point with f < 0 inside
+                x = hi
+                for _ in range(100):
+                    x *= 0.5
+                    fx = f(x)
+                    if fx < 0.0:
+                        break
+                else:
+                    return hi
+                lo, flo = x, fx
+            return _root_up(f, lo, hi, flo, fhi)
+        if dlo > 0.0 and dhi <= 0.0 and flo < 0.0:  # interior maximum: did f touch 0?
+            tm = _root_up(lambda x: -dfun(x), lo, hi, -dlo, -dhi)
+            fm = f(tm)
+            if fm >= 0.0:
+                return _root_up(f, lo, tm, flo, fm)
+        lo, flo, dlo = hi, fhi, dhi
+    return None
+
+
+# ---------------------------------------------------------------------------------------------
+# The exact integrator
+# ---------------------------------------------------------------------------------------------
+
+class Oscillator:
+    """Exact event-driven solution of the friction oscillator (see module docstring)."""
+
+    def __init__(self, m, k, c_v, mu, mu0, g, forcing: Forcing):
+        if not (m > 0 and k > 0):
+            raise BadInput("the one-mass oscillator needs m > 0 and k > 0")
+        self.m, self.k, self.c = float(m), float(k), float(c_v)
+        self.N = self.m * float(g)
+        self.fk = float(mu) * self.N      # kinetic friction force [N]
+        self.fs = float(mu0) * self.N     # static friction limit [N]
+        self.F = forcing
+        self.omega = math.sqrt(self.k / self.m)
+        self.sigma = self.c / (2.0 * self.m)
+        wd2 = self.omega ** 2 - self.sigma ** 2
+        if wd2 > 0.0:
+            self.kind, self.wd = 0, math.sqrt(wd2)          # under-damped (or undamped)
+        elif wd2 == 0.0:
+            self.kind, self.wd = 1, 0.0                     # critically damped
+        else:
+            self.kind, self.wd = 2, math.sqrt(-wd2)         # over-damped (wd = omega_h)
+        periods = [TWO_PI / (self.wd if self.kind == 0 else self.omega)]
+        if forcing.harmonic:
+            periods.append(TWO_PI / forcing.theta)
+        self.h_scan = min(periods) / 8.0
+        th = forcing.theta
+        if forcing.harmonic and self.c > 0.0:
+            D = (self.k - self.m * th * th) ** 2 + (self.c * th) ** 2
+            self.B1 = forcing.A * (self.k - self.m * th * th) / D
+            self.B2 = -forcing.A * self.c * th / D
+        else:
+            self.B1 = self.B2 = 0.0
+
+    # -- closed form of one segment --------------------------------------------------------------
+    def coefficients(self, ts, w0, v0, fc, q):
+        """Segment constants for a start (ts, w0, v0), constant force fc [N] and slope q [N/s].
+
+        ``fc`` includes the friction force (-s mu N) and the record part at ts.  Returns
+        (x0, u0, a0, a1, phi): homogeneous initial values, linear particular solution a0 + a1 tau,
+        forcing phase phi = theta ts (mod 2 pi).
+        """
+        k = self.k
+        a1 = q / k
+        a0 = (fc - self.c * a1) / k
+        phi = math.fmod(self.F.theta * ts, TWO_PI) if self.F.harmonic else 0.0
+        x0, u0 = w0 - a0, v0 - a1
+        if self.B1 or self.B2:
+            sp, cp = math.sin(phi), math.cos(phi)
+            x0 -= self.B1 * sp + self.B2 * cp
+            u0 -= self.F.theta * (self.B1 * cp - self.B2 * sp)
+        return x0, u0, a0, a1, phi
+
+    def segment(self, x0, u0, a0, a1, phi, s_fric, fc_const_only=False):
+        """Closure tau -> (w, v, a) for a sliding segment (s_fric = friction direction, +-1)."""
+        sig, om, wd, kind = self.sigma, self.omega, self.wd, self.kind
+        om2 = om * om
+        m, c, k = self.m, self.c, self.k
+        F = self.F
+        A, th = F.A, F.theta
+        harm = F.harmonic
+        xs = u0 + sig * x0
+        xv = sig * u0 + om2 * x0
+        # constant + linear part of the force (record + friction) for the acceleration
+        fconst = k * a0 + c * a1   # = fc
+        fq = k * a1                # = q
+        cos_, sin_, exp_ = math.cos, math.sin, math.exp
+        if harm and c == 0.0:
+            Am = A / m / (om + th)
+            P, M = 0.5 * (om + th), 0.5 * (om - th)
+            sph, cph = sin_(phi), cos_(phi)
+            opt = om + th
+
+            def fd(tau):
+                cw, sw = cos_(om * tau), sin_(om * tau)
+                sP, cP = sin_(P * tau), cos_(P * tau)
+                if M != 0.0:
+                    Sh = sin_(M * tau) / (2.0 * M)
+                    cM = cos_(M * tau)
+                else:
+                    Sh, cM = 0.5 * tau, 1.0
+                w = x0 * cw + xs * sw / om + a0 + a1 * tau \
+                    + Am * (sph * 2.0 * sP * Sh + cph * (sw / om - 2.0 * cP * Sh))
+                v = u0 * cw - xv * sw / om + a1 \
+                    + Am * (sph * (opt * cP * Sh + sP * cM) + cph * 2.0 * th * sP * Sh)
+                Ft = A * sin_(th * tau + phi) + fconst + fq * tau
+                return w, v, (Ft - k * w) / m
+            return fd
+        B1, B2 = self.B1, self.B2
+
+        def fd(tau):
+            if kind == 0:
+                C, S = cos_(wd * tau), sin_(wd * tau) / wd
+            elif kind == 1:
+                C, S = 1.0, tau
+            else:
+                e2 = exp_(wd * tau)
+                C, S = 0.5 * (e2 + 1.0 / e2), 0.5 * (e2 - 1.0 / e2) / wd
+            e = exp_(-sig * tau) if sig else 1.0
+            w = e * (x0 * C + xs * S) + a0 + a1 * tau
+            v = e * (u0 * C - xv * S) + a1
+            Ft = fconst + fq * tau
+            if harm:
+                sa, ca = sin_(th * tau + phi), cos_(th * tau + phi)
+                w += B1 * sa + B2 * ca
+                v += th * (B1 * ca - B2 * sa)
+                Ft += A * sa
+            return w, v, (Ft - c * v - k * w) / m
+        return fd
+
+    # -- events --------------------------------------------------------------------------------
+    def _velocity_zero(self, fd, s, x0, u0, analytic, tau_max, from_rest):
+        """First tau in (0, tau_max] where s*v reaches 0, or None."""
+        if analytic:
+            wd = self.wd
+            b = (self.sigma * u0 + self.omega ** 2 * x0) / wd
+            if u0 == 0.0:
+                x = math.pi
+            else:
+                x = (0.5 * math.pi - math.atan2(b, u0)) % math.pi
+                if x == 0.0:
+                    x = math.pi
+            tau = x / wd
+            return tau if tau <= tau_max else None
+
+        def g(tau):
+            w, v, a = fd(tau)
+            return -s * v, -s * a
+        return _first_up(g, tau_max, self.h_scan, from_zero=from_rest)
+
+    def _breakaway(self, t, w, t_stop=math.inf):
+        """First time >= t at which |F - k w| exceeds mu0 N with the mass held at w, or None."""
+        F, thr, kw = self.F, self.fs, self.k * w
+        if F.harmonic and not F.has_record:
+            return _harmonic_exceed(F.A, F.theta, t, -kw, thr)
+        if F.has_record and not F.harmonic:
+            return self._record_exceed(t, kw, thr)
+        if not F.forced:
+            return None if abs(kw) <= thr else t
+        # both: scan to the end of the record, then the harmonic criterion
+        t_rec_end = F.rt[-1]
+        if t < t_rec_end:
+            def g(tau):
+                tt = t + tau
+                G = F.value(tt) - kw
+                d = F.slope(tt)
+                return abs(G) - thr, (d if G >= 0 else -d)
+            h = min(self.h_scan, TWO_PI / F.theta / 16.0)
+            tau = _first_up(g, min(t_rec_end, t_stop) - t, h)
+            if tau is not None:
+                return t + tau
+            if t_stop < t_rec_end:
+                return math.inf  # not found before t_stop: unknown later, "not forever"
+            t = t_rec_end
+        return _harmonic_exceed(F.A, F.theta, t, -kw, thr)
+
+    def _record_exceed(self, t, kw, thr):
+        rt, rF = self.F.rt, self.F.rF
+        n = len(rt)
+        if t < rt[0]:
+            if abs(kw) > thr:
+                return t
+            if abs(rF[0] - kw) > thr:
+                return rt[0]
+            t = rt[0]
+        if t >= rt[-1]:
+            return None if abs(kw) <= thr else t
+        i = bisect.bisect_right(rt, t) - 1
+        G_t = rF[i] + (rF[i + 1] - rF[i]) * (t - rt[i]) / (rt[i + 1] - rt[i]) - kw
+        if abs(G_t) > thr:
+            return t
+        import numpy as np
+        if not hasattr(self, "_rF_np"):
+            self._rF_np = np.asarray(rF)
+        G = self._rF_np[i + 1:] - kw
+        hit = np.flatnonzero(np.abs(G) > thr)
+        if hit.size == 0:
+            return None if abs(kw) <= thr else rt[-1]
+        j = i + 1 + int(hit[0])
+        Gb = G[hit[0]]
+        if j == i + 1:
+            ta, Ga = t, G_t
+        else:
+            ta, Ga = rt[j - 1], rF[j - 1] - kw
+        level = thr if Gb > 0 else -thr
+        frac = (level - Ga) / (Gb - Ga)
+        tb = ta + frac * (rt[j] - ta)
+        # place the event where the threshold is reached (not before)
+        return min(max(tb, ta), rt[j])
+
+    # -- the run -------------------------------------------------------------------------------
+    def run(self, w0, t_end):
+        """Integrate from rest at w0 (t = 0) to t_end.  Returns a :class:`Solution`."""
+        F, k, fs, fk = self.F, self.k, self.fs, self.fk
+        t, w, v = 0.0, float(w0), 0.0
+        segs = []        # (ts, te, x0, u0, a0, a1, phi, state)
+        turning = []     # (t, w)
+        friction_work = 0.0
+        G = F.value(0.0) - k * w
+        stuck = abs(G) <= fs
+        s = 1.0 if G > 0 else -1.0
+        forever = False
+        from_rest = True
+        analytic_free = (self.kind == 0) and not F.harmonic
+        steps = 0
+        while t < t_end:
+            steps += 1
+            if steps > MAX_STEPS:
+                raise SolverFailure(f"more than {MAX_STEPS} events before t_end = {t_end:g} s "
+                                    f"(stopped at t = {t:.6g} s); shorten t_end")
+            if stuck:
+                tb = self._breakaway(t, w, t_stop=t_end)
+                if tb is None or tb >= t_end:
+                    segs.append((t, t_end, 0.0, 0.0, w, 0.0, 0.0, 0))
+                    forever = tb is None
+                    t = t_end
+                    break
+                if tb > t:
+                    segs.append((t, tb, 0.0, 0.0, w, 0.0, 0.0, 0))
+                t = tb
+                G = F.value(t) - k * w
+                s = 1.0 if G > 0 else -1.0
+                stuck, v, from_rest = False, 0.0, True
+                continue
+            p, q, t_node = F.piece(t)
+            t_stop = t_end if t_end < t_node else t_node
+            fc = p - s * fk
+            x0, u0, a0, a1, phi = self.coefficients(t, w, v, fc, q)
+            fd = self.segment(x0, u0, a0, a1, phi, s)
+            analytic = analytic_free and q == 0.0
+            tau = self._velocity_zero(fd, s, x0, u0, analytic, t_stop - t, from_rest)
+            state = 1 if s > 0 else -1
+            if tau is None:
+                w1, v1, _ = fd(t_stop - t)
+                segs.append((t, t_stop, x0, u0, a0, a1, phi, state))
+                friction_work += fk * abs(w1 - w)
+                t, w, v = t_stop, w1, v1
+                if v == 0.0:
+                    v = 0.0
+                from_rest = False
+                continue
+            w1 = fd(tau)[0]
+            te = t + tau
+            segs.append((t, te, x0, u0, a0, a1, phi, state))
+            friction_work += fk * abs(w1 - w)
+            t, w, v = te, w1, 0.0
+            turning.append((t, w))
+            G = F.value(t) - k * w
+            if abs(G) <= fs:
+                stuck = True
+            else:
+                s = 1.0 if G > 0 else -1.0
+                from_rest = True
+        return Solution(self, float(w0), t_end, segs, turning, forever, friction_work)
+
+
+def _harmonic_exceed(A, theta, t0, Gc, thr):
+    """First t >= t0 where |A sin(theta t) + Gc| > thr (None: never).  |A sin(theta t0) + Gc| <= thr."""
+    if A < 0.0:
+        a, off = -A, math.pi
+    else:
+        a, off = A, 0.0
+    U, L = thr - Gc, -thr - Gc      # exceed when a sin(psi) > U or a sin(psi) < L
+    psi0 = theta * t0 + off
+    cands = []
+    if U < a:
+        if U < -a:
+            return t0
+        cands.append(math.asin(U / a))                 # upward crossing of level U
+    if L > -a:
+        if L > a:
+            return t0
+        cands.append(math.pi - math.asin(L / a))       # downward crossing of level L
+    if not cands:
+        return None
+    best = math.inf
+    tol = 1e-13 * max(1.0, abs(psi0))
+    for pc in cands:
+        n = math.ceil((psi0 - tol - pc) / TWO_PI)
+        psi = pc + TWO_PI * n
+        if psi < best:
+            best = psi
+    return max(t0, (best - off) / theta)
+
+
+# ---------------------------------------------------------------------------------------------
+# Post-processing of a run
+# ---------------------------------------------------------------------------------------------
+
+class Solution:
+    """Stored closed-form segments of a run, with vectorised evaluation and summary quantities."""
+
+    def __init__(self, osc: Oscillator, w0, t_end, segs, turning, forever, friction_work):
+        self.osc, self.w0, self.t_end = osc, w0, t_end
+        self.segs, self.turning, self.forever = segs, turning, forever
+        self.friction_work = friction_work
+        self._np = None
+
+    # arrays of the segment table
+    def _arrays(self):
+        if self._np is None:
+            import numpy as np
+            a = np.array(self.segs, dtype=float).reshape(-1, 8)
+            self._np = {"ts": a[:, 0], "te": a[:, 1], "x0": a[:, 2], "u0": a[:, 3],
+                        "a0": a[:, 4], "a1": a[:, 5], "phi": a[:, 6], "state": a[:, 7]}
+        return self._np
+
+    def eval(self, t, seg=None):
+        """w [m], v [m/s], state (+1/-1 sliding direction, 0 stuck) at times ``t`` (array)."""
+        import numpy as np
+        o = self.osc
+        A_ = self._arrays()
+        t = np.asarray(t, dtype=float)
+        if seg is None:
+            seg = np.clip(np.searchsorted(A_["ts"], t, side="right") - 1, 0, len(A_["ts"]) - 1)
+        tau = t - A_["ts"][seg]
+        x0, u0, a0, a1, phi, st = (A_[n][seg] for n in ("x0", "u0", "a0", "a1", "phi", "state"))
+        sig, om, wd = o.sigma, o.omega, o.wd
+        if o.kind == 0:
+            C, S = np.cos(wd * tau), np.sin(wd * tau) / wd
+        elif o.kind == 1:
+            C, S = np.ones_like(tau), tau
+        else:
+            C, S = np.cosh(wd * tau), np.sinh(wd * tau) / wd
+        e = np.exp(-sig * tau)
+        w = e * (x0 * C + (u0 + sig * x0) * S) + a0 + a1 * tau
+        v = e * (u0 * C - (sig * u0 + om * om * x0) * S) + a1
+        F = o.F
+        if F.harmonic:
+            sliding = st != 0
+            th, A = F.theta, F.A
+            if o.c == 0.0:
+                Am = A / o.m / (om + th)
+                P, M = 0.5 * (om + th), 0.5 * (om - th)
+                sph, cph = np.sin(phi), np.cos(phi)
+                sP, cP, sw = np.sin(P * tau), np.cos(P * tau), np.sin(om * tau)
+                if M != 0.0:
+                    Sh, cM = np.sin(M * tau) / (2 * M), np.cos(M * tau)
+                else:
+                    Sh, cM = 0.5 * tau, np.ones_like(tau)
+                hw = Am * (sph * 2 * sP * Sh + cph * (sw / om - 2 * cP * Sh))
+                hv = Am * (sph * ((om + th) * cP * Sh + sP * cM) + cph * 2 * th * sP * Sh)
+            else:
+                sa, ca = np.sin(th * tau + phi), np.cos(th * tau + phi)
+                hw = o.B1 * sa + o.B2 * ca
+                hv = th * (o.B1 * ca - o.B2 * sa)
+            w = w + np.where(sliding, hw, 0.0)
+            v = v + np.where(sliding, hv, 0.0)
+        v = np.where(st == 0, 0.0, v)
+        return w, v, st
+
+    # energy balance ---------------------------------------------------------------------------
+    def energy_balance(self):
+        """Relative energy error |E(t_end) + D_friction + D_viscous - W_in - E(0)| / E_ref.
+
+        E = m v^2/2 + k w^2/2; D_friction = mu N * (distance slid), exact; D_viscous = int c v^2 dt
+        and W_in = int F v dt by 10-point Gauss-Legendre on pieces no longer than half the shortest
+        period (of omega and theta) and 3/sigma.  E_ref = E(0), or the largest E seen when E(0) = 0.
+        """
+        import numpy as np
+        o = self.osc
+        A_ = self._arrays()
+        E0 = 0.5 * o.k * self.w0 ** 2
+        sl = np.flatnonzero(A_["state"] != 0)
+        w_end, v_end, _ = self.eval(np.array([self.t_end]))
+        E_end = 0.5 * o.m * v_end[0] ** 2 + 0.5 * o.k * w_end[0] ** 2
+        Emax = max(E0, E_end)
+        W_in = D_visc = 0.0
+        if sl.size:
+            lim = [math.pi / o.omega]
+            if o.F.harmonic:
+                lim.append(math.pi / o.F.theta)
+            if o.sigma > 0:
+                lim.append(3.0 / o.sigma)
+            hq = min(lim)
+            ts, te = A_["ts"][sl], A_["te"][sl]
+            npieces = np.maximum(1, np.ceil((te - ts) / hq).astype(int))
+            seg = np.repeat(sl, npieces)
+            start = np.repeat(ts, npieces)
+            length = np.repeat((te - ts) / npieces, npieces)
+            j = np.arange(seg.size) - np.repeat(np.cumsum(npieces) - npieces, npieces)
+            a = start + j * length
+            xg, wg = np.polynomial.legendre.leggauss(10)
+            tt = a[:, None] + 0.5 * length[:, None] * (xg[None, :] + 1.0)
+            segm = np.repeat(seg[:, None], 10, axis=1)
+            w, v, _ = self.eval(tt.ravel(), segm.ravel())
+            w, v = w.reshape(tt.shape), v.reshape(tt.shape)
+            Fv = o.F.eval_np(tt) if o.F.forced else 0.0
+            half = 0.5 * length[:, None] * wg[None, :]
+            W_in = float(np.sum(half * Fv * v)) if o.F.forced else 0.0
+            D_visc = float(np.sum(half * o.c * v * v)) if o.c else 0.0
+            Emax = max(Emax, float(np.max(0.5 * o.m * v * v + 0.5 * o.k * w * w)))
+        err = E_end + self.friction_work + D_visc - W_in - E0
+        Eref = E0 if E0 > 0 else Emax
+        if Eref == 0.0:
+            return 0.0
+        return abs(err) / Eref
+
+    # per-period amplitudes ---------------------------------------------------------------------
+    def period_amplitudes(self):
+        """(max w, min w) over each complete forcing period [n T, (n+1) T], T = 2 pi/theta."""
+        import numpy as np
+        F = self.osc.F
+        Tf = TWO_PI / F.theta
+        n = int(math.floor(self.t_end / Tf * (1 + 1e-14)))
+        if n < 1:
+            return np.empty(0), np.empty(0)
+        tb = Tf * np.arange(n + 1)
+        tb[-1] = min(tb[-1], self.t_end)
+        wb, _, _ = self.eval(tb)
+        wmax = np.maximum(wb[:-1], wb[1:])
+        wmin = np.minimum(wb[:-1], wb[1:])
+        if self.turning:
+            tp = np.array(self.turning)
+            idx = np.floor(tp[:, 0] / Tf).astype(int)
+            ok = idx < n
+            np.maximum.at(wmax, idx[ok], tp[ok, 1])
+            np.minimum.at(wmin, idx[ok], tp[ok, 1])
+        return wmax, wmin
+
+    def steady(self):
+        """(amplitude or None, reason or None, t from which successive periods agree)."""
+        F = self.osc.F
+        if not F.forced:
+            return None, "unforced run (no steady forced response)", None
+        if not F.harmonic:
+            return None, "record excitation is not periodic", None
+        if F.has_record:
+            return None, "record plus harmonic excitation is not periodic", None
+        wmax, wmin = self.period_amplitudes()
+        if wmax.size < 2:
+            return None, "fewer than two complete forcing periods before t_end", None
+        dmax = abs(wmax[-1] - wmax[-2])
+        dmin = abs(wmin[-1] - wmin[-2])
+        if max(dmax, dmin) > STEADY_TOL:
+            amp = 0.5 * (wmax - wmin)
+            grow = amp[-1] - amp[-2]
+            return None, (f"not steady by t_end: the last two forcing periods differ by "
+                          f"{max(dmax, dmin):.3g} m (amplitude change {grow:+.3g} m per period; "
+                          f"tolerance {STEADY_TOL:g} m); increase t_end"
+                          + (" - at resonance it grows without bound" if grow > 0 and
+                             abs(F.theta - self.osc.omega) < 1e-9 * self.osc.omega else "")), None
+        agree = (abs(wmax[1:] - wmax[:-1]) <= STEADY_TOL) & (abs(wmin[1:] - wmin[:-1]) <= STEADY_TOL)
+        i = len(agree)
+        while i > 0 and agree[i - 1]:
+            i -= 1
+        return float(0.5 * (wmax[-1] - wmin[-1])), None, float(i * TWO_PI / F.theta)
+
+    def stop(self):
+        if not self.forever:
+            return None
+        if self.turning:
+            t, w = self.turning[-1]
+            return {"t": t, "w": w}
+        return {"t": 0.0, "w": self.w0}
+
+    def w_max(self):
+        vals = [abs(self.w0)] + [abs(w) for _, w in self.turning]
+        if self.segs:
+            w_end, _, _ = self.eval([self.t_end])
+            vals.append(abs(float(w_end[0])))
+            # segment ends at record nodes / t_end while sliding
+            import numpy as np
+            A_ = self._arrays()
+            sl = A_["state"] != 0
+            if sl.any():
+                idx = np.flatnonzero(sl)
+                we, _, _ = self.eval(A_["te"][idx], idx)
+                vals.append(float(np.max(np.abs(we))))
+        return max(vals)
+
+    def write(self, outdir, points_per_period=64):
+        """Write history.csv (t, w, v, state) and turning_points.csv; return the file names."""
+        import numpy as np
+        o = self.osc
+        periods = [TWO_PI / o.omega]
+        if o.F.harmonic:
+            periods.append(TWO_PI / o.F.theta)
+        dt = min(periods) / points_per_period
+        n = int(min(2_000_000, math.ceil(self.t_end / dt)))
+        A_ = self._arrays()
+        t = np.unique(np.concatenate([np.linspace(0.0, self.t_end, n + 1), A_["ts"], A_["te"]]))
+        t = t[(t >= 0) & (t <= self.t_end)]
+        seg = np.clip(np.searchsorted(A_["ts"], t, side="right") - 1, 0, len(A_["ts"]) - 1)
+        # an instant that ends a segment belongs to the next one (same w, v = 0 at events)
+        w, v, st = self.eval(t, seg)
+        path = os.path.join(outdir, "history.csv")
+        np.savetxt(path, np.column_stack([t, w, v, st]), delimiter=",",
+                   header="t [s],w [m],v [m/s],state (+1/-1 sliding direction; 0 stuck)",
+                   fmt=["%.15g", "%.15g", "%.15g", "%d"])
+        path2 = os.path.join(outdir, "turning_points.csv")
+        tp = np.array(self.turning, dtype=float).reshape(-1, 2)
+        np.savetxt(path2, tp, delimiter=",", header="t [s],w [m]", fmt="%.15g")
+        return ["history.csv", "turning_points.csv"]
+
+
+# ---------------------------------------------------------------------------------------------
+# Runners (scene registry: femslide/scenes.py)
+# ---------------------------------------------------------------------------------------------
+
+def build(values: dict) -> tuple[Oscillator, float, float]:
+    """Oscillator, w0 and t_end from validated scene parameters (see module docstring)."""
+    m, k = values["m"], values["k"]
+    if not k > 0:
+        raise BadInput(f"parameter k = {k:g} N/m: the one-mass oscillator needs a spring; "
+                       f"allowed: k > 0")
+    omega = math.sqrt(k / m)
+    ag = values.get("ag") or 0.0
+    rec = values.get("record")
+    P0 = values.get("P0", 0.0)
+    if P0 is None:  # default of sdof-harmonic: 10 N unless a base excitation is given
+        P0 = 0.0 if (ag or rec) else 10.0
+    theta = values.get("theta_ratio", 1.0) * omega
+    A = P0 - m * ag
+    rec_t = rec_F = None
+    if rec:
+        rec_t, acc = read_record(rec)
+        rec_F = [-m * a for a in acc]
+    forcing = Forcing(A, theta if A else 0.0, rec_t, rec_F)
+    osc = Oscillator(m, k, values.get("c_v", 0.0), values["mu"], values["mu0"], values["g"], forcing)
+    return osc, float(values.get("w0", 0.0)), float(values["t_end"])
+
+
+def run(values: dict, warm=None):
+    """Simulate one scene; returns (contract result dict, None)."""
+    osc, w0, t_end = build(values)
+    sol = osc.run(w0, t_end)
+    amp, reason, t_steady = sol.steady()
+    res = {
+        "converged": True,
+        "turning_points": [{"t": t, "w": w} for t, w in sol.turning],
+        "stop": sol.stop(),
+        "w_max": sol.w_max(),
+        "steady_amplitude": amp,
+    }
+    if amp is None:
+        res["steady_reason"] = reason
+    else:
+        res["steady_since_t"] = t_steady
+    res.update({
+        "steps": len(sol.segs),
+        "energy_balance": sol.energy_balance(),
+        "t_end": t_end,
+        "omega": osc.omega,
+        "period": TWO_PI / osc.omega,
+        "theta": osc.F.theta if osc.F.harmonic else None,
+        "_write": sol.write,
+    })
+    return res, None
+
+
+run_free = run_decay = run_harmonic = run
