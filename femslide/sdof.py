@@ -721,10 +721,10 @@ class Solution:
         path = os.path.join(outdir, "history.csv")
         np.savetxt(path, np.column_stack([t, w, v, st]), delimiter=",",
                    header="t [s],w [m],v [m/s],state (+1/-1 sliding direction; 0 stuck)",
-                   fmt=["%.15g", "%.15g", "%.15g", "%d"])
+                   fmt=["%.17g", "%.17g", "%.17g", "%d"], comments="")
         path2 = os.path.join(outdir, "turning_points.csv")
         tp = np.array(self.turning, dtype=float).reshape(-1, 2)
-        np.savetxt(path2, tp, delimiter=",", header="t [s],w [m]", fmt="%.15g")
+        np.savetxt(path2, tp, delimiter=",", header="t [s],w [m]", fmt="%.17g", comments="")
         return ["history.csv", "turning_points.csv"]
 
 
