@@ -44,7 +44,8 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
     if model.body is not None:
         rot[model.body.dof0 + 2] = True
     hist = []
-    prev = math.inf
+    prev = best = math.inf
+    stalled = 0
     for it in range(1, maxit + 1):
         r, A, info = model.system(y, alpha_ref, lam, control)
         # relative to the internal forces, floored at the round-off level of the element forces
@@ -58,6 +59,11 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
             return y, NewtonInfo(False, it, hist, "residual is not finite")
         if res_f <= tol and res_g <= tol:
             return y, NewtonInfo(True, it - 1, hist)
+        # stagnation at the round-off level of a stiff model: no progress for 4 iterations
+        stalled = stalled + 1 if res > 0.5 * best else 0
+        best = min(best, res)
+        if stalled >= 4 and best <= 1e-7:
+            return y, NewtonInfo(True, it - 1, hist, "stagnated at round-off level")
         try:
             dy = -solve_linear(A, r)
         except (np.linalg.LinAlgError, RuntimeError, ValueError) as exc:

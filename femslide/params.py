@@ -89,7 +89,7 @@ PARAMS: dict[str, Param] = {p.name: p for p in [
     Param("b", 0.5, "m", "half-height of the body: AD = 2b", 0, _INF),
     Param("d", 0.2, "m", "offset of the centre of mass G from the centre of AB, along AB (towards B)", -_INF, _INF),
     Param("l", 3.0, "m", "length of the support rods", 0, _INF, lo_open=True),
-    Param("l1", 1.5, "m", "height of the spring hinge on the rod (sections 2, 4, 5); needs l1 < l", 0, _INF, lo_open=True),
+    Param("l1", 1.5, "m", "height of the spring hinge on the rod (sections 2, 4, 5); l1 <= l", 0, _INF, lo_open=True),
     Param("m", 1.0, "kg", "mass of the rigid body (or of the oscillator)", 0, _INF, lo_open=True),
     Param("g", 9.81, "m/s^2", "gravitational acceleration (acts in -y)", 0, _INF, lo_open=True),
     Param("c", 1e6, "N m/rad", "stiffness of the spiral spring in the rod hinge", 0, _INF, lo_open=True),
@@ -112,7 +112,8 @@ PARAMS: dict[str, Param] = {p.name: p for p in [
     Param("ag", 0.0, "m/s^2", "amplitude of the harmonic base acceleration", 0, _INF),
     Param("record", None, "-", "CSV file of base acceleration: columns t [s], a [m/s^2]", kind="path"),
     Param("t_end", 5.0, "s", "end time of the simulation", 0, 1e7, lo_open=True),
-    Param("L", 1.0, "m", "length of the cantilever", 0, _INF, lo_open=True),
+    Param("L", 1.0, "m", "length of the cantilever; free length of a flexible sliding rod (default l)",
+          0, _INF, lo_open=True, derived="l"),
     Param("m_ratio", 0.5, "-", "end moment over 2 pi EI/L (1 rolls the cantilever into a full circle)", -10, 10),
     Param("p_ratio", 1.0, "-", "transverse tip load over EI/L^2", -1000, 1000),
 ]}
@@ -185,6 +186,13 @@ def rule_mu0_ge_mu(v):
     if v["mu0"] < v["mu"]:
         return (f"parameter mu0 = {v['mu0']:g} is below mu = {v['mu']:g}; "
                 f"allowed: mu0 >= mu (static friction is at least kinetic friction)")
+    return None
+
+
+def rule_l1_le_l(v):
+    """Sections 2 and 4: the hinge may sit at the guide entrance (l1 = l, the FE-equivalent case)."""
+    if not v["l1"] <= v["l"]:
+        return (f"parameter l1 = {v['l1']:g} m must lie on the rod: allowed 0 < l1 <= l = {v['l']:g} m")
     return None
 
 

@@ -13,9 +13,17 @@ import importlib
 from dataclasses import dataclass
 
 from .errors import BadInput
-from .params import ParamSet, rule_l1_lt_l, rule_mu0_ge_mu
+from .params import ParamSet, rule_l1_le_l, rule_l1_lt_l, rule_mu0_ge_mu
 
 GEOMETRY = ("a", "b", "d", "l", "m", "g")
+FE = GEOMETRY + ("EI", "EA", "n_elements")
+
+
+def rule_L_le_l(v):
+    if v.get("L") is not None and v["L"] > v["l"]:
+        return (f"parameter L = {v['L']:g} m (free length of the flexible sliding rod) exceeds l = {v['l']:g} m; "
+                f"allowed: 0 < L <= l")
+    return None
 
 
 @dataclass(frozen=True)
@@ -36,16 +44,32 @@ class Scene:
 
 SCENES: dict[str, Scene] = {s.name: s for s in [
     Scene("hinge-slider", "solve", "section 2: rigid fixed rod; sliding rod with a spring hinge at height l1",
-          ParamSet(GEOMETRY + ("l1", "c"), rules=(rule_l1_lt_l,)), ".runners:hinge_slider"),
+          ParamSet(GEOMETRY + ("l1", "c"), rules=(rule_l1_le_l,)), ".runners:hinge_slider"),
     Scene("hinge-fixed", "solve", "section 3: fixed rod with a spring hinge at l/2; rigid sliding rod",
           ParamSet(GEOMETRY + ("c",)), ".runners:hinge_fixed"),
     Scene("hinge-spring", "solve", "section 4: section 2 plus a linear spring k between rod and guide",
-          ParamSet(GEOMETRY + ("l1", "c", "k"), rules=(rule_l1_lt_l,)), ".runners:hinge_spring"),
+          ParamSet(GEOMETRY + ("l1", "c", "k"), rules=(rule_l1_le_l,)), ".runners:hinge_spring"),
     Scene("hinge-extra-mass", "solve",
           "section 5.1: preloaded slider spring, telescopic rod piece (m1, l2), extra mass dm on the body",
           ParamSet(GEOMETRY + ("l1", "c", "k", "dm", "m1", "l2"), defaults={"dm": 1e-3},
                    rules=(rule_l1_lt_l,)), ".runners:hinge_extra_mass"),
     # -- FE statics scenes (femslide/statics.py) --
+    Scene("beam-slider", "solve", "right rod a flexible FE beam (free length L) in the sliding clamp, left rod rigid",
+          ParamSet(FE + ("L",), defaults={"L": None}, rules=(rule_L_le_l,)), ".statics:run_beam_slider"),
+    Scene("beam-fixed", "solve", "left rod a flexible FE beam welded at A, right rod rigid in the sliding clamp",
+          ParamSet(FE), ".statics:run_beam_fixed"),
+    Scene("beam-both", "solve", "both rods flexible FE beams (left welded at A, right in the sliding clamp)",
+          ParamSet(FE), ".statics:run_beam_both"),
+    Scene("beam-spring", "solve", "beam-slider with a linear spring k along the guide (at rest in the vertical state)",
+          ParamSet(FE + ("L", "k"), defaults={"L": None}, rules=(rule_L_le_l,)), ".statics:run_beam_spring"),
+    Scene("beam-extra-mass", "solve",
+          "FE section 5.1: preloaded slider spring, flexible rod of length L under a rigid telescopic piece (m1, l2), extra mass dm",
+          ParamSet(FE + ("L", "k", "dm", "m1", "l2"), defaults={"L": 1.5, "dm": 1e-3}, rules=(rule_L_le_l,)),
+          ".statics:run_beam_extra_mass"),
+    Scene("cantilever-moment", "solve", "clamped rod under an end moment m_ratio * 2 pi EI/L (1: full circle)",
+          ParamSet(("L", "EI", "EA", "n_elements", "m_ratio"), defaults={"EI": 1.0}), ".statics:run_cantilever_moment"),
+    Scene("cantilever-load", "solve", "clamped rod under a transverse dead tip load p_ratio * EI/L^2 (+y)",
+          ParamSet(("L", "EI", "EA", "n_elements", "p_ratio"), defaults={"EI": 1.0}), ".statics:run_cantilever_load"),
     # -- one-mass dynamic scenes (femslide/sdof.py) --
     Scene("sdof-free", "simulate",
           "paper 003 ex. 1: free vibration of a mass on a spring with Coulomb friction (mu, mu0), exact",
