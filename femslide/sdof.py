@@ -453,6 +453,8 @@ class Oscillator:
                     segs.append((t, tb, 0.0, 0.0, w, 0.0, 0.0, 0))
                 t = tb
                 G = F.value(t) - k * w
+                if G == 0.0:  # mu0 = 0: the net force leaves zero with the sign of its slope
+                    G = F.slope(t)
                 s = 1.0 if G > 0 else -1.0
                 stuck, v, from_rest = False, 0.0, True
                 continue
