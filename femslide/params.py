@@ -65,6 +65,9 @@ class Param:
         except (TypeError, ValueError):
             raise BadInput(f"parameter {self.name}: {value!r} is not a number; "
                            f"allowed: {self.range_text()}") from None
+        except OverflowError:  # an int beyond the float range, e.g. 10**400
+            raise BadInput(f"parameter {self.name}: the value is too large to be finite; "
+                           f"allowed: {self.range_text()}") from None
         if not math.isfinite(x):
             raise BadInput(f"parameter {self.name}: {value!r} is not finite; "
                            f"allowed: {self.range_text()}")
