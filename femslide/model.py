@@ -76,16 +76,36 @@ class Model:
         return t
 
     def finalize(self):
+        """Fix the dof layout and precompute the scatter pattern of the Jacobian (static)."""
         sizes = [c.size for c in self.constraints]
         self.c_off = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
         self.n_c = int(self.c_off[-1])
         self.n = self.n_q + self.n_c
+        rows, cols = [], []
         if self.elements is not None:
             c = self.elements.conn
             ed = np.concatenate([3 * c[:, :1] + np.arange(3), 3 * c[:, 1:] + np.arange(3)], axis=1)
             self.edofs = ed
-            self._er = np.repeat(ed, 6, axis=1).ravel()
-            self._ec = np.tile(ed, (1, 6)).ravel()
+            self._ebin = ed.ravel()
+            rows.append(np.repeat(ed, 6, axis=1).ravel())
+            cols.append(np.tile(ed, (1, 6)).ravel())
+        for t in self.terms:
+            d = t.dofs
+            rows.append(np.repeat(d, d.size))
+            cols.append(np.tile(d, d.size))
+        for i, c in enumerate(self.constraints):
+            d = c.dofs
+            o, m = self.n_q + self.c_off[i], c.size
+            rows += [np.repeat(d, d.size), np.repeat(np.arange(o, o + m), d.size), np.tile(d, m)]
+            cols += [np.tile(d, d.size), np.tile(d, m), np.repeat(np.arange(o, o + m), d.size)]
+        self._rows = np.concatenate(rows).astype(np.intp)
+        self._cols = np.concatenate(cols).astype(np.intp)
+        # control mode: one extra row (the prescribed dof) and column (d r / d lam over all q)
+        j = self.n
+        self._crows = np.concatenate([self._rows, [j], np.arange(self.n_q)])
+        self._ccols_base = np.concatenate([self._cols, [-1], np.full(self.n_q, j)])
+        self._term_dofs = [t.dofs for t in self.terms]
+        self._con_dofs = [c.dofs for c in self.constraints]
         return self
 
     def zero_state(self):
@@ -116,47 +136,35 @@ class Model:
         size = self.n + (1 if control is not None else 0)
         r = np.zeros(size)
         fl = np.zeros(n_q)
-        rows, cols, vals = [], [], []
+        vals = []
         fmax = noise = 0.0
         if self.elements is not None:
             f, K, qb, _, enoise = corotational.evaluate(self.elements, self.nodal(q), alpha_ref)
-            r[:n_q] += np.bincount(self.edofs.ravel(), weights=f.ravel(), minlength=n_q)
-            rows.append(self._er)
-            cols.append(self._ec)
+            r[:n_q] += np.bincount(self._ebin, weights=f.ravel(), minlength=n_q)
             vals.append(K.ravel())
-            fmax = float(np.abs(f).max()) if f.size else 0.0
+            fmax = float(np.abs(f).max())
             noise = 4.0 * float(enoise.max()) * (1.0 + 1.0 / self.elements.L0.min())
-        for t in self.terms:
-            d = t.dofs
+        for t, d in zip(self.terms, self._term_dofs):
             _, gt, Ht, g0 = t.eval(q[d], lam)
             r[d] += gt
             fl[d] += g0
-            rows.append(np.repeat(d, d.size))
-            cols.append(np.tile(d, d.size))
             vals.append(Ht.ravel())
-        for i, c in enumerate(self.constraints):
-            d = c.dofs
+        for i, (c, d) in enumerate(zip(self.constraints, self._con_dofs)):
             g, G, H = c.eval(q[d])
-            o = n_q + self.c_off[i]
-            m = c.size
+            o, m = n_q + self.c_off[i], c.size
             mi = mu[self.c_off[i]:self.c_off[i] + m]
             r[d] += G.T @ mi
             r[o:o + m] = g
-            Hm = np.einsum("i,ijk->jk", mi, H)
-            rows += [np.repeat(d, d.size), np.repeat(np.arange(o, o + m), d.size),
-                     np.tile(d, m)]
-            cols += [np.tile(d, d.size), np.tile(d, m), np.repeat(np.arange(o, o + m), d.size)]
-            vals += [Hm.ravel(), G.ravel(), G.ravel()]
-        if control is not None:
+            vals += [np.tensordot(mi, H, 1).ravel(), G.ravel(), G.ravel()]
+        if control is None:
+            rows, cols = self._rows, self._cols
+        else:
             dof, value = control
-            j = size - 1
-            r[j] = q[dof] - value
-            nz = np.nonzero(fl)[0]
-            rows += [np.array([j]), nz]
-            cols += [np.array([dof]), np.full(nz.size, j)]
-            vals += [np.array([1.0]), fl[nz]]
-        rows = np.concatenate(rows)
-        cols = np.concatenate(cols)
+            r[-1] = q[dof] - value
+            rows = self._crows
+            cols = self._ccols_base.copy()
+            cols[self._rows.size] = dof
+            vals += [np.ones(1), fl]
         vals = np.concatenate(vals)
         if size <= DENSE_LIMIT:
             A = np.bincount(rows * size + cols, weights=vals, minlength=size * size).reshape(size, size)

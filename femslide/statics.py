@@ -26,7 +26,7 @@ from .model import Model
 from .newton import newton, principal_branch
 from .rod import Rod
 
-TARGET = 1e-8     # estimated relative error of M_max the adaptive refinement aims for
+TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (10x below 1e-6)
 N_START = 2       # elements per rod on the coarsest adaptive level
 N_MAX = 4096
 
@@ -187,13 +187,22 @@ def _solve_load_steps(bt, warm=None):
     return y, alpha, its, hist
 
 
-def _solve_structure(bt, warm=None):
+def _solve_structure(bt, warm=None, near=False):
+    """Solve a built model.  ``warm`` = (y, alpha) start; ``near`` says it is the same problem on a
+    coarser mesh (prolonged), so a plain Newton solve at full load is tried first and kept only if
+    it stays on the branch (same sign of phi, within 10 %); otherwise the path following decides."""
     if bt.control == "load":
         return _solve_load_steps(bt, warm)
     m = bt.model
     y0 = alpha0 = None
     if warm is not None:
         y0, alpha0 = warm
+        if near:
+            th = m.body.dof0 + 2
+            y, info = newton(m, y0, alpha0, lam=1.0)
+            if info.converged and abs(y[th] - y0[th]) <= 0.1 * abs(y0[th]):
+                _, a = m.element_forces(y[:m.n_q], alpha0)
+                return y, a, info.iterations, info.history
     br = principal_branch(m, m.body.dof0 + 2, bt.phi_dir, bt.phi_guess, y0, alpha0)
     return br.y, br.alpha, br.iterations, br.history
 
@@ -317,10 +326,10 @@ def solve_scene(scene: str, v: dict, warm=None):
     its = 0
     hist = []
 
-    def run(n, start):
+    def run(n, start, bt=None, near=False):
         nonlocal its, hist
-        bt = build(v, n)
-        y, a, k, h = solve(bt, start)
+        bt = bt or build(v, n)
+        y, a, k, h = solve(bt, start, near) if near else solve(bt, start)
         its += k
         hist = h
         res = extract(bt, y, a, v)
@@ -349,8 +358,9 @@ def solve_scene(scene: str, v: dict, warm=None):
         noise_floor = False
         while True:
             n2 = 2 * n
-            start = prolong(bt, y, a, build(v, n2)) if bt.control == "phi" else None
-            bt, y, a = run(n2, start)
+            bt2 = build(v, n2)
+            start = prolong(bt, y, a, bt2) if bt.control == "phi" else None
+            bt, y, a = run(n2, start, bt2, near=start is not None)
             f1, f2 = _flat(levels[-2][4]), _flat(levels[-1][4])
             ext.append((4.0 * f2 - f1) / 3.0)
             scale = _scales(ext[-1] / _units(bt))
