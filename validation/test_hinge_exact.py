@@ -96,6 +96,31 @@ def test_hinge_scenes_other_geometry(model, c):
     _compare(model, _fem(model, c=c, **p, **extra), r, p["m"] * p["g"])
 
 
+@pytest.mark.parametrize("c", [1e3, 1e6, 1e10])
+@pytest.mark.parametrize("d", [-1.3, -2.0])
+@pytest.mark.parametrize("model", ["slider", "fixed", "spring", "extra"])
+def test_hinge_scenes_leaning_away_from_B1(model, d, c):
+    """Centre of mass beyond A1 (a + d < 0): the principal branch has phi < 0 (SPEC section 1).
+
+    Reference: hinge_reference.solve, which finds the loaded side itself (the side where a small
+    positive gravity factor holds the structure).  Tolerance: 1e-9 relative (N1, N2 within 1e-9 P).
+    """
+    extra = {"dm": 1e-3} if model == "extra" else {}
+    r = ref.solve(model, c, d=d, **extra)
+    assert r.phi < 0
+    _compare(model, _fem(model, c=c, d=d, **extra), r, DEFAULTS["m"] * DEFAULTS["g"])
+
+
+def test_hinge_at_the_guide_entrance():
+    """l1 = l (allowed by the l1 <= l rule: the hinge at the guide entrance, the FE-equivalent case).
+
+    Reference: hinge_reference.solve.  Tolerance: 1e-9 relative.
+    """
+    for model in ("slider", "spring"):
+        r = ref.solve(model, 1e6, l1=3.0)
+        _compare(model, _fem(model, c=1e6, l1=3.0), r, DEFAULTS["m"] * DEFAULTS["g"])
+
+
 @pytest.mark.parametrize("c", C_EXTRA)
 @pytest.mark.parametrize("regime", list(REGIMES))
 def test_extra_mass_regimes_match_independent_exact(regime, c):
@@ -154,7 +179,8 @@ def _free_body_residuals(model, fem, p):
     mp.mp.dps = 30
     P = p["m"] * p["g"]
     a, g, m = p["a"], p["g"], p["m"]
-    dm, m1, k = p.get("dm", 0.0), p.get("m1", 0.0), p.get("k", 0.0)
+    dm, m1 = p.get("dm", 0.0), p.get("m1", 0.0)
+    k = p["k"] if model in ("spring", "extra") else 0.0   # explicit: no silent default
     W = (m + dm) * g
     phi, psi, T, slide = (mp.mpf(fem[key]) for key in ("phi", "psi", "T", "slide"))
     R = fem["reactions"]
@@ -210,13 +236,21 @@ def _closure_cases():
     for regime, f in REGIMES.items():
         for c in C_EXTRA:
             cases.append(("extra", dict(DEFAULTS, c=c, k=100.0, dm=f(c), m1=0.1, l2=2.0)))
+    for model in ("slider", "fixed", "spring"):   # leaning away from B1 (phi < 0)
+        p = dict(DEFAULTS, c=1e6, d=-1.6)
+        if model == "spring":
+            p["k"] = 100.0
+        if model == "fixed":
+            p.pop("l1")
+        cases.append((model, p))
+    cases.append(("extra", dict(DEFAULTS, c=1e6, d=-1.6, k=100.0, dm=0.01, m1=0.1, l2=2.0)))
     cases.append(("extra", dict(OTHER, c=1e7, k=80.0, dm=0.05, m1=0.3, l2=1.2)))
     cases.append(("spring", dict(OTHER, c=1e7, k=60.0)))
     return cases
 
 
 @pytest.mark.parametrize("model,p", _closure_cases(),
-                         ids=[f"{m}-c{p['c']:g}-dm{p.get('dm', 0):.3g}" for m, p in _closure_cases()])
+                         ids=[f"{m}-c{p['c']:g}-d{p['d']:g}-dm{p.get('dm', 0):.3g}" for m, p in _closure_cases()])
 def test_statics_closure_of_exact_solutions(model, p):
     """Free-body statics of every femslide hinge solution, with explicit forces.
 
