@@ -30,6 +30,7 @@ class ElementSet:
     L0: np.ndarray
     beta0: np.ndarray
     kb: np.ndarray
+    xmax: float = 1.0  # largest |initial coordinate|: sets the round-off of the chord angles
 
     @property
     def size(self):
@@ -55,35 +56,51 @@ def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool
     dU = U[j, :2] - U[i, :2]
     D = es.D0 + dU
     Ln = np.hypot(D[:, 0], D[:, 1])
-    u_bar = (2.0 * np.einsum("ij,ij->i", es.D0, dU) + np.einsum("ij,ij->i", dU, dU)) / (Ln + es.L0)
+    dx, dy = dU[:, 0], dU[:, 1]
+    u_bar = ((2.0 * es.D0[:, 0] + dx) * dx + (2.0 * es.D0[:, 1] + dy) * dy) / (Ln + es.L0)
     alpha = chord_rotation(es, U, alpha_ref)
     beta = es.beta0 + alpha
     c, s = np.cos(beta), np.sin(beta)
     t1 = U[i, 2] - alpha
     t2 = U[j, 2] - alpha
-    q = np.einsum("nij,nj->ni", es.kb, np.stack([u_bar, t1, t2], axis=1))
-    N, M1, M2 = q[:, 0], q[:, 1], q[:, 2]
+    kb = es.kb
+    k00, k11, k12, k21, k22 = kb[:, 0, 0], kb[:, 1, 1], kb[:, 1, 2], kb[:, 2, 1], kb[:, 2, 2]
+    N = k00 * u_bar
+    M1 = k11 * t1 + k12 * t2
+    M2 = k21 * t1 + k22 * t2
+    q = np.column_stack([N, M1, M2])
     n = es.size
-    zero = np.zeros(n)
-    r = np.stack([-c, -s, zero, c, s, zero], axis=1)
-    z = np.stack([s, -c, zero, -s, c, zero], axis=1)
-    B = np.empty((n, 3, 6))
-    B[:, 0] = r
-    B[:, 1] = -z / Ln[:, None]
-    B[:, 2] = B[:, 1]
-    B[:, 1, 2] += 1.0
-    B[:, 2, 5] += 1.0
-    f = np.einsum("nki,nk->ni", B, q)
+    # r = d Ln / d d, z/Ln = d beta / d d  (over d = u1, v1, th1, u2, v2, th2)
+    r = np.zeros((n, 6))
+    r[:, 0], r[:, 1], r[:, 3], r[:, 4] = -c, -s, c, s
+    zl = np.zeros((n, 6))
+    sl, cl = s / Ln, c / Ln
+    zl[:, 0], zl[:, 1], zl[:, 3], zl[:, 4] = sl, -cl, -sl, cl
+    # rows of B: r, e3 - z/Ln, e6 - z/Ln
+    B1 = -zl
+    B1[:, 2] += 1.0
+    B2 = -zl
+    B2[:, 5] += 1.0
+    f = N[:, None] * r + M1[:, None] * B1 + M2[:, None] * B2
     if not tangent:
         return f, None, q, alpha
     # round-off floor of the basic forces: u_bar and the angles carry absolute errors ~ eps times
     # the displacement and rotation magnitudes; EA/L amplifies the first (EA/EI up to 1e12 m^-2)
     eps = np.finfo(float).eps
     dmag = np.abs(dU).max(axis=1)
-    noise = eps * (es.kb[:, 0, 0] * dmag * (1.0 + dmag / es.L0)
-                   + (es.kb[:, 1, 1] + np.abs(es.kb[:, 1, 2])) * (np.abs(t1) + np.abs(t2) + np.abs(alpha)))
-    K = np.einsum("nki,nkl,nlj->nij", B, es.kb, B)
-    K += (N / Ln)[:, None, None] * z[:, :, None] * z[:, None, :]
-    rz = r[:, :, None] * z[:, None, :]
-    K += ((M1 + M2) / Ln ** 2)[:, None, None] * (rz + rz.transpose(0, 2, 1))
+    # the chord angle carries eps |x| / L0 (node coordinates rounded), which EI/L0 turns into moment
+    # noise and 1/Ln into shear noise in the nodal forces
+    xmag = es.xmax + np.abs(U[:, :2]).max()
+    ang = np.abs(t1) + np.abs(t2) + np.abs(alpha) + 2.0 * xmag / es.L0
+    noise = eps * (k00 * dmag * (1.0 + dmag / es.L0) + (k11 + np.abs(k12)) * ang * (1.0 + 2.0 / Ln))
+    # K = B^T kb B + N z z^T / Ln + (M1 + M2)/Ln^2 (r z^T + z r^T)
+    T1 = k11[:, None] * B1 + k12[:, None] * B2
+    T2 = k21[:, None] * B1 + k22[:, None] * B2
+    K = (k00[:, None] * r)[:, :, None] * r[:, None, :]
+    K += B1[:, :, None] * T1[:, None, :]
+    K += B2[:, :, None] * T2[:, None, :]
+    K += (N * Ln)[:, None, None] * (zl[:, :, None] * zl[:, None, :])
+    rz = ((M1 + M2) / Ln)[:, None, None] * (r[:, :, None] * zl[:, None, :])
+    K += rz
+    K += rz.transpose(0, 2, 1)
     return f, K, q, alpha, noise

@@ -15,7 +15,9 @@ nondimensional (lengths by a reference length, forces by a reference force).
 from __future__ import annotations
 
 import numpy as np
+from scipy.linalg.lapack import dgbsv as _gbsv
 from scipy.linalg.lapack import dgesv as _gesv
+from scipy.sparse.csgraph import reverse_cuthill_mckee
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
@@ -23,7 +25,49 @@ from . import corotational
 from .body import Body
 from .forms import basic_stiffness
 
-DENSE_LIMIT = 600  # unknowns; above it the sparse LU is faster
+DENSE_LIMIT = 600  # unknowns; above it a banded (or sparse) LU is faster
+
+
+class Banded:
+    """A static sparsity pattern renumbered by reverse Cuthill-McKee and stored as a LAPACK band.
+
+    Rod meshes give block-tridiagonal tangents; joints and the bordered control add a few entries
+    near the rod ends.  After renumbering, the saddle-point system is solved by banded LU with
+    partial pivoting (dgbsv) in O(n) per Newton iteration, without building a sparse matrix.
+    """
+
+    def __init__(self, rows, cols, size):
+        pat = sp.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(size, size)).tocsr()
+        pat = pat + pat.T
+        perm = reverse_cuthill_mckee(pat.tocsr(), symmetric_mode=True).astype(np.intp)
+        inv = np.empty_like(perm)
+        inv[perm] = np.arange(size)
+        pr, pc = inv[rows], inv[cols]
+        self.kl = int(max(0, (pr - pc).max()))
+        self.ku = int(max(0, (pc - pr).max()))
+        self.size = size
+        self.perm = perm
+        nrow = 2 * self.kl + self.ku + 1
+        self.shape = (nrow, size)
+        self.flat = (self.kl + self.ku + pr - pc) * size + pc
+
+    def assemble(self, vals):
+        ab = np.bincount(self.flat, weights=vals, minlength=self.shape[0] * self.size)
+        return BandMatrix(self, ab.reshape(self.shape))
+
+
+class BandMatrix:
+    def __init__(self, pattern, ab):
+        self.pattern, self.ab = pattern, ab
+
+    def solve(self, b):
+        p = self.pattern
+        _, _, x, info = _gbsv(p.kl, p.ku, self.ab, b[p.perm], overwrite_ab=1, overwrite_b=1)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"singular matrix (LAPACK gbsv info {info})")
+        out = np.empty_like(x)
+        out[p.perm] = x
+        return out
 
 
 class Model:
@@ -31,7 +75,7 @@ class Model:
 
     def __init__(self, rods, body_A0=None):
         self.rods = list(rods)
-        Xs, conn, s0s, L0s, rod_of = [], [], [], [], []
+        Xs, conn, rod_of = [], [], []
         self.rod_nodes = []
         off = 0
         kbs = []
@@ -53,7 +97,7 @@ class Model:
             D0 = self.X0[conn[:, 1]] - self.X0[conn[:, 0]]
             self.elements = corotational.ElementSet(
                 conn, D0, np.hypot(D0[:, 0], D0[:, 1]), np.arctan2(D0[:, 1], D0[:, 0]),
-                np.concatenate(kbs))
+                np.concatenate(kbs), float(np.abs(self.X0).max()))
             self.elem_rod = np.concatenate(rod_of)
         else:
             self.elements = None
@@ -100,13 +144,30 @@ class Model:
             cols += [np.tile(d, d.size), np.tile(d, m), np.repeat(np.arange(o, o + m), d.size)]
         self._rows = np.concatenate(rows).astype(np.intp)
         self._cols = np.concatenate(cols).astype(np.intp)
-        # control mode: one extra row (the prescribed dof) and column (d r / d lam over all q)
-        j = self.n
-        self._crows = np.concatenate([self._rows, [j], np.arange(self.n_q)])
-        self._ccols_base = np.concatenate([self._cols, [-1], np.full(self.n_q, j)])
         self._term_dofs = [t.dofs for t in self.terms]
         self._con_dofs = [c.dofs for c in self.constraints]
+        # loads act on few dofs: d r / d lam is sparse with a static pattern
+        self._load_dofs = (np.unique(np.concatenate(self._term_dofs)) if self.terms
+                           else np.zeros(0, np.intp))
+        self._patterns = {}
         return self
+
+    def _pattern(self, control):
+        """Static index arrays (rows, cols) and the banded pattern for a mode (cached)."""
+        key = None if control is None else int(control)
+        if key in self._patterns:
+            return self._patterns[key]
+        if control is None:
+            rows, cols, size = self._rows, self._cols, self.n
+        else:
+            j = self.n
+            ld = self._load_dofs
+            rows = np.concatenate([self._rows, [j], ld])
+            cols = np.concatenate([self._cols, [key], np.full(ld.size, j)])
+            size = self.n + 1
+        band = Banded(rows, cols, size) if size > DENSE_LIMIT else None
+        self._patterns[key] = (rows, cols, size, band)
+        return self._patterns[key]
 
     def zero_state(self):
         ne = self.elements.size if self.elements is not None else 0
@@ -127,7 +188,8 @@ class Model:
         """Residual and Jacobian of the equations at y.
 
         ``control``: None (load ``lam`` given) or (dof, value): the dof is prescribed, lam is the
-        last unknown y[-1].  Returns (r, A, info) with A dense or sparse CSC.
+        last unknown y[-1].  Returns (r, A, info) with A dense, banded or sparse CSC
+        (:func:`solve_linear` solves any of them).
         """
         n_q, n_c = self.n_q, self.n_c
         q, mu = y[:n_q], y[n_q:n_q + n_c]
@@ -138,12 +200,13 @@ class Model:
         fl = np.zeros(n_q)
         vals = []
         fmax = noise = 0.0
+        alpha = alpha_ref
         if self.elements is not None:
-            f, K, qb, _, enoise = corotational.evaluate(self.elements, self.nodal(q), alpha_ref)
+            f, K, qb, alpha, enoise = corotational.evaluate(self.elements, self.nodal(q), alpha_ref)
             r[:n_q] += np.bincount(self._ebin, weights=f.ravel(), minlength=n_q)
             vals.append(K.ravel())
             fmax = float(np.abs(f).max())
-            noise = 4.0 * float(enoise.max()) * (1.0 + 1.0 / self.elements.L0.min())
+            noise = 4.0 * float(enoise.max())
         for t, d in zip(self.terms, self._term_dofs):
             _, gt, Ht, g0 = t.eval(q[d], lam)
             r[d] += gt
@@ -155,26 +218,26 @@ class Model:
             mi = mu[self.c_off[i]:self.c_off[i] + m]
             r[d] += G.T @ mi
             r[o:o + m] = g
-            vals += [np.tensordot(mi, H, 1).ravel(), G.ravel(), G.ravel()]
-        if control is None:
-            rows, cols = self._rows, self._cols
-        else:
+            vals += [H.reshape(m, -1).T @ mi, G.ravel(), G.ravel()]
+        if control is not None:
             dof, value = control
             r[-1] = q[dof] - value
-            rows = self._crows
-            cols = self._ccols_base.copy()
-            cols[self._rows.size] = dof
-            vals += [np.ones(1), fl]
+            vals += [np.ones(1), fl[self._load_dofs]]
+        rows, cols, size, band = self._pattern(None if control is None else control[0])
         vals = np.concatenate(vals)
-        if size <= DENSE_LIMIT:
+        if band is None:
             A = np.bincount(rows * size + cols, weights=vals, minlength=size * size).reshape(size, size)
+        elif band.kl + band.ku < size // 8:
+            A = band.assemble(vals)
         else:
             A = sp.csc_matrix((vals, (rows, cols)), shape=(size, size))
-        return r, A, {"fl": fl, "fmax": fmax, "noise": noise, "lam": lam}
+        return r, A, {"fl": fl, "fmax": fmax, "noise": noise, "lam": lam, "alpha": alpha}
 
 
 def solve_linear(A, b):
     """Solve A x = b for the dense or sparse Jacobian of :meth:`Model.system`."""
+    if isinstance(A, BandMatrix):
+        return A.solve(b)
     if isinstance(A, np.ndarray):
         lu, piv, x, info = _gesv(A, b, overwrite_a=1, overwrite_b=0)
         if info != 0:

@@ -29,6 +29,7 @@ class NewtonInfo:
     iterations: int
     history: list = field(default_factory=list)
     reason: str = ""
+    alpha: np.ndarray = None  # chord rotations at the returned state (the next reference)
 
 
 def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_rot=0.5):
@@ -58,12 +59,12 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
         if not np.isfinite(res):
             return y, NewtonInfo(False, it, hist, "residual is not finite")
         if res_f <= tol and res_g <= tol:
-            return y, NewtonInfo(True, it - 1, hist)
+            return y, NewtonInfo(True, it - 1, hist, alpha=info["alpha"])
         # stagnation at the round-off level of a stiff model: no progress for 4 iterations
         stalled = stalled + 1 if res > 0.5 * best else 0
         best = min(best, res)
         if stalled >= 4 and best <= 1e-7:
-            return y, NewtonInfo(True, it - 1, hist, "stagnated at round-off level")
+            return y, NewtonInfo(True, it - 1, hist, "stagnated at round-off level", alpha=info["alpha"])
         try:
             dy = -solve_linear(A, r)
         except (np.linalg.LinAlgError, RuntimeError, ValueError) as exc:
@@ -79,7 +80,7 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
         if step <= 1e-14 * (1.0 + np.abs(y[:n_q]).max()) and res <= 1e3 * tol and res >= 0.5 * prev:
             r, _, info = model.system(y, alpha_ref, lam, control)
             hist.append(float(np.abs(r).max()))
-            return y, NewtonInfo(True, it, hist)
+            return y, NewtonInfo(True, it, hist, alpha=info["alpha"])
         prev = res
     return y, NewtonInfo(False, maxit, hist, f"no convergence in {maxit} iterations")
 
@@ -112,8 +113,7 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
         hist_all.extend(info.history)
         if not info.converged:
             return None
-        _, a = model.element_forces(z[:model.n_q], a0)
-        return z, a
+        return z, info.alpha
 
     def tangent(z, a):
         """d z / d phi along the controlled path (its last entry is d lam / d phi)."""
@@ -176,5 +176,4 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
     total_it += info.iterations
     if not info.converged:
         raise SolverFailure(f"final Newton solve at full load: {info.reason}", info.history)
-    _, a = model.element_forces(y[:model.n_q], a_c)
-    return Branch(y, a, total_it, info.history, path)
+    return Branch(y, info.alpha, total_it, info.history, path)

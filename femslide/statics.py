@@ -169,6 +169,10 @@ def build_cantilever_load(v, n):
 
 def _solve_load_steps(bt, warm=None):
     m = bt.model
+    if warm is not None:  # a prolonged solution of the same load: one Newton solve at full load
+        y, info = newton(m, warm[0], warm[1], lam=1.0)
+        if info.converged:
+            return y, info.alpha, info.iterations, info.history
     y, alpha = m.zero_state()
     lam, step, its, hist = 0.0, 1.0 / bt.load_steps, 0, []
     while lam < 1.0:
@@ -181,7 +185,7 @@ def _solve_load_steps(bt, warm=None):
                 raise SolverFailure(f"load stepping stalled at load factor {lam:.6g}: {info.reason}",
                                     info.history)
             continue
-        _, alpha = m.element_forces(y_new[:m.n_q], alpha)
+        alpha = info.alpha
         y, lam = y_new, target
         hist = info.history
     return y, alpha, its, hist
@@ -201,28 +205,51 @@ def _solve_structure(bt, warm=None, near=False):
             th = m.body.dof0 + 2
             y, info = newton(m, y0, alpha0, lam=1.0)
             if info.converged and abs(y[th] - y0[th]) <= 0.1 * abs(y0[th]):
-                _, a = m.element_forces(y[:m.n_q], alpha0)
-                return y, a, info.iterations, info.history
+                return y, info.alpha, info.iterations, info.history
     br = principal_branch(m, m.body.dof0 + 2, bt.phi_dir, bt.phi_guess, y0, alpha0)
     return br.y, br.alpha, br.iterations, br.history
 
 
 def prolong(coarse: Built, y, alpha, fine: Built):
-    """Interpolate a solution onto the mesh with twice as many elements per rod (start values)."""
+    """Interpolate a converged state onto a finer mesh of the same scene (a Newton start).
+
+    Node positions are cubic Hermite in the arc length, with the nodal tangents, so that the
+    interpolated elements are stretched only by O(h^4) (linear interpolation would shorten them by
+    O(h^2) and, with EA/EI ~ 1e6, start Newton from enormous axial forces); rotations are linear.
+    Body dofs and constraint multipliers carry over (same joints).
+    """
     mc, mf = coarse.model, fine.model
     yf = np.zeros(mf.n)
-    af = np.zeros(mf.elements.size)
     Uc = mc.nodal(y[:mc.n_q])
     Uf = mf.nodal(yf[:mf.n_q])
+    af = np.zeros(mf.elements.size)
     for r in range(len(mc.rods)):
         nc, nf = mc.rod_nodes[r], mf.rod_nodes[r]
-        Uf[0::2][: nc.size] = 0  # placeholder for shape
-        Uf[nf[0::2]] = Uc[nc]
-        Uf[nf[1::2]] = 0.5 * (Uc[nc[:-1]] + Uc[nc[1:]])
-        ec = np.nonzero(mc.elem_rod == r)[0]
+        Xc, Xf = mc.X0[nc], mf.X0[nf]
+        L = np.hypot(*(Xc[-1] - Xc[0]))
+        sc = np.hypot(*(Xc - Xc[0]).T) / L
+        sf = np.hypot(*(Xf - Xf[0]).T) / L
+        k = np.clip(np.searchsorted(sc, sf, side="right") - 1, 0, nc.size - 2)
+        h = sc[k + 1] - sc[k]
+        t = (sf - sc[k]) / h
+        beta0 = np.arctan2(*(Xc[-1] - Xc[0])[::-1])
+        P = Xc + Uc[nc, :2]
+        ang = beta0 + Uc[nc, 2]
+        Tk = np.stack([np.cos(ang[k]), np.sin(ang[k])], axis=1) * (h * L)[:, None]
+        Tk1 = np.stack([np.cos(ang[k + 1]), np.sin(ang[k + 1])], axis=1) * (h * L)[:, None]
+        h00, h10 = 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t
+        h01, h11 = -2 * t**3 + 3 * t**2, t**3 - t**2
+        pos = h00[:, None] * P[k] + h10[:, None] * Tk + h01[:, None] * P[k + 1] + h11[:, None] * Tk1
+        Uf[nf, :2] = pos - Xf
+        Uf[nf, 2] = (1 - t) * Uc[nc[k], 2] + t * Uc[nc[k + 1], 2]
         ef = np.nonzero(mf.elem_rod == r)[0]
-        af[ef[0::2]] = alpha[ec]
-        af[ef[1::2]] = alpha[ec]
+        D = (Xf[1:] + Uf[nf[1:], :2]) - (Xf[:-1] + Uf[nf[:-1], :2])
+        ec = np.nonzero(mc.elem_rod == r)[0]
+        kmid = np.clip(np.searchsorted(sc, 0.5 * (sf[1:] + sf[:-1]), side="right") - 1, 0, ec.size - 1)
+        ref = mc.elements.beta0[ec[kmid]] + alpha[ec[kmid]]
+        cr, sr = np.cos(ref), np.sin(ref)
+        beta = ref + np.arctan2(cr * D[:, 1] - sr * D[:, 0], cr * D[:, 0] + sr * D[:, 1])
+        af[ef] = beta - mf.elements.beta0[ef]
     yf[: 3 * mf.n_nodes] = Uf.ravel()
     yf[3 * mf.n_nodes:mf.n_q] = y[3 * mc.n_nodes:mc.n_q]
     yf[mf.n_q:] = y[mc.n_q:]
@@ -317,84 +344,92 @@ BUILDERS = {
 }
 
 
+N_DIRECT = 16  # meshes finer than this start from the interpolated solution of half as many elements
+
+
+@dataclass
+class Level:
+    n: int
+    bt: Built
+    y: np.ndarray
+    alpha: np.ndarray
+    res: dict
+
+
 def solve_scene(scene: str, v: dict, warm=None):
-    """Solve a static FE scene; returns (result dict, warm state for a continuation)."""
+    """Solve a static FE scene; returns (result dict, state for a continuation).
+
+    ``warm`` is the state a previous solve of the same scene returned (a sweep): its coarsest
+    level starts the path following of this one.
+    """
     build = BUILDERS[scene]
-    solve = _solve_structure
+    cache: dict[int, Level] = {}
+    its = [0]
+
+    def level(n: int) -> Level:
+        if n in cache:
+            return cache[n]
+        bt = build(v, n)
+        start, near = None, False
+        if n > N_DIRECT or (n + 1) // 2 in cache:
+            c = level((n + 1) // 2)
+            start, near = prolong(c.bt, c.y, c.alpha, bt), True
+        elif warm is not None and warm.get("n_first") == n:
+            start = warm["first"]
+        y, a, k, _ = _solve_structure(bt, start, near)
+        its[0] += k
+        cache[n] = Level(n, bt, y, a, extract(bt, y, a, v))
+        return cache[n]
+
     fixed_n = v.get("n_elements")
-    levels = []  # (n, built, y, alpha, values)
-    its = 0
-    hist = []
-
-    def run(n, start, bt=None, near=False):
-        nonlocal its, hist
-        bt = bt or build(v, n)
-        y, a, k, h = solve(bt, start, near) if near else solve(bt, start)
-        its += k
-        hist = h
-        res = extract(bt, y, a, v)
-        levels.append((n, bt, y, a, res))
-        return bt, y, a
-
-    start = None
-    if warm is not None and warm.get("n") is not None:
-        start = None  # a different EI: the state is reused only when the mesh matches
+    noise_floor = False
     if fixed_n:
-        n_list = [fixed_n // 2, fixed_n] if fixed_n >= 2 else [fixed_n]
-        for n in n_list:
-            bt, y, a = run(n, _warm_for(warm, n, levels))
-        res = levels[-1][4]
-        if len(levels) == 2:
-            f1, f2 = _flat(levels[0][4]), _flat(levels[1][4])
-            err = abs(f2[0] - f1[0]) / 3.0 / max(abs(f2[0]), 1e-300)
-        else:
-            err = None
+        fine = level(fixed_n)
+        res = fine.res
+        err = None
+        if fixed_n >= 2:
+            f1, f2 = _flat(level(fixed_n // 2).res), _flat(res)
+            # O(h^2): the error of the n-element mesh is about (f_{n/2} - f_n) / 3 (exact for n even)
+            ratio = (fixed_n / (fixed_n // 2)) ** 2
+            err = abs(f2[0] - f1[0]) / (ratio - 1.0) / max(abs(f2[0]), 1e-300)
     else:
         n = N_START
-        bt, y, a = run(n, _warm_for(warm, n, levels))
         ext = []
-        err = math.inf
         prev_worst = prev_raw0 = math.inf
-        noise_floor = False
+        fine = level(n)
         while True:
-            n2 = 2 * n
-            bt2 = build(v, n2)
-            start = prolong(bt, y, a, bt2) if bt.control == "phi" else None
-            bt, y, a = run(n2, start, bt2, near=start is not None)
-            f1, f2 = _flat(levels[-2][4]), _flat(levels[-1][4])
+            coarse, fine = fine, level(2 * n)
+            f1, f2 = _flat(coarse.res), _flat(fine.res)
+            units = _units(fine.bt)
             ext.append((4.0 * f2 - f1) / 3.0)
-            scale = _scales(ext[-1] / _units(bt))
-            raw = np.abs(f2 - f1) / _units(bt) / scale
+            scale = _scales(ext[-1] / units)
+            raw = np.abs(f2 - f1) / units / scale
             if len(ext) >= 2:
-                errs = np.abs(ext[-1] - ext[-2]) / _units(bt) / 15.0 / scale
+                errs = np.abs(ext[-1] - ext[-2]) / units / 15.0 / scale
+                err = float(min(errs[0], raw[0] / 3.0))
             else:
                 errs = raw / 3.0 * 10.0  # one level only: no estimate of the extrapolated error yet
+                err = float(raw[0] / 3.0)
             # refine until every output is estimated accurate (or changes only at round-off level)
-            done = np.all((errs <= TARGET) | (raw <= 1e-13))
-            err = float(min(errs[0], raw[0] / 3.0)) if len(ext) >= 2 else float(raw[0] / 3.0)
-            if done and len(ext) >= 2 or np.all(raw <= 1e-13):
+            if (len(ext) >= 2 and np.all((errs <= TARGET) | (raw <= 1e-13))) or np.all(raw <= 1e-13):
                 break
             # the changes must shrink like h^2 (x 1/4); if they stop shrinking, round-off of the stiff
             # model dominates: refining further only adds noise, so stop and report that level
             worst = float(np.max(raw))
             if len(ext) >= 2 and worst > 0.6 * prev_worst:
-                res_floor = _unflat(levels[-1][4], f2)
                 err = float(max(raw[0], prev_raw0))
                 noise_floor = True
                 break
             prev_worst, prev_raw0 = worst, float(raw[0])
-            if n2 >= N_MAX:
+            if 2 * n >= N_MAX:
                 break
-            n = n2
+            n *= 2
         # at a round-off floor the raw finest values are reported, not an extrapolation of noise
-        res = res_floor if noise_floor else _unflat(levels[-1][4], ext[-1])
-        bt = levels[-1][1]
-    n_used = levels[-1][0]
-    out = {"converged": True, **res, "iterations": its, "error_estimate": err, "_n_elements": n_used}
-    _, bt_f, y_f, a_f, _ = levels[-1]
-    out["_write"] = lambda d: _write_vtu(bt_f, y_f, a_f, d, scene)
-    state = {"n": n_used, "y": levels[-1][2], "alpha": levels[-1][3], "n_first": levels[0][0],
-             "first": (levels[0][2], levels[0][3])}
+        res = fine.res if noise_floor else _unflat(fine.res, ext[-1])
+    out = {"converged": True, **res, "iterations": its[0], "error_estimate": err, "_n_elements": fine.n}
+    out["_write"] = lambda d: _write_vtu(fine.bt, fine.y, fine.alpha, d, scene)
+    first = cache[min(cache)]
+    state = {"n_first": first.n, "first": (first.y, first.alpha)}
     return out, state
 
 
@@ -417,14 +452,3 @@ run_beam_spring = _runner("beam-spring")
 run_beam_extra_mass = _runner("beam-extra-mass")
 run_cantilever_moment = _runner("cantilever-moment")
 run_cantilever_load = _runner("cantilever-load")
-
-
-def _warm_for(warm, n, levels):
-    """A sweep's previous solution is a valid start only on the same mesh."""
-    if warm is None:
-        return None
-    if warm.get("n_first") == n:
-        return warm["first"]
-    if warm.get("n") == n:
-        return warm["y"], warm["alpha"]
-    return None
