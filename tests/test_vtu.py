@@ -1,0 +1,182 @@
+"""VTU output (femslide/vtu.py), exercised as a user does: ``python -m femslide solve SCENE --out DIR`` in
+a subprocess, then the file read back with pyvista.  Checks the mesh layout (one line cell per element,
+a polygon for the body), the arrays and their SI units, the deformed geometry, the sign conventions of
+the moment and the forces (against statics), and the VTU + PVD series writer.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+VTK_LINE, VTK_POLYGON = 3, 7
+POINT_ARRAYS = ("displacement", "rotation", "bending_moment")
+CELL_ARRAYS = ("axial_force", "shear_force", "part", "rod")
+
+
+def solve(scene, out, *sets):
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
+    args = [sys.executable, "-m", "femslide", "solve", scene, "--json", "--out", str(out)]
+    for s in sets:
+        args += ["--set", s]
+    r = subprocess.run(args, capture_output=True, text=True, cwd=ROOT, env=env, timeout=120)
+    assert r.returncode == 0, r.stderr
+    res = json.loads(r.stdout)
+    path = out / f"{scene}.vtu"
+    assert path.is_file()
+    saved = json.loads((out / "result.json").read_text())
+    assert str(path) in saved["files"]
+    return res, path
+
+
+def read(path):
+    pv = pytest.importorskip("pyvista")
+    return pv.read(str(path))
+
+
+def check_layout(g, n_elements, body):
+    for name in POINT_ARRAYS:
+        assert name in g.point_data, name
+    for name in CELL_ARRAYS:
+        assert name in g.cell_data, name
+    disp = np.asarray(g.point_data["displacement"])
+    assert disp.shape == (g.n_points, 3) and np.all(disp[:, 2] == 0)
+    for name in ("rotation", "bending_moment"):
+        assert g.point_data[name].shape == (g.n_points,)
+        assert np.all(np.isfinite(g.point_data[name]))
+    part = np.asarray(g.cell_data["part"])
+    types = np.asarray(g.celltypes)
+    rods = part == 0
+    assert rods.sum() == n_elements
+    assert np.all(types[rods] == VTK_LINE)
+    assert np.all(np.isfinite(g.cell_data["axial_force"][rods]))
+    assert np.all(np.isfinite(g.cell_data["shear_force"][rods]))
+    poly = np.nonzero(types == VTK_POLYGON)[0]
+    if body:
+        assert poly.size == 1 and part[poly[0]] == 1 and g.get_cell(poly[0]).n_points == 4
+    else:
+        assert poly.size == 0 and np.all(rods)
+    return poly
+
+
+def rod_points(g, rod):
+    """Deformed nodes of one rod, in node order."""
+    ids = [c for c in range(g.n_cells) if g.cell_data["part"][c] == 0 and g.cell_data["rod"][c] == rod]
+    conn = np.array([g.get_cell(c).point_ids for c in ids])
+    order = np.concatenate([conn[:, 0], conn[-1:, 1]])
+    return g.points[order, :2], order
+
+
+@pytest.mark.parametrize("scene,n_rods", [("beam-slider", 1), ("beam-both", 2)])
+def test_structure_vtu(tmp_path, scene, n_rods):
+    n = 16
+    res, path = solve(scene, tmp_path, f"n_elements={n}")
+    g = read(path)
+    poly = check_layout(g, n * n_rods, body=True)
+    M = np.asarray(g.point_data["bending_moment"])
+    assert abs(np.abs(M).max() - res["M_max"]) <= 1e-6 * res["M_max"]
+    assert abs(float(g.field_data["phi"][0]) - res["phi"]) <= 1e-9 * abs(res["phi"])
+    side = json.loads((tmp_path / f"{scene}.json").read_text())
+    assert side["reactions"]["A1"]["Fx"] == pytest.approx(res["reactions"]["A1"]["Fx"], rel=1e-9)
+    # body rectangle ABCD (a = 1, b = 0.5: 2 m x 1 m), turned by -phi clockwise-positive
+    P = g.points[g.get_cell(poly[0]).point_ids, :2]
+    A, B, C, D = P
+    assert np.linalg.norm(B - A) == pytest.approx(2.0, rel=1e-12)
+    assert np.linalg.norm(D - A) == pytest.approx(1.0, rel=1e-12)
+    assert np.allclose(C - B, D - A, atol=1e-12)
+    assert math.atan2(-(B - A)[1], (B - A)[0]) == pytest.approx(res["phi"], rel=1e-9)
+    e = (D - A) / np.linalg.norm(D - A)
+    n_ab = (B - A) / 2.0
+    # right rod: pinned at B1 = (2, 0); its top node on the guide line through B along the body axis
+    X, _ = rod_points(g, n_rods - 1)
+    assert np.allclose(X[0], [2.0, 0.0], atol=1e-12)
+    assert abs((X[-1] - B) @ n_ab) < 1e-9
+    assert (X[-1] - B) @ e == pytest.approx(res["slide"], rel=1e-9)
+    if n_rods == 2:  # left rod pinned at A1 = (0, 0), welded to the body at A
+        X, _ = rod_points(g, 0)
+        assert np.allclose(X[0], [0.0, 0.0], atol=1e-12)
+        assert np.allclose(X[-1], A, atol=1e-9)
+
+
+def test_adaptive_run_writes_its_finest_mesh(tmp_path):
+    res, path = solve("beam-slider", tmp_path)
+    g = read(path)
+    side = json.loads((tmp_path / "beam-slider.json").read_text())
+    M = np.abs(g.point_data["bending_moment"]).max()
+    assert M == pytest.approx(side["M_max"], rel=1e-12)
+    assert (g.cell_data["part"] == 0).sum() == side["n_elements"]
+    # the JSON value is extrapolated; the finest mesh is within its O(h^2) discretisation error
+    assert M == pytest.approx(res["M_max"], rel=1e-4)
+
+
+def test_cantilever_moment_rolls_into_a_half_circle(tmp_path):
+    n = 64
+    res, path = solve("cantilever-moment", tmp_path, f"n_elements={n}", "m_ratio=0.5")
+    g = read(path)
+    check_layout(g, n, body=False)
+    X, order = rod_points(g, 0)
+    assert np.allclose(X[-1], [0.0, 2.0 / math.pi], atol=1e-3)
+    # constant internal moment = the applied end moment pi EI/L (counter-clockwise: M = EI dtheta/ds > 0)
+    M = np.asarray(g.point_data["bending_moment"])
+    assert np.allclose(M, math.pi, rtol=1e-9)
+    assert abs(np.abs(M).max() - res["M_max"]) <= 1e-6 * res["M_max"]
+    rot = np.asarray(g.point_data["rotation"])[order]
+    assert rot[-1] == pytest.approx(math.pi, rel=1e-6)
+    assert np.allclose(g.point_data["displacement"][order[-1], :2], [res["tip"]["u"], res["tip"]["v"]], rtol=1e-9)
+
+
+def test_cantilever_load_force_signs_and_units(tmp_path):
+    # L = 2 m, EI = 5 N m^2, tip load P = 3 EI/L^2 = 3.75 N up: SI scaling and the sign conventions
+    L, EI, p = 2.0, 5.0, 3.0
+    P = p * EI / L ** 2
+    n = 16
+    res, path = solve("cantilever-load", tmp_path, f"n_elements={n}", f"L={L}", f"EI={EI}", f"p_ratio={p}")
+    g = read(path)
+    check_layout(g, n, body=False)
+    X, order = rod_points(g, 0)
+    assert np.allclose(X[0], [0.0, 0.0]) and X[-1, 0] == pytest.approx(L + res["tip"]["u"], rel=1e-9)
+    # material before a cut exerts -N t + V n on the material after it: minus the tip load
+    for c in range(g.n_cells):
+        i, j = g.get_cell(c).point_ids
+        t = g.points[j, :2] - g.points[i, :2]
+        t /= np.linalg.norm(t)
+        nrm = np.array([-t[1], t[0]])
+        F = -g.cell_data["axial_force"][c] * t + g.cell_data["shear_force"][c] * nrm
+        assert np.allclose(F, [0.0, -P], atol=1e-8 * P)
+    # M = P (x_tip - x) >= 0 at every node (the rod curls counter-clockwise)
+    M = np.asarray(g.point_data["bending_moment"])[order]
+    assert np.allclose(M, P * (X[-1, 0] - X[:, 0]), atol=1e-8 * P * L)
+
+
+def test_series_round_trips_through_pvd(tmp_path):
+    pv = pytest.importorskip("pyvista")
+    from femslide.vtu import write_series
+    times = [0.0, 0.5, 1.25]
+    frames = []
+    for t in times:
+        pts = np.array([[0, 0], [0, 1], [0, 2], [0, 2], [2, 2], [2, 3], [0, 3]], float) + [t, 0]
+        cells = [("line", np.array([[0, 1], [1, 2]])), ("polygon", np.array([[3, 4, 5, 6]]))]
+        pdata = {"rotation": np.full(7, t), "displacement": np.tile([t, 0.0, 0.0], (7, 1))}
+        cdata = {"part": [np.array([0, 0]), np.array([1])], "shear_force": [np.array([t, t]), np.array([np.nan])]}
+        frames.append((t, pts, cells, pdata, cdata))
+    files = write_series(frames, str(tmp_path), "run")
+    assert len(files) == 4 and files[-1].endswith("run.pvd")
+    reader = pv.get_reader(str(tmp_path / "run.pvd"))
+    assert list(reader.time_values) == times
+    for k, t in enumerate(times):
+        reader.set_active_time_point(k)
+        block = reader.read()[0]
+        assert block.n_cells == 3 and list(block.celltypes) == [VTK_LINE, VTK_LINE, VTK_POLYGON]
+        assert np.allclose(block.points[:, 0].min(), t)
+        assert np.allclose(block.point_data["rotation"], t)
+        assert np.allclose(block.cell_data["shear_force"][:2], t)
