@@ -391,15 +391,16 @@ def cantilever_load(p_ratio, L=1.0, EI=1.0):
     return {"u": (x - 1.0) * L, "v": v * L, "theta": theta, "M_max": P * x * L, "k2": m}
 
 
-def cantilever_load_shooting(p_ratio, L=1.0, EI=1.0):
+def cantilever_load_shooting(p_ratio, L=1.0, EI=1.0, EA=None):
     """The same tip-load cantilever by the Taylor shooting above (a check of both references):
-    the rod is integrated from the free tip (moment-free, load -P applied to it by ... the rest) to the
-    clamp, with the tip angle as the unknown: theta(clamp) = 0."""
+    the rod is integrated from the moment-free tip (where the load (0, P) acts) to the clamp, with the
+    tip angle as the unknown and theta(clamp) = 0 as the condition.  ``EA`` [N] finite: the
+    extensible elastica (femslide's default EA = 1e6 EI is finite)."""
     P = p_ratio * EI / L ** 2
 
     # integrate from the tip backwards: reverse arc length, tangent angle theta + pi
     def res(tt):
-        sh = shoot(tt + math.pi, 0.0, P, EI, L)
+        sh = shoot(tt + math.pi, 0.0, P, EI, L, EA)
         return sh.theta - math.pi, sh
 
     t = optimize.brentq(lambda tt: float(np.real(res(tt)[0])), 0.0, 0.5 * math.pi - 1e-12, xtol=1e-16,
@@ -407,4 +408,4 @@ def cantilever_load_shooting(p_ratio, L=1.0, EI=1.0):
     _, sh = res(t)
     # the clamp sits at (-u_rev, -w_rev) from the tip; tip relative to the clamp:
     xt, yt = -float(np.real(sh.u)), -float(np.real(sh.w))
-    return {"u": xt - L, "v": yt, "theta": t}
+    return {"u": xt - L, "v": yt, "theta": t, "M_max": P * xt}
