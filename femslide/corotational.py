@@ -20,6 +20,29 @@ from dataclasses import dataclass
 import numpy as np
 
 
+def _k_map():
+    """Constant 11 x 36 map from the element parameters of :func:`evaluate` to its 6 x 6 tangent."""
+    C = np.zeros((11, 6, 6))
+    X = {(0, 0): 0, (0, 1): 1, (1, 0): 1, (1, 1): 2}
+    for (i, j), k in X.items():
+        for a, sa in ((0, 1.0), (3, -1.0)):
+            for b, sb in ((0, 1.0), (3, -1.0)):
+                C[k, a + i, b + j] += sa * sb
+    # translation-rotation: K[t, 2] = -rho1 w_t/Ln at node 1, + at node 2 (and symmetric)
+    for k0, col in ((3, 2), (5, 5)):
+        for comp in range(2):
+            k = k0 + comp
+            C[k, comp, col] -= 1.0
+            C[k, 3 + comp, col] += 1.0
+            C[k, col, comp] -= 1.0
+            C[k, col, 3 + comp] += 1.0
+    C[7, 2, 2] = C[8, 2, 5] = C[9, 5, 2] = C[10, 5, 5] = 1.0
+    return C.reshape(11, 36)
+
+
+_K_MAP = _k_map()
+
+
 @dataclass
 class ElementSet:
     """Static element data: connectivity (n, 2) into the node list, initial chord vectors D0 (n, 2),
@@ -70,37 +93,37 @@ def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool
     M2 = k21 * t1 + k22 * t2
     q = np.column_stack([N, M1, M2])
     n = es.size
-    # r = d Ln / d d, z/Ln = d beta / d d  (over d = u1, v1, th1, u2, v2, th2)
-    r = np.zeros((n, 6))
-    r[:, 0], r[:, 1], r[:, 3], r[:, 4] = -c, -s, c, s
-    zl = np.zeros((n, 6))
-    sl, cl = s / Ln, c / Ln
-    zl[:, 0], zl[:, 1], zl[:, 3], zl[:, 4] = sl, -cl, -sl, cl
-    # rows of B: r, e3 - z/Ln, e6 - z/Ln
-    B1 = -zl
-    B1[:, 2] += 1.0
-    B2 = -zl
-    B2[:, 5] += 1.0
-    f = N[:, None] * r + M1[:, None] * B1 + M2[:, None] * B2
+    # With p = (c, s), w = (s, -c): d Ln/d d = r = (-p, 0, p, 0), d beta/d d = (w, 0, -w, 0)/Ln.
+    # f = N r - (M1 + M2) z/Ln + M1 e3 + M2 e6
+    m = (M1 + M2) / Ln
+    fu = -(N * c + m * s)
+    fv = -(N * s - m * c)
+    f = np.empty((n, 6))
+    f[:, 0], f[:, 1], f[:, 2], f[:, 3], f[:, 4], f[:, 5] = fu, fv, M1, -fu, -fv, M2
     if not tangent:
         return f, None, q, alpha
     # round-off floor of the basic forces: u_bar and the angles carry absolute errors ~ eps times
-    # the displacement and rotation magnitudes; EA/L amplifies the first (EA/EI up to 1e12 m^-2)
-    eps = np.finfo(float).eps
-    dmag = np.abs(dU).max(axis=1)
+    # the displacement and rotation magnitudes; EA/L amplifies the first (EA/EI up to 1e12 m^-2);
     # the chord angle carries eps |x| / L0 (node coordinates rounded), which EI/L0 turns into moment
     # noise and 1/Ln into shear noise in the nodal forces
+    eps = np.finfo(float).eps
+    dmag = np.abs(dU).max(axis=1)
     xmag = es.xmax + np.abs(U[:, :2]).max()
     ang = np.abs(t1) + np.abs(t2) + np.abs(alpha) + 2.0 * xmag / es.L0
     noise = eps * (k00 * dmag * (1.0 + dmag / es.L0) + (k11 + np.abs(k12)) * ang * (1.0 + 2.0 / Ln))
-    # K = B^T kb B + N z z^T / Ln + (M1 + M2)/Ln^2 (r z^T + z r^T)
-    T1 = k11[:, None] * B1 + k12[:, None] * B2
-    T2 = k21[:, None] * B1 + k22[:, None] * B2
-    K = (k00[:, None] * r)[:, :, None] * r[:, None, :]
-    K += B1[:, :, None] * T1[:, None, :]
-    K += B2[:, :, None] * T2[:, None, :]
-    K += (N * Ln)[:, None, None] * (zl[:, :, None] * zl[:, None, :])
-    rz = ((M1 + M2) / Ln)[:, None, None] * (r[:, :, None] * zl[:, None, :])
-    K += rz
-    K += rz.transpose(0, 2, 1)
+    # K = B^T kb B + N z z^T/Ln + (M1 + M2)/Ln^2 (r z^T + z r^T) has the translational block
+    # [[X, -X], [-X, X]] with X = k00 p p^T + (kappa + N Ln)/Ln^2 w w^T - m/Ln (p w^T + w p^T),
+    # translation-rotation columns -+ rho_a w/Ln (rho_a: row sums of the bending block) and the
+    # bending block itself: 11 numbers per element mapped to the 36 entries by a constant matrix.
+    kappa = k11 + k12 + k21 + k22
+    a_ww = (kappa + N * Ln) / Ln ** 2
+    b_pw = m / Ln
+    P = np.empty((n, 11))
+    P[:, 0] = k00 * c * c + a_ww * s * s - 2.0 * b_pw * c * s
+    P[:, 1] = k00 * c * s - a_ww * s * c - b_pw * (c * (-c) + s * s)
+    P[:, 2] = k00 * s * s + a_ww * c * c + 2.0 * b_pw * s * c
+    r1, r2 = (k11 + k12) / Ln, (k21 + k22) / Ln
+    P[:, 3], P[:, 4], P[:, 5], P[:, 6] = r1 * s, -r1 * c, r2 * s, -r2 * c
+    P[:, 7], P[:, 8], P[:, 9], P[:, 10] = k11, k12, k21, k22
+    K = (P @ _K_MAP).reshape(n, 6, 6)
     return f, K, q, alpha, noise

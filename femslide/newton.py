@@ -46,14 +46,17 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
         rot[model.body.dof0 + 2] = True
     hist = []
     prev = best = math.inf
-    stalled = 0
+    stalled = floor_its = 0
     for it in range(1, maxit + 1):
         r, A, info = model.system(y, alpha_ref, lam, control)
         # relative to the internal forces, floored at the round-off level of the element forces
         res_f = float(np.abs(r[:n_q]).max()) / (1.0 + info["fmax"])
         floor = info["noise"] / (1.0 + info["fmax"])
-        res_f = res_f if res_f > floor else 0.0
         res_g = float(np.abs(r[n_q:]).max()) if r.size > n_q else 0.0
+        # below the (worst-case) round-off bound the residual no longer measures the error: go on
+        # until the Newton step itself is at round-off level (at most 4 such iterations)
+        at_floor = res_f <= floor and res_g <= tol
+        floor_its = floor_its + 1 if at_floor else 0
         res = max(res_f, res_g)
         hist.append(res)
         if not np.isfinite(res):
@@ -75,6 +78,11 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
         if big > max_rot:
             dy *= max_rot / big
         y += dy
+        if at_floor and (np.abs(dy[:n_q]).max() <= 1e-13 * (1.0 + np.abs(y[:n_q]).max()) or floor_its >= 4):
+            r, _, info = model.system(y, alpha_ref, lam, control)
+            hist.append(float(np.abs(r[:n_q]).max()) / (1.0 + info["fmax"]))
+            return y, NewtonInfo(True, it, hist, "" if floor_its < 4 else "at round-off level",
+                                 alpha=info["alpha"])
         # round-off floor: a step at the level of machine precision cannot improve further
         step = np.abs(dy[:n_q]).max()
         if step <= 1e-14 * (1.0 + np.abs(y[:n_q]).max()) and res <= 1e3 * tol and res >= 0.5 * prev:
@@ -124,10 +132,15 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
 
     if y0 is None:
         y0, alpha0 = model.zero_state()
-        phi = min(phi_guess, 0.05) if phi_guess else 0.01
+        phi = min(phi_guess, 0.1) if phi_guess else 0.01
         lam0 = 0.0
     else:
-        phi = abs(y0[theta_dof]) or (phi_guess or 0.01)
+        phi0 = abs(y0[theta_dof])
+        phi = phi_guess or phi0 or 0.01
+        y0 = y0.copy()
+        if phi0 > 0.0 and phi_guess and phi < 0.2:
+            # a neighbouring solution (a sweep): displacements scale with phi near the rigid limit
+            y0[:model.n_q] *= phi / phi0
         lam0 = 1.0
     z_c, a_c = np.concatenate([y0, [lam0]]), alpha0.copy()
     pred = z_c
@@ -146,6 +159,14 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
         z_c, a_c = z, a
         if abs(lam - 1.0) <= 1e-13:
             break
+        if abs(lam - 1.0) <= 1e-2:
+            # close to full load: release phi; keep the result only if it stays on this branch
+            y_f, info_f = newton(model, z[:model.n], a, lam=1.0, tol=tol)
+            total_it += info_f.iterations
+            if info_f.converged and abs(abs(y_f[theta_dof]) - phi) <= 0.05 * phi \
+                    and np.sign(y_f[theta_dof]) == -phi_dir:
+                path.append((-y_f[theta_dof], 1.0))
+                return Branch(y_f, info_f.alpha, total_it, info_f.history, path)
         dz = tangent(z, a)
         slope = dz[-1]
         if lam > 1.0:
@@ -158,7 +179,7 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
             if slope > 0 and lam > 0:
                 # Newton in log-log: lam ~ phi^p near the rigid limit (p = 3 for a quartic potential)
                 p = max(slope * phi / lam, 0.5)
-                new = min(phi * lam ** (-1.0 / p), 2.0 * phi, phi + 0.2)
+                new = min(phi * lam ** (-1.0 / p), 2.0 * phi, phi + 0.35)
             else:
                 new = phi + min(0.1, phi)  # before/past a limit point: keep marching
             if phi_hi is not None and not new < phi_hi:

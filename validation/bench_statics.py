@@ -1,0 +1,173 @@
+"""Benchmark of the FE statics (a script, not a test): prints a table, writes bench_statics.csv.
+
+    python validation/bench_statics.py
+
+1. A 9-value EI sweep (1e2 .. 1e10, ascending, each solve continuing from the previous one as
+   `femslide sweep` does) of beam-slider and beam-fixed at default accuracy: summed solve time,
+   Newton iterations, largest error estimate.
+2. Cost per element per Newton iteration (residual + tangent + linear solve) of a cantilever with
+   N = 1e4 elements (and 32 for comparison).
+3. With openseespy installed, the same work in OpenSees in the same run: the 32-element cantilever
+   under a tip load (corotational transformation, Newton) and the cost per element per iteration at
+   N = 1e4.  Timings are quoted as ratios measured in this one run (the machines are noisy).
+"""
+from __future__ import annotations
+
+import csv
+import os
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+
+from femslide.model import solve_linear  # noqa: E402
+from femslide.newton import newton  # noqa: E402
+from femslide.scenes import SCENES  # noqa: E402
+from femslide.statics import build_cantilever_load, solve_scene  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def sweep(scene, repeats=3):
+    """Best of ``repeats`` summed solve times of the 9-value EI sweep."""
+    base = SCENES[scene].resolve({})
+    best = None
+    for _ in range(repeats):
+        warm, total, its, worst = None, 0.0, 0, 0.0
+        for k in range(2, 11):
+            v = SCENES[scene].resolve({"EI": 10.0 ** k})
+            t0 = time.perf_counter()
+            res, warm = solve_scene(scene, v, warm)
+            total += time.perf_counter() - t0
+            its += res["iterations"]
+            worst = max(worst, res["error_estimate"])
+        if best is None or total < best[0]:
+            best = (total, its, worst)
+    del base
+    return best
+
+
+def per_iteration(n, repeats=5):
+    """Seconds per Newton iteration (system + solve) of an n-element cantilever at its solution."""
+    v = SCENES["cantilever-load"].resolve({"n_elements": n})
+    bt = build_cantilever_load(v, n)
+    m = bt.model
+    res, _ = solve_scene("cantilever-load", v)
+    y, a = m.zero_state()
+    # a converged state: climb from the scene solve (cheap: reuse its machinery)
+    from femslide.statics import prolong, Built  # noqa: F401
+    y, info = newton(m, *_converged_start(v, n))
+    best = np.inf
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        r, A, _info = m.system(y, info.alpha, 1.0)
+        solve_linear(A, r)
+        best = min(best, time.perf_counter() - t0)
+    return best, res
+
+
+def _converged_start(v, n):
+    from femslide.statics import Level  # noqa: F401
+    import femslide.statics as st
+    cache = {}
+
+    def level(k):
+        if k in cache:
+            return cache[k]
+        bt = st.build_cantilever_load(v, k)
+        start = None
+        if k > st.N_DIRECT:
+            c = level((k + 1) // 2)
+            start = st.prolong(c[0], c[1], c[2], bt)
+        y, a, _, _ = st._solve_structure(bt, start, start is not None)
+        cache[k] = (bt, y, a)
+        return cache[k]
+
+    bt, y, a = level(n)
+    return y, a
+
+
+def opensees_cantilever(n, P=1.0, steps=1, tol=1e-8, test_iters=50):
+    import openseespy.opensees as ops
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for i in range(n + 1):
+        ops.node(i + 1, i / n, 0.0)
+    ops.fix(1, 1, 1, 1)
+    ops.geomTransf("Corotational", 1)
+    for i in range(n):
+        ops.element("elasticBeamColumn", i + 1, i + 1, i + 2, 1.0, 1e6, 1e-6, 1)  # EA = 1e6, EI = 1
+    ops.timeSeries("Linear", 1)
+    ops.pattern("Plain", 1, 1)
+    ops.load(n + 1, 0.0, P, 0.0)
+    ops.system("BandGeneral")
+    ops.numberer("RCM")
+    ops.constraints("Plain")
+    ops.test("NormUnbalance", tol, test_iters, 0)
+    ops.algorithm("Newton")
+    ops.integrator("LoadControl", 1.0 / steps)
+    ops.analysis("Static")
+    t0 = time.perf_counter()
+    ok = ops.analyze(steps)
+    dt = time.perf_counter() - t0
+    its = ops.testIter()
+    return ok, dt, its, ops.nodeDisp(n + 1)
+
+
+def main():
+    rows = []
+    print("femslide statics benchmark (times are best of repeats, this machine, this run)\n")
+    for scene in ("beam-slider", "beam-fixed"):
+        t, its, worst = sweep(scene)
+        rows.append({"case": f"{scene} EI sweep 1e2..1e10 (9 solves)", "femslide_s": t,
+                     "iterations": its, "note": f"max error_estimate {worst:.1e}"})
+        print(f"{scene:12s} 9-value EI sweep: {t * 1e3:7.1f} ms, {its} Newton iterations, "
+              f"max error estimate {worst:.1e}")
+    for n in (32, 10000):
+        t, res = per_iteration(n)
+        rows.append({"case": f"cantilever N={n} per iteration", "femslide_s": t,
+                     "note": f"{t / n * 1e6:.3f} us per element per iteration"})
+        print(f"cantilever N={n:5d}: {t * 1e3:7.3f} ms per Newton iteration = {t / n * 1e6:.3f} us per element")
+    try:
+        import openseespy.opensees  # noqa: F401
+        have_ops = True
+    except Exception as exc:  # ImportError, or the shared library failing to load
+        have_ops = False
+        print(f"\nopenseespy not available ({type(exc).__name__}): OpenSees columns skipped")
+    if have_ops:
+        print()
+        # 32-element cantilever under the tip load EI/L^2, one load step, Newton
+        best_o = min(opensees_cantilever(32)[1] for _ in range(5))
+        v = SCENES["cantilever-load"].resolve({"n_elements": 32})
+        best_f = np.inf
+        for _ in range(5):
+            t0 = time.perf_counter()
+            solve_scene("cantilever-load", v)
+            best_f = min(best_f, time.perf_counter() - t0)
+        # solve_scene at n_elements=32 also solves 16 (for its error estimate)
+        rows.append({"case": "cantilever 32 elements, tip load (+16 for the estimate)", "femslide_s": best_f,
+                     "opensees_s": best_o, "ratio": best_f / best_o})
+        print(f"cantilever 32 el. tip load: femslide {best_f * 1e3:.2f} ms (incl. the 16-element "
+              f"solve for the error estimate), OpenSees {best_o * 1e3:.2f} ms, ratio {best_f / best_o:.2f}")
+        # per iteration at N = 1e4: a small load converges in a few iterations; time / iterations
+        ok, dt, its, _ = opensees_cantilever(10000, P=0.01, tol=1e-9)
+        t_f, _ = per_iteration(10000)
+        per_o = dt / max(its, 1)
+        rows.append({"case": "cantilever N=10000 per iteration", "femslide_s": t_f, "opensees_s": per_o,
+                     "ratio": t_f / per_o, "note": f"OpenSees status {ok}, {its} iterations"})
+        print(f"cantilever N=10000 per Newton iteration: femslide {t_f * 1e3:.2f} ms, OpenSees "
+              f"{per_o * 1e3:.2f} ms, ratio {t_f / per_o:.2f}")
+    path = os.path.join(HERE, "bench_statics.csv")
+    keys = ["case", "femslide_s", "opensees_s", "ratio", "iterations", "note"]
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=keys)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: r.get(k, "") for k in keys})
+    print(f"\nwritten {path}")
+
+
+if __name__ == "__main__":
+    main()
