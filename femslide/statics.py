@@ -444,8 +444,9 @@ def solve_scene(scene: str, v: dict, warm=None):
         res = fine.res if noise_floor else _unflat(fine.res, ext[-1])
     # round-off: the converged state is determined only to the round-off level of the model (large
     # EA/P); measured as the scatter of M_max when Newton reconverges from a perturbed state
-    err_ro = _roundoff_scatter(fine)
-    err = err_ro if err is None else max(err, err_ro)
+    # (a single-element mesh has no coarser mesh to compare with: no estimate, reported as null)
+    if err is not None:
+        err = max(err, _roundoff_scatter(fine))
     out = {"converged": True, **res, "iterations": its[0], "error_estimate": err, "_n_elements": fine.n}
     out["_write"] = lambda d: _write_vtu(fine.bt, fine.y, fine.alpha, d, scene)
     first = cache[min(cache)]
