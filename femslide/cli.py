@@ -124,6 +124,8 @@ def _solve(args, command):
     if scene.command != command:
         raise BadInput(f"scene {scene.name} is a '{scene.command}' scene; run: femslide {scene.command} {scene.name}")
     values = scene.resolve(parse_assignments(args.set))
+    if args.quiet:  # simulate runners read it (femslide/dynamics.py)
+        os.environ["FEMSLIDE_QUIET"] = "1"
     try:
         res, _ = run_one(scene, values, out=args.out)
     except SolverFailure as exc:

@@ -92,6 +92,21 @@ SCENES: dict[str, Scene] = {s.name: s for s in [
                              "c_v": 0.0, "w0": 0.0, "P0": None, "theta_ratio": 0.5, "ag": 0.0,
                              "record": None, "t_end": 30.0},
                    rules=(rule_mu0_ge_mu,)), ".sdof:run_harmonic"),
+    # -- structure dynamic scenes (femslide/dynamics.py) --
+    Scene("beam-oscillation", "simulate",
+          "FE section 5.2: beam-extra-mass at dm = 0 (massless rods; body and piece m1 carry the inertia) "
+          "released from rest at phi0; w = phi; F2(t) by d'Alembert",
+          ParamSet(FE + ("L", "k", "m1", "l2", "c_v", "phi0", "t_end"),
+                   defaults={"L": 1.5, "n_elements": 8, "t_end": 3.0}, rules=(rule_L_le_l,)),
+          ".dynamics:run_oscillation"),
+    Scene("beam-friction", "simulate",
+          "beam-oscillation with Coulomb friction (mu, mu0) in the sliding clamp (N = |clamp transverse force|), "
+          "m1 = 0, ground acceleration ag sin(theta t) (+ record), theta = theta_ratio * omega (frictionless)",
+          ParamSet(FE + ("L", "k", "mu", "mu0", "c_v", "phi0", "ag", "theta_ratio", "record", "t_end"),
+                   defaults={"L": 1.5, "n_elements": 8, "EI": 1e4, "EA": 1e6, "mu": 0.2, "mu0": 0.24,
+                             "phi0": 0.0, "ag": 1.0, "theta_ratio": 1.0, "record": None, "t_end": 3.0},
+                   rules=(rule_L_le_l, rule_mu0_ge_mu)),
+          ".dynamics:run_friction"),
 ]}
 
 

@@ -1,0 +1,170 @@
+"""Tests of the structure dynamics (femslide/dynamics.py): beam-oscillation and beam-friction.
+
+References computed independently here: the linearised stiffness K_eff = dM/dphi of the static
+structure under a small dead moment on the body (femslide.newton on the plain beam-extra-mass model,
+no lock constraint, no sensitivities) and the rotary inertia M(0) from rigid-body kinematics.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+if ROOT not in sys.path:
+    sys.path.insert(0, ROOT)
+
+from femslide.scenes import get  # noqa: E402
+
+KEYS = {"converged", "turning_points", "stop", "w_max", "steady_amplitude", "steps", "F2_max",
+        "energy_balance", "wall_time_s"}
+
+
+def cli(*args, timeout=120):
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    return subprocess.run([sys.executable, "-m", "femslide", *args], capture_output=True, text=True,
+                          cwd=ROOT, env=env, timeout=timeout)
+
+
+@pytest.fixture(scope="module")
+def oscillation(tmp_path_factory):
+    out = tmp_path_factory.mktemp("osc")
+    r = cli("simulate", "beam-oscillation", "--json", "--quiet", "--out", str(out), "--set", "t_end=1.2")
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout), out
+
+
+def test_oscillation_json_keys(oscillation):
+    res, _ = oscillation
+    assert KEYS <= set(res)
+    assert res["converged"] is True and res["stop"] is None and res["steady_amplitude"] is None
+    assert res["F2_max"] > 0 and res["w_max"] == pytest.approx(0.01, rel=1e-9)
+    assert all(set(tp) == {"t", "w"} for tp in res["turning_points"])
+    assert len(res["turning_points"]) >= 2
+
+
+def test_frictionless_energy_balance(oscillation):
+    """Kinetic + potential (strain + weights + spring of the static state) is conserved to 1e-8."""
+    res, _ = oscillation
+    assert res["energy_balance"] <= 1e-8
+    assert res["energy_balance_turning_points"] <= 1e-8
+    # d'Alembert check: with the inertia loads the rotation lock carries no moment
+    assert res["dalembert_residual"] <= 1e-8
+
+
+def test_out_writes_pvd_series_readable_by_pyvista(oscillation):
+    import pyvista as pv
+    _, out = oscillation
+    vtus = sorted(f for f in os.listdir(out) if f.startswith("beam-oscillation_") and f.endswith(".vtu"))
+    assert len(vtus) >= 10
+    assert os.path.exists(out / "beam-oscillation.pvd")
+    mesh = pv.read(str(out / vtus[len(vtus) // 2]))
+    assert mesh.n_points > 0 and "bending_moment" in mesh.point_data and "axial_force" in mesh.cell_data
+    with open(out / "history.csv") as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0][:6] == ["t [s]", "phi [rad]", "phi_dot [rad/s]", "F2 [N]", "slide [m]",
+                           "stuck (1 stuck; 0 sliding or free)"]
+    assert len(rows) > 20
+
+
+@dataclass
+class BodyMoment:
+    """Dead moment Mz (counter-clockwise, model units) on the body: energy -Mz Theta."""
+    body: object
+    Mz: float
+    name: str = "moment"
+
+    @property
+    def dofs(self):
+        return self.body.dofs
+
+    def eval(self, z, lam=1.0):
+        g0 = np.array([0.0, 0.0, -self.Mz])
+        return -lam * self.Mz * z[2], lam * g0, np.zeros((3, 3)), g0
+
+
+def static_stiffness(v, n, h=1e-4):
+    """K_eff [N m/rad] = -d(moment)/d(phi) by central differences of two static solves under +-h P a."""
+    from femslide.newton import newton
+    from femslide.statics import _structure
+    phis = []
+    for sgn in (1.0, -1.0):
+        bt = _structure({**v, "dm": 0.0}, n, False, True, extra_mass=True)
+        m = bt.model
+        m.add_term(BodyMoment(m.body, sgn * h))
+        m.finalize()
+        y, alpha = m.zero_state()
+        for lam in (0.5, 1.0):
+            y, info = newton(m, y, alpha, lam=lam)
+            assert info.converged
+            alpha = info.alpha
+        phis.append(-y[m.body.dof0 + 2])
+    # a counter-clockwise moment +h turns the body by Theta > 0, i.e. phi < 0
+    P, a = v["m"] * v["g"], v["a"]
+    return 2 * h * P * a / (phis[1] - phis[0])
+
+
+def test_small_amplitude_period_matches_linearised_frequency():
+    """Period from the turning points at phi0 = 1e-4 vs 2 pi sqrt(M/K_eff); K_eff from the statics,
+    M = J_A1 + m1 ((L + l2/2)^2 + l2^2/12) (at phi = 0 the top of the vertical inextensible rod moves
+    horizontally, so the piece translates horizontally with speed (L + l2/2) phi').  The quartic
+    hardening shifts the frequency by ~ c (a/L)^2 phi0^2 / K ~ 3e-5 here: tolerance 2e-4."""
+    from femslide import dynamics
+    v = get("beam-oscillation").resolve({"phi0": 1e-4, "t_end": 1.4})
+    res, _ = dynamics.run_oscillation(v)
+    K = static_stiffness(v, v["n_elements"])
+    a, b, d, l, m = v["a"], v["b"], v["d"], v["l"], v["m"]
+    J = m * ((2 * a) ** 2 + (2 * b) ** 2) / 12 + m * ((a + d) ** 2 + (l + b) ** 2)
+    J += v["m1"] * ((v["L"] + v["l2"] / 2) ** 2 + v["l2"] ** 2 / 12)
+    T_ref = 2 * math.pi * math.sqrt(J / K)
+    tp = res["turning_points"]
+    T = 2 * (tp[1]["t"] - tp[0]["t"])
+    assert abs(T - T_ref) / T_ref < 2e-4
+    assert res["K_eff"] == pytest.approx(K, rel=1e-5)
+    assert res["energy_balance"] <= 1e-7  # tiny amplitude: the round-off floor of the statics shows
+
+
+@pytest.fixture(scope="module")
+def friction(tmp_path_factory):
+    out = tmp_path_factory.mktemp("fric")
+    r = cli("simulate", "beam-friction", "--json", "--quiet", "--out", str(out), "--set", "t_end=1.3")
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout), out
+
+
+def test_friction_zero_drift_while_stuck(friction):
+    res, out = friction
+    assert KEYS <= set(res)
+    assert res["stick_slip_switches"] >= 2 and res["stuck_time"] > 0
+    assert res["stuck_slide_drift"] == 0.0
+    H = np.loadtxt(out / "history.csv", delimiter=",", skiprows=1)
+    stuck = H[:, 5] == 1
+    assert stuck.any()
+    # in each run of stuck samples the slide is constant to the last bit
+    runs = np.split(np.arange(len(H)), np.flatnonzero(np.diff(stuck.astype(int))) + 1)
+    for r in runs:
+        if stuck[r[0]]:
+            assert np.all(H[r, 4] == H[r[0], 4])
+    assert res["energy_balance"] <= 1e-7
+    assert res["friction_work"] > 0 and res["jump_loss"] >= 0
+
+
+@pytest.mark.parametrize("scene, setting", [
+    ("beam-friction", "mu0=0.1"),          # mu0 < mu (default mu = 0.2)
+    ("beam-friction", "mu=-0.1"),
+    ("beam-friction", "t_end=0"),
+    ("beam-oscillation", "t_end=-1"),
+    ("beam-oscillation", "k=9"),           # k <= k_crit = 9.19 N/m
+    ("beam-friction", "k=5"),
+])
+def test_bad_input_exits_2(scene, setting):
+    r = cli("simulate", scene, "--set", setting)
+    assert r.returncode == 2, r.stderr
+    assert setting.split("=")[0] in r.stderr
