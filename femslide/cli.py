@@ -3,7 +3,12 @@
     femslide scenes
     femslide solve SCENE [--set NAME=VALUE]... [--json] [--out DIR]
     femslide simulate SCENE [--set NAME=VALUE]... [--json] [--out DIR]
-    femslide sweep SCENE --vary NAME=V1,V2,... [--set NAME=VALUE]... [--json] [--out DIR] [--jobs N]
+    femslide sweep SCENE --vary NAME=V1,V2,... [--set NAME=VALUE]... [--json] [--out DIR]
+                   [--jobs N | --dask ADDRESS] [--resume] [--plot FILE]
+    femslide mesh SCENE [--set NAME=VALUE]... [--out FILE]
+    femslide show RESULT.vtu|RESULT.pvd [--frame K] [--screenshot FILE.png]
+
+SCENE is a built-in scene name or a scene file (``*.toml``, see femslide/scenefile.py).
 
 Exit status: 0 converged, 1 failed to converge (reason on stderr), 2 bad input (the message names
 the parameter and its allowed range).  This module imports nothing heavy: the scene's runner pulls in
@@ -20,7 +25,8 @@ import time
 
 from .errors import BadInput, SolverFailure
 from .params import parse_assignments
-from .scenes import SCENES, get as _get_scene
+from .scenes import SCENES
+from .scenefile import target as _target
 
 
 class _Parser(argparse.ArgumentParser):
@@ -43,7 +49,20 @@ def _build_parser() -> argparse.ArgumentParser:
         s.add_argument("--quiet", action="store_true", help="no progress bar")
         if name == "sweep":
             s.add_argument("--vary", required=True, metavar="NAME=V1,V2,...")
-            s.add_argument("--jobs", type=int, default=1)
+            par = s.add_mutually_exclusive_group()
+            par.add_argument("--jobs", type=int, default=1, help="cases solved in N processes")
+            par.add_argument("--dask", metavar="ADDRESS", help="'local' (a LocalCluster) or tcp://host:port")
+            s.add_argument("--resume", action="store_true",
+                           help="skip the cases already in DIR/sweep.jsonl (rerunning with the same --out does too)")
+            s.add_argument("--plot", metavar="FILE", help="M_max against the varied parameter (matplotlib)")
+    m = sub.add_parser("mesh", help="write the reference mesh of an FE scene (meshio format by extension)")
+    m.add_argument("scene")
+    m.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
+    m.add_argument("--out", metavar="FILE", help="default: SCENE.vtu")
+    sh = sub.add_parser("show", help="draw a result (.vtu, or the last frame of a .pvd) with pyvista")
+    sh.add_argument("result")
+    sh.add_argument("--frame", type=int, help="frame of a .pvd series (default: the last)")
+    sh.add_argument("--screenshot", metavar="FILE.png", help="render off-screen to this PNG")
     return p
 
 
@@ -120,10 +139,11 @@ def run_one(scene, values, warm=None, out=None):
 
 
 def _solve(args, command):
-    scene = _get_scene(args.scene)
+    tgt = _target(args.scene)
+    scene = tgt.scene
     if scene.command != command:
-        raise BadInput(f"scene {scene.name} is a '{scene.command}' scene; run: femslide {scene.command} {scene.name}")
-    values = scene.resolve(parse_assignments(args.set))
+        raise BadInput(f"scene {scene.name} is a '{scene.command}' scene; run: femslide {scene.command} {args.scene}")
+    values = tgt.resolve(parse_assignments(args.set))
     if args.quiet:  # simulate runners read it (femslide/dynamics.py)
         os.environ["FEMSLIDE_QUIET"] = "1"
     try:
@@ -152,45 +172,32 @@ def _parse_vary(text):
 
 
 def _sweep(args):
-    scene = _get_scene(args.scene)
+    from .sweep import run_sweep
     name, items = _parse_vary(args.vary)
-    base = parse_assignments(args.set)
-    if name in base:
-        raise BadInput(f"parameter {name} is both set and varied")
-    cases = [scene.resolve({**base, name: item}) for item in items]  # all checked before any run
-    rows, warm, status = [], None, 0
-    stream = None
-    if args.out:
-        os.makedirs(args.out, exist_ok=True)
-        stream = open(os.path.join(args.out, "sweep.jsonl"), "a")
-    try:
-        for i, values in enumerate(cases):
-            out_i = os.path.join(args.out, f"case_{i:03d}") if args.out else None
-            try:
-                res, warm = run_one(scene, values, warm, out=out_i)
-            except SolverFailure as exc:
-                res, warm = {"converged": False, "reason": exc.reason}, None
-                print(f"femslide: {scene.name} {name}={values[name]:g} failed: {exc}", file=sys.stderr)
-                status = 1
-            res = {name: values[name], **_clean(res)}
-            rows.append(res)
-            if stream:
-                stream.write(json.dumps(res) + "\n")
-                stream.flush()
-            if not args.json:
-                _print_row(name, res)
-    finally:
-        if stream:
-            stream.close()
-    if args.json:
-        print(json.dumps(rows))
-    return status
+    return run_sweep(_target(args.scene), name, items, parse_assignments(args.set), as_json=args.json,
+                     out=args.out, jobs=args.jobs, dask=args.dask, resume=args.resume, plot=args.plot,
+                     quiet=args.quiet)
 
 
-def _print_row(name, res):
-    keys = [k for k in ("phi", "M_max", "slide", "iterations", "error_estimate", "wall_time_s") if k in res]
-    print(f"{name}={_fmt(res[name]):>12}  converged={res.get('converged')}  "
-          + "  ".join(f"{k}={_fmt(res[k])}" for k in keys), flush=True)
+def _mesh(args):
+    from .scenefile import is_fe, no_mesh_reason
+    tgt = _target(args.scene)
+    scene = tgt.scene
+    if not is_fe(scene):
+        raise BadInput(no_mesh_reason(scene))
+    values = tgt.resolve(parse_assignments(args.set))
+    from . import meshfile
+    path = meshfile.write(scene.name, values, args.out or f"{scene.name}.vtu")
+    print(path)
+    return 0
+
+
+def _show(args):
+    from .show import render
+    info = render(args.result, screenshot=args.screenshot, frame=args.frame)
+    if args.screenshot:
+        print(args.screenshot)
+    return 0 if info else 1
 
 
 def main(argv=None) -> int:
@@ -201,6 +208,10 @@ def main(argv=None) -> int:
             return 0
         if args.cmd in ("solve", "simulate"):
             return _solve(args, args.cmd)
+        if args.cmd == "mesh":
+            return _mesh(args)
+        if args.cmd == "show":
+            return _show(args)
         return _sweep(args)
     except BadInput as exc:
         print(f"femslide: error: {exc}", file=sys.stderr)

@@ -1,0 +1,160 @@
+"""Scene files: a built-in scene, its parameters and (FE scenes) its mesh, in TOML.
+
+    # meshes/beam-slider.toml
+    scene = "beam-slider"          # the model: a built-in scene name
+    mesh = "beam-slider.vtu"       # optional, FE scenes only; relative to this file
+    description = "..."            # optional, free text
+
+    [parameters]                   # optional; any of the scene's parameters (SI units)
+    EI = 1e6
+
+Precedence: the scene's defaults < the file's [parameters] < ``--set``.  With a mesh, its element
+count per flexible rod sets ``n_elements`` unless ``--set n_elements`` is given, and its geometry must
+agree with the parameters (see :mod:`femslide.meshfile`).  A relative ``record`` path is taken
+relative to the file.  Errors are :class:`~femslide.errors.BadInput` naming the file.
+
+Only the stdlib is imported here (tomllib, or tomli on Python 3.10); meshio and numpy are imported
+when a mesh is read.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+from .errors import BadInput
+from .scenes import Scene, get as get_scene
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib
+
+KEYS = ("scene", "mesh", "description", "parameters")
+
+
+def is_scene_file(name: str) -> bool:
+    return name.lower().endswith(".toml")
+
+
+def is_fe(scene: Scene) -> bool:
+    """Scenes whose mesh a file can fix: the FE statics scenes (runners in femslide.statics)."""
+    return scene.runner.startswith(".statics:")
+
+
+def no_mesh_reason(scene: Scene) -> str:
+    if "n_elements" in scene.params.names:  # FE dynamics: built by femslide/dynamics.py
+        return (f"scene {scene.name}: mesh files are read for the FE statics scenes only; "
+                f"set n_elements instead")
+    return f"scene {scene.name} builds no beams, so it takes no mesh"
+
+
+@dataclass
+class SceneFile:
+    path: str
+    scene: Scene
+    params: dict
+    mesh_path: str | None = None
+    mesh: object = None  # femslide.meshfile.MeshFile
+
+    @property
+    def mesh_n(self):
+        if self.mesh is None:
+            return None
+        rods = [g[4:] for g in self.mesh.groups if g.startswith("rod:")]
+        return self.mesh.n_elements(rods[0]) if rods else None
+
+    def resolve(self, given: dict) -> dict:
+        """File parameters overridden by ``given``; n_elements from the mesh; geometry checked."""
+        merged = {**self.params, **given}
+        n = self.mesh_n
+        if n is not None and "n_elements" not in given:
+            if "n_elements" in self.params and _as_int(self.params["n_elements"]) != n:
+                raise BadInput(f"scene file {self.path}: [parameters] n_elements = "
+                               f"{self.params['n_elements']} but the mesh {self.mesh_path} has {n} "
+                               f"elements per rod; remove one of them")
+            merged["n_elements"] = n
+        values = self.scene.resolve(merged)
+        if self.mesh is not None:
+            from .meshfile import check
+            check(self.mesh, self.scene.name, values)
+        return values
+
+
+def _as_int(x):
+    try:
+        return int(float(x))
+    except (TypeError, ValueError):
+        return x
+
+
+def load(path: str) -> SceneFile:
+    """Read and check a scene file (and its mesh)."""
+    if not os.path.isfile(path):
+        raise BadInput(f"scene file {path} not found")
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise BadInput(f"scene file {path}: malformed TOML: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise BadInput(f"scene file {path}: not UTF-8 text: {exc}") from None
+    unknown = [k for k in data if k not in KEYS]
+    if unknown:
+        raise BadInput(f"scene file {path}: unknown key {unknown[0]!r}; allowed: {', '.join(KEYS)} "
+                       f"(scene parameters go in the [parameters] table)")
+    if "scene" not in data:
+        raise BadInput(f"scene file {path}: missing key 'scene' (a built-in scene name)")
+    if not isinstance(data["scene"], str):
+        raise BadInput(f"scene file {path}: 'scene' must be a string (a built-in scene name)")
+    try:
+        scene = get_scene(data["scene"])
+    except BadInput as exc:
+        raise BadInput(f"scene file {path}: {exc}") from None
+    params = data.get("parameters", {})
+    if not isinstance(params, dict):
+        raise BadInput(f"scene file {path}: 'parameters' must be a table ([parameters])")
+    for k, v in params.items():
+        if isinstance(v, (dict, list)):
+            raise BadInput(f"scene file {path}: parameter {k} must be a number or a string")
+    base = os.path.dirname(os.path.abspath(path))
+    params = dict(params)
+    if isinstance(params.get("record"), str) and not os.path.isabs(params["record"]):
+        params["record"] = os.path.join(base, params["record"])
+    try:  # names and values checked now, before any mesh is read
+        scene.resolve({k: v for k, v in params.items()})
+    except BadInput as exc:
+        raise BadInput(f"scene file {path}: {exc}") from None
+    sf = SceneFile(path, scene, params)
+    if "mesh" in data:
+        if not isinstance(data["mesh"], str) or not data["mesh"]:
+            raise BadInput(f"scene file {path}: 'mesh' must be a file name")
+        if not is_fe(scene):
+            raise BadInput(f"scene file {path}: {no_mesh_reason(scene)}; remove the 'mesh' key")
+        from . import meshfile
+        sf.mesh_path = os.path.join(base, data["mesh"])
+        try:
+            sf.mesh = meshfile.read(sf.mesh_path)
+        except BadInput as exc:
+            raise BadInput(f"scene file {path}: {exc}") from None
+        # groups and geometry against the file's own parameters (each run checks its values again)
+        try:
+            sf.resolve({})
+        except BadInput as exc:
+            raise BadInput(f"scene file {path}: {exc}") from None
+    return sf
+
+
+def target(name: str):
+    """A built-in scene name or a scene file path -> an object with ``scene`` and ``resolve(given)``."""
+    if is_scene_file(name):
+        return load(name)
+    scene = get_scene(name)
+    return _Builtin(scene)
+
+
+@dataclass
+class _Builtin:
+    scene: Scene
+
+    def resolve(self, given: dict) -> dict:
+        return self.scene.resolve(given)

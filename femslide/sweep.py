@@ -1,0 +1,307 @@
+"""Parameter sweeps: one solve per value, in process, in a process pool or on a Dask cluster.
+
+Every case is solved *cold*, from the scene's own start, exactly as ``femslide solve`` solves it.  A
+sweep used to continue each case from the previous solution (warm start); measured on beam-slider
+(EI = 1e4 ... 1e10) the warm and cold solutions agree only to ~3e-10 relative (both are converged to
+the solver's tolerance, not to the last bit), so a parallel sweep, which cannot warm start, would not
+reproduce an in-process one.  Solving cold everywhere makes the rows independent of how and in what
+order the cases run (SPEC section 7: "results of a sweep are the same whichever way it runs"), and a
+sweep row equals the ``solve`` of that case; it also costs nothing here (cold solves were faster).
+
+A failed case is reported in its row (``converged`` false, ``reason``) and the sweep goes on.  With
+``--out DIR`` the rows stream to ``DIR/sweep.jsonl`` as they finish (each line the row plus
+``case``, ``scene``, ``params``, ``status``), so an interrupted sweep keeps what finished; rerunning
+with the same ``--out`` (or ``--resume``) skips the cases already there (matched by scene and the full
+set of parameter values).  Rows whose run crashed (``status`` "error": a lost worker, an internal
+error) are run again; converged and failed rows are not (failures are deterministic).
+"""
+from __future__ import annotations
+
+import json
+import os
+import sys
+
+from .errors import BadInput, SolverFailure
+
+JSONL = "sweep.jsonl"
+EXTRA = ("case", "scene", "params", "status")  # jsonl-only keys (not in `sweep --json` rows)
+
+
+def solve_case(scene_name: str, values: dict, out_dir: str | None = None):
+    """Solve one case cold; return (row without the varied parameter, status).
+
+    Status: "converged", "failed" (did not converge), "bad-input" (the run rejected the values) or
+    "error" (an internal error).  Runs in worker processes: imports are local, results are plain
+    JSON-safe data.
+    """
+    from .cli import _clean, run_one
+    from .scenes import get
+    scene = get(scene_name)
+    try:
+        res, _ = run_one(scene, values, None, out=out_dir)
+    except SolverFailure as exc:
+        return {"converged": False, "reason": exc.reason}, "failed"
+    except BadInput as exc:
+        return {"converged": False, "reason": f"bad input: {exc}"}, "bad-input"
+    except Exception as exc:  # keep the sweep going; the row says what happened
+        return {"converged": False, "reason": f"internal error: {type(exc).__name__}: {exc}"}, "error"
+    res = _clean(res)
+    return res, "converged" if res.get("converged", True) else "failed"
+
+
+def _key(scene_name, values):
+    return json.dumps([scene_name, {k: values[k] for k in sorted(values)}], sort_keys=True)
+
+
+def _load_done(path):
+    """Rows of a previous run: key -> (row, status), skipping unreadable (e.g. truncated) lines."""
+    done = {}
+    if not os.path.isfile(path):
+        return done
+    with open(path) as fh:
+        for line in fh:
+            try:
+                rec = json.loads(line)
+            except json.JSONDecodeError:
+                continue
+            if not isinstance(rec, dict) or "params" not in rec or "scene" not in rec:
+                continue
+            if rec.get("status") == "error":
+                continue
+            row = {k: v for k, v in rec.items() if k not in EXTRA}
+            done[_key(rec["scene"], rec["params"])] = row
+    return done
+
+
+def _open_stream(path):
+    """Append to the jsonl file; a line cut by an interrupt is closed first."""
+    if os.path.isfile(path) and os.path.getsize(path) > 0:
+        with open(path, "rb") as fh:
+            fh.seek(-1, os.SEEK_END)
+            last = fh.read(1)
+        if last != b"\n":
+            with open(path, "a") as fh:
+                fh.write("\n")
+    return open(path, "a")
+
+
+# -- executors: each yields (case index, row, status) as cases finish ------------------------------------
+
+def _run_serial(scene_name, cases, todo, out_dirs):
+    for i in todo:
+        row, status = solve_case(scene_name, cases[i], out_dirs[i])
+        yield i, row, status
+
+
+def _run_pool(scene_name, cases, todo, out_dirs, jobs):
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    with ProcessPoolExecutor(max_workers=jobs) as pool:
+        futs = {pool.submit(solve_case, scene_name, cases[i], out_dirs[i]): i for i in todo}
+        try:
+            for fut in as_completed(futs):
+                i = futs[fut]
+                try:
+                    row, status = fut.result()
+                except Exception as exc:  # a worker died (BrokenProcessPool, ...)
+                    row, status = {"converged": False, "reason": f"worker error: {type(exc).__name__}: {exc}"}, "error"
+                yield i, row, status
+        except BaseException:
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+
+
+def dask_client(address: str, workers: int | None = None):
+    """A dask.distributed Client: ``local`` starts a LocalCluster (one thread per worker process),
+    ``tcp://host:port`` connects to a running scheduler.  BadInput if dask is missing or the
+    scheduler cannot be reached."""
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise BadInput("--dask needs dask.distributed: pip install 'femslide[dask]'") from None
+    import logging
+    if address == "local":
+        n = workers or min(os.cpu_count() or 1, 8)
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=None, silence_logs=logging.ERROR)
+        return Client(cluster), cluster
+    if "://" not in address:
+        raise BadInput(f"--dask expects 'local' or a scheduler address such as tcp://host:8786, got {address!r}")
+    try:
+        return Client(address, timeout="15s"), None
+    except (OSError, TimeoutError) as exc:
+        raise BadInput(f"--dask {address}: cannot reach the Dask scheduler: {exc}") from None
+
+
+def _run_dask(scene_name, cases, todo, out_dirs, address, workers):
+    from dask.distributed import as_completed
+    client, cluster = dask_client(address, min(workers or len(todo), len(todo)) if address == "local" else None)
+    try:
+        futs, index = [], {}
+        for i in todo:
+            f = client.submit(solve_case, scene_name, cases[i], out_dirs[i], pure=False)
+            futs.append(f)
+            index[f.key] = i
+        for fut in as_completed(futs):
+            i = index[fut.key]
+            try:
+                row, status = fut.result()
+            except Exception as exc:  # lost worker, serialisation trouble
+                row, status = {"converged": False, "reason": f"worker error: {type(exc).__name__}: {exc}"}, "error"
+            yield i, row, status
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+# -- the sweep -------------------------------------------------------------------------------------------
+
+def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, dask=None,
+              resume=False, plot=None, quiet=False):
+    """Run a sweep from the command line; returns the exit status (0 all converged, 1 a case failed,
+    2 a case was rejected as bad input)."""
+    scene = target.scene
+    if name in base:
+        raise BadInput(f"parameter {name} is both set and varied")
+    if jobs < 1:
+        raise BadInput(f"--jobs {jobs}: allowed: an integer >= 1")
+    if resume and not out:
+        raise BadInput("--resume needs --out DIR (the sweep.jsonl of the earlier run)")
+    cases = [target.resolve({**base, name: item}) for item in items]  # all checked before any run
+    if plot:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            raise BadInput("--plot needs matplotlib: pip install 'femslide[plot]'") from None
+    if dask:
+        try:
+            import dask.distributed as _dd  # noqa: F401  (binds _dd only, not the name 'dask')
+        except ImportError:
+            raise BadInput("--dask needs dask.distributed: pip install 'femslide[dask]'") from None
+
+    n = len(cases)
+    out_dirs = [os.path.join(out, f"case_{i:03d}") if out else None for i in range(n)]
+    rows: list = [None] * n
+    statuses: list = [None] * n
+    stream = None
+    if out:
+        os.makedirs(out, exist_ok=True)
+        path = os.path.join(out, JSONL)
+        done = _load_done(path)
+        for i, v in enumerate(cases):
+            row = done.get(_key(scene.name, v))
+            if row is not None:
+                rows[i] = row
+                statuses[i] = "converged" if row.get("converged") else "failed"
+        stream = _open_stream(path)
+    todo = [i for i in range(n) if rows[i] is None]
+
+    from .progress import progress
+    bar = progress(len(todo), f"sweep {scene.name}", quiet, unit="case")
+    try:
+        if not as_json:
+            for i in range(n):
+                if rows[i] is not None:
+                    bar.write(_row_text(name, rows[i]) + f"  (from {JSONL})")
+        if not todo:
+            runs = iter(())
+        elif dask:
+            runs = _run_dask(scene.name, cases, todo, out_dirs, dask, jobs if jobs > 1 else None)
+        elif jobs > 1 and len(todo) > 1:
+            runs = _run_pool(scene.name, cases, todo, out_dirs, min(jobs, len(todo)))
+        else:
+            runs = _run_serial(scene.name, cases, todo, out_dirs)
+        for i, row, status in runs:
+            values = cases[i]
+            row = {name: values[name], **row}
+            rows[i], statuses[i] = row, status
+            if stream:
+                rec = {**row, "case": i, "scene": scene.name, "params": values, "status": status}
+                stream.write(json.dumps(rec) + "\n")
+                stream.flush()
+            if status != "converged":
+                print(f"femslide: {scene.name} {name}={values[name]:g} failed: {row.get('reason')}",
+                      file=sys.stderr)
+            if not as_json:
+                bar.write(_row_text(name, row))
+            bar.update(1)
+    finally:
+        bar.close()
+        if stream:
+            stream.close()
+    if as_json:
+        print(json.dumps(rows))
+    if plot:
+        plot_sweep(plot, scene.name, name, cases, rows)
+        if not as_json:
+            print(f"plot: {plot}")
+    if "bad-input" in statuses:
+        return 2
+    return 0 if all(s == "converged" for s in statuses) else 1
+
+
+def _fmt(v):
+    if isinstance(v, float):
+        return f"{v:.10g}"
+    return "-" if v is None else str(v)
+
+
+def _row_text(name, res):
+    keys = [k for k in ("phi", "M_max", "slide", "iterations", "error_estimate", "wall_time_s") if k in res]
+    return (f"{name}={_fmt(res[name]):>12}  converged={res.get('converged')}  "
+            + "  ".join(f"{k}={_fmt(res[k])}" for k in keys))
+
+
+# -- plot --------------------------------------------------------------------------------------------------
+
+ASYMPTOTE_SCENES = ("beam-slider", "beam-fixed")
+
+
+def plot_sweep(path, scene, name, cases, rows):
+    """M_max against the varied parameter (PNG, PDF, SVG by extension); log-log for EI sweeps, with
+    the SPEC section 3 asymptotes (1 and 2 terms) for beam-slider and beam-fixed."""
+    import matplotlib
+    matplotlib.use("Agg", force=False)
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    import numpy as np
+
+    pts = sorted((c[name], r["M_max"]) for c, r in zip(cases, rows)
+                 if r and r.get("converged") and r.get("M_max") is not None)
+    bad = [c[name] for c, r in zip(cases, rows) if not (r and r.get("converged"))]
+    fig = Figure(figsize=(6.4, 4.6), dpi=100)
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    x = np.array([p[0] for p in pts], float)
+    y = np.array([p[1] for p in pts], float)
+    ax.plot(x, y, "o-", color="C0", label=f"{scene}: M_max")
+    loglog = name == "EI" and (x > 0).all() and (y > 0).all() and x.size > 0
+    if loglog:
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+    if name == "EI" and scene in ASYMPTOTE_SCENES and x.size:
+        from .series import M_max_asymptote
+        v = cases[0]
+        L_r = (v.get("L") or v["l"]) if scene == "beam-slider" else v["l"]
+        xs = np.geomspace(x.min(), x.max(), 200) if x.min() > 0 else np.linspace(x.min(), x.max(), 200)
+        p = {k: v[k] for k in ("a", "b", "d", "l", "m", "g")}
+        for nt, style in ((1, "--"), (2, ":")):
+            ax.plot(xs, [M_max_asymptote(nt, e, L_r=L_r, **p) for e in xs], style, color="C1" if nt == 1 else "C2",
+                    label=f"asymptote, {nt} term{'s' if nt > 1 else ''} (SPEC 3)")
+    for xb in bad:
+        ax.axvline(xb, color="C3", lw=0.8, alpha=0.6)
+    if bad:
+        ax.plot([], [], color="C3", lw=0.8, label="not converged")
+    from .params import PARAMS
+    unit = PARAMS[name].unit if name in PARAMS else ""
+    ax.set_xlabel(f"{name} [{unit}]" if unit and unit != "-" else name)
+    ax.set_ylabel("M_max [N m]")
+    ax.set_title(f"femslide sweep {scene} --vary {name}")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
+    fig.tight_layout()
+    d = os.path.dirname(path)
+    if d:
+        os.makedirs(d, exist_ok=True)
+    fig.savefig(path)
+    return path

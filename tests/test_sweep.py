@@ -1,0 +1,190 @@
+"""Sweeps: identical rows whichever way they run (in process, --jobs, --dask), a failed case reported in
+its row, streaming to DIR/sweep.jsonl and resuming, --plot, and the progress helper."""
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import os
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+from femslide.cli import main
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+VARY = "EI=1e4,1e6,1e8,1e10"
+
+
+def cli(*argv):
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(list(argv))
+    return code, out.getvalue(), err.getvalue()
+
+
+def run(*argv, code_prefix="", timeout=120):
+    env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    if code_prefix:
+        cmd = [sys.executable, "-c", code_prefix + f"\nfrom femslide.cli import main\nsys.exit(main({list(argv)!r}))"]
+    else:
+        cmd = [sys.executable, "-m", "femslide", *argv]
+    return subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, env=env, timeout=timeout)
+
+
+def flat(obj, prefix=""):
+    out = {}
+    for k, v in obj.items():
+        if isinstance(v, dict):
+            out.update(flat(v, f"{prefix}{k}."))
+        elif k not in ("wall_time_s", "files"):
+            out[prefix + k] = v
+    return out
+
+
+def assert_same_rows(a, b, rtol=1e-12):
+    assert len(a) == len(b)
+    for x, y in zip(a, b):
+        fx, fy = flat(x), flat(y)
+        assert fx.keys() == fy.keys()
+        for k in fx:
+            if isinstance(fx[k], float) and k != "error_estimate":
+                assert abs(fx[k] - fy[k]) <= rtol * max(abs(fx[k]), abs(fy[k]), 1e-300), (k, fx[k], fy[k])
+            elif k != "error_estimate":
+                assert fx[k] == fy[k], k
+
+
+@pytest.fixture(scope="module")
+def in_process_rows():
+    code, out, err = cli("sweep", "beam-slider", "--vary", VARY, "--json")
+    assert code == 0, err
+    rows = json.loads(out)
+    assert [r["EI"] for r in rows] == [1e4, 1e6, 1e8, 1e10] and all(r["converged"] for r in rows)
+    return rows
+
+
+def test_sweep_row_equals_the_solve_of_that_case(in_process_rows):
+    """Cases are solved cold, so a row is exactly `femslide solve` of its parameters."""
+    code, out, _ = cli("solve", "beam-slider", "--set", "EI=1e8", "--json")
+    assert code == 0
+    one = {"EI": 1e8, **json.loads(out)}
+    assert_same_rows([in_process_rows[2]], [one], rtol=0.0)
+
+
+def test_jobs_equals_in_process(in_process_rows):
+    r = run("sweep", "beam-slider", "--vary", VARY, "--json", "--jobs", "2")
+    assert r.returncode == 0, r.stderr
+    assert_same_rows(in_process_rows, json.loads(r.stdout))
+
+
+@pytest.mark.dask
+def test_dask_local_equals_in_process(in_process_rows):
+    pytest.importorskip("dask.distributed")
+    r = run("sweep", "beam-slider", "--vary", VARY, "--json", "--dask", "local")
+    assert r.returncode == 0, r.stderr
+    assert_same_rows(in_process_rows, json.loads(r.stdout))
+
+
+@pytest.mark.dask
+def test_dask_scheduler_address(in_process_rows):
+    dd = pytest.importorskip("dask.distributed")
+    with dd.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, protocol="tcp",
+                       dashboard_address=None) as cluster:
+        r = run("sweep", "beam-slider", "--vary", "EI=1e4,1e6", "--json", "--dask", cluster.scheduler_address)
+    assert r.returncode == 0, r.stderr
+    assert_same_rows(in_process_rows[:2], json.loads(r.stdout))
+
+
+def test_dask_missing_is_bad_input():
+    r = run("sweep", "hinge-slider", "--vary", "c=1e4,1e6", "--dask", "local",
+            code_prefix="import sys; sys.modules['dask'] = None")
+    assert r.returncode == 2 and "femslide[dask]" in r.stderr
+
+
+def test_failed_case_is_reported_in_its_row_and_the_sweep_goes_on(tmp_path):
+    code, out, err = cli("sweep", "beam-extra-mass", "--vary", "k=1,100", "--json", "--out", str(tmp_path))
+    rows = json.loads(out)
+    assert [r["k"] for r in rows] == [1.0, 100.0]
+    assert rows[0]["converged"] is False and "k_crit" in rows[0]["reason"]
+    assert rows[1]["converged"] is True
+    assert code == 2 and "k=1 failed" in err
+    lines = (tmp_path / "sweep.jsonl").read_text().splitlines()
+    assert len(lines) == 2
+
+
+def test_jsonl_stream_and_resume(tmp_path):
+    code, out, _ = cli("sweep", "hinge-slider", "--vary", "c=1e4,1e6", "--json", "--out", str(tmp_path))
+    assert code == 0
+    first = json.loads(out)
+    path = tmp_path / "sweep.jsonl"
+    recs = [json.loads(x) for x in path.read_text().splitlines()]
+    assert [r["c"] for r in recs] == [1e4, 1e6]
+    assert all(r["scene"] == "hinge-slider" and r["params"]["c"] == r["c"] and r["status"] == "converged"
+               for r in recs)
+    # an interrupted write leaves half a line: it is ignored and closed before appending
+    with open(path, "a") as fh:
+        fh.write('{"c": 1e8, "conv')
+    code, out, _ = cli("sweep", "hinge-slider", "--vary", "c=1e4,1e6,1e8", "--json", "--out", str(tmp_path),
+                       "--resume")
+    assert code == 0
+    rows = json.loads(out)
+    assert rows[:2] == first  # taken from the file, wall times included
+    lines = path.read_text().splitlines()
+    assert len(lines) == 4 and json.loads(lines[-1])["c"] == 1e8
+    # a different --set is a different case: it is run, not taken from the file
+    code, out, _ = cli("sweep", "hinge-slider", "--vary", "c=1e4", "--set", "d=0.1", "--json", "--out", str(tmp_path))
+    assert code == 0 and json.loads(out)[0]["phi"] != first[0]["phi"]
+    assert len(path.read_text().splitlines()) == 5
+
+
+def test_resume_needs_out():
+    code, _, err = cli("sweep", "hinge-slider", "--vary", "c=1e4", "--resume")
+    assert code == 2 and "--out" in err
+
+
+def test_bad_jobs():
+    assert cli("sweep", "hinge-slider", "--vary", "c=1e4", "--jobs", "0")[0] == 2
+    assert cli("sweep", "hinge-slider", "--vary", "c=1e4", "--jobs", "2", "--dask", "local")[0] == 2
+
+
+def test_plot(tmp_path):
+    pytest.importorskip("matplotlib")
+    png = tmp_path / "ei.png"
+    code, out, err = cli("sweep", "beam-fixed", "--vary", "EI=1e6,1e8", "--plot", str(png), "--json")
+    assert code == 0, err
+    assert json.loads(out)  # stdout is still the JSON list
+    data = png.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
+    png2 = tmp_path / "c.png"
+    assert cli("sweep", "hinge-slider", "--vary", "c=1e4,1e6", "--plot", str(png2))[0] == 0
+    assert png2.stat().st_size > 10_000
+
+
+def test_plot_asymptote_is_spec_section_3():
+    """The plotted asymptote is femslide.series.M_max_asymptote, which the FE M_max approaches."""
+    from femslide.series import M_max_asymptote
+    code, out, _ = cli("sweep", "beam-slider", "--vary", "EI=1e10", "--json")
+    row = json.loads(out)[0]
+    p = dict(a=1.0, b=0.5, d=0.2, l=3.0, m=1.0, g=9.81)
+    assert abs(row["M_max"] / M_max_asymptote(2, 1e10, **p) - 1) < 1e-3
+
+
+def test_progress_helper(monkeypatch):
+    from femslide import progress as pg
+    assert isinstance(pg.progress(5, "x", quiet=True), pg.NoBar)
+    assert isinstance(pg.progress(5, "x"), pg.NoBar)  # pytest's stderr is not a terminal
+
+    class Tty(io.StringIO):
+        def isatty(self):
+            return True
+
+    pytest.importorskip("tqdm")
+    monkeypatch.setattr(sys, "stderr", Tty())
+    bar = pg.progress(3, "x")
+    assert not isinstance(bar, pg.NoBar)
+    with bar:
+        bar.update(3)
+    assert "0/3" in sys.stderr.getvalue()  # the bar was drawn (it clears itself when done)
+    assert isinstance(pg.progress(3, "x", quiet=True), pg.NoBar)
