@@ -110,7 +110,10 @@ def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool
     dmag = np.abs(dU).max(axis=1)
     xmag = es.xmax + np.abs(U[:, :2]).max()
     ang = np.abs(t1) + np.abs(t2) + np.abs(alpha) + 2.0 * xmag / es.L0
-    noise = eps * (k00 * dmag * (1.0 + dmag / es.L0) + (k11 + np.abs(k12)) * ang * (1.0 + 2.0 / Ln))
+    # u_j - u_i is rounded to eps |u| (the displacement magnitude), and u_bar ~ D0 . dU / L0
+    umag = np.abs(U[:, :2]).max()
+    noise = eps * (2.0 * k00 * (umag + dmag) * (1.0 + dmag / es.L0)
+                   + (k11 + np.abs(k12)) * ang * (1.0 + 2.0 / Ln))
     # K = B^T kb B + N z z^T/Ln + (M1 + M2)/Ln^2 (r z^T + z r^T) has the translational block
     # [[X, -X], [-X, X]] with X = k00 p p^T + (kappa + N Ln)/Ln^2 w w^T - m/Ln (p w^T + w p^T),
     # translation-rotation columns -+ rho_a w/Ln (rho_a: row sums of the bending block) and the

@@ -63,9 +63,6 @@ def test_tip_load_default_EA(p):
     assert abs(r["M_max"] / exact["M_max"] - 1.0) <= TOL
 
 
-@pytest.mark.xfail(strict=True, raises=femslide.SolverFailure,
-                   reason="femslide bug: cantilever-load load stepping stalls for EA/EI >= 1e9 "
-                          "(Newton residual floor ~3e-7 above its tolerance)")
 @pytest.mark.parametrize("p", P_RATIOS)
 def test_tip_load_inextensible(p):
     """Run with EA = 1e9 EI vs the elliptic-integral (inextensible) elastica: u, v within 1e-6 L, theta
