@@ -17,7 +17,7 @@ Joints (SPEC section 3):
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 

@@ -39,7 +39,7 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
     region for the corotational kinematics, which are exact but strongly nonlinear).
     """
     y = y.copy()
-    n_q, n = model.n_q, model.n
+    n_q = model.n_q
     rot = np.zeros(n_q, bool)
     rot[2:3 * model.n_nodes:3] = True
     if model.body is not None:

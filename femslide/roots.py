@@ -6,9 +6,6 @@ from 0 (the load-deflection curve is followed from the origin).
 """
 from __future__ import annotations
 
-import math
-
-
 class NoRoot(RuntimeError):
     """No sign change was found where one was expected."""
 

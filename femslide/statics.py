@@ -7,9 +7,14 @@ tuning.  Cantilevers use L and EI/L^2.
 
 Accuracy: with ``n_elements`` unset the mesh is refined by doubling (n, 2n, 4n, ...) and the reported
 values are Richardson-extrapolated from the two finest meshes (the corotational discretisation error
-is O(h^2)); ``error_estimate`` is the estimated relative error of the reported M_max, from the change of
-the extrapolated values between successive levels (/15 for an O(h^4) remainder).  With
-``n_elements`` = N the values are those of the N-element mesh and the estimate compares N with N/2.
+is O(h^2)); refinement stops when every output is estimated accurate to 1e-7, or when the level-to-
+level changes stop shrinking like h^2 (round-off of a very stiff model dominates; the raw finest values
+are then reported).  ``error_estimate`` is the estimated relative error of the reported M_max: the
+change of the extrapolated values between successive levels (/15 for an O(h^4) remainder), and at
+least the round-off scatter of M_max (Newton reconverged from a perturbed state).  With
+``n_elements`` = N the values are those of the N-element mesh and the estimate compares N with N/2
+(a single element has no estimate: null).  Meshes finer than 16 elements start from the Hermite-
+interpolated solution of half as many elements.
 """
 from __future__ import annotations
 

@@ -23,16 +23,14 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
 from femslide.model import solve_linear  # noqa: E402
-from femslide.newton import newton  # noqa: E402
 from femslide.scenes import SCENES  # noqa: E402
-from femslide.statics import build_cantilever_load, solve_scene  # noqa: E402
+from femslide.statics import solve_scene  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 def sweep(scene, repeats=3):
     """Best of ``repeats`` summed solve times of the 9-value EI sweep."""
-    base = SCENES[scene].resolve({})
     best = None
     for _ in range(repeats):
         warm, total, its, worst = None, 0.0, 0, 0.0
@@ -45,48 +43,36 @@ def sweep(scene, repeats=3):
             worst = max(worst, res["error_estimate"])
         if best is None or total < best[0]:
             best = (total, its, worst)
-    del base
     return best
 
 
 def per_iteration(n, repeats=5):
-    """Seconds per Newton iteration (system + solve) of an n-element cantilever at its solution."""
-    v = SCENES["cantilever-load"].resolve({"n_elements": n})
-    bt = build_cantilever_load(v, n)
-    m = bt.model
-    res, _ = solve_scene("cantilever-load", v)
-    y, a = m.zero_state()
-    # a converged state: climb from the scene solve (cheap: reuse its machinery)
-    from femslide.statics import prolong, Built  # noqa: F401
-    y, info = newton(m, *_converged_start(v, n))
-    best = np.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        r, A, _info = m.system(y, info.alpha, 1.0)
-        solve_linear(A, r)
-        best = min(best, time.perf_counter() - t0)
-    return best, res
-
-
-def _converged_start(v, n):
-    from femslide.statics import Level  # noqa: F401
+    """Seconds per Newton iteration (residual, tangent, linear solve) of an n-element cantilever,
+    measured at its converged state (reached by climbing from coarse meshes, as solve_scene does)."""
     import femslide.statics as st
+    v = SCENES["cantilever-load"].resolve({"n_elements": n})
     cache = {}
 
     def level(k):
-        if k in cache:
-            return cache[k]
-        bt = st.build_cantilever_load(v, k)
-        start = None
-        if k > st.N_DIRECT:
-            c = level((k + 1) // 2)
-            start = st.prolong(c[0], c[1], c[2], bt)
-        y, a, _, _ = st._solve_structure(bt, start, start is not None)
-        cache[k] = (bt, y, a)
+        if k not in cache:
+            bt = st.build_cantilever_load(v, k)
+            start = None
+            if k > st.N_DIRECT:
+                c = level((k + 1) // 2)
+                start = st.prolong(c[0], c[1], c[2], bt)
+            y, a, _, _ = st._solve_structure(bt, start, start is not None)
+            cache[k] = (bt, y, a)
         return cache[k]
 
-    bt, y, a = level(n)
-    return y, a
+    bt, y, alpha = level(n)
+    m = bt.model
+    best = np.inf
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        r, A, _info = m.system(y, alpha, 1.0)
+        solve_linear(A, r)
+        best = min(best, time.perf_counter() - t0)
+    return best
 
 
 def opensees_cantilever(n, P=1.0, steps=1, tol=1e-8, test_iters=50):
@@ -126,12 +112,12 @@ def main():
         print(f"{scene:12s} 9-value EI sweep: {t * 1e3:7.1f} ms, {its} Newton iterations, "
               f"max error estimate {worst:.1e}")
     for n in (32, 10000):
-        t, res = per_iteration(n)
+        t = per_iteration(n)
         rows.append({"case": f"cantilever N={n} per iteration", "femslide_s": t,
                      "note": f"{t / n * 1e6:.3f} us per element per iteration"})
         print(f"cantilever N={n:5d}: {t * 1e3:7.3f} ms per Newton iteration = {t / n * 1e6:.3f} us per element")
     try:
-        import openseespy.opensees  # noqa: F401
+        import openseespy.opensees as _ops  # noqa: F401
         have_ops = True
     except Exception as exc:  # ImportError, or the shared library failing to load
         have_ops = False
@@ -153,7 +139,7 @@ def main():
               f"solve for the error estimate), OpenSees {best_o * 1e3:.2f} ms, ratio {best_f / best_o:.2f}")
         # per iteration at N = 1e4: a small load converges in a few iterations; time / iterations
         ok, dt, its, _ = opensees_cantilever(10000, P=0.01, tol=1e-9)
-        t_f, _ = per_iteration(10000)
+        t_f = per_iteration(10000)
         per_o = dt / max(its, 1)
         rows.append({"case": "cantilever N=10000 per iteration", "femslide_s": t_f, "opensees_s": per_o,
                      "ratio": t_f / per_o, "note": f"OpenSees status {ok}, {its} iterations"})
