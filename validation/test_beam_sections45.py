@@ -30,7 +30,11 @@ def test_beam_spring_matches_hinge_spring(EI):
 
 
 def test_beam_spring_agreement_improves_with_EI():
-    """The FE/hinge difference decays as EI grows (the hinge is the rigid-limit model)."""
+    """The FE/hinge difference decays as EI grows (the hinge is the rigid-limit model).
+
+    Reference: femslide.hinge section 4 model (validated in test_hinge_exact.py) at c = 3EI/L,
+    l1 = L = l.  Tolerance: none numeric - the relative M_max differences at EI = 1e4, 1e6, 1e8 must
+    decrease strictly."""
     diffs = []
     for EI in (1e4, 1e6, 1e8):
         fe = femslide.solve("beam-spring", EI=EI)
@@ -98,6 +102,9 @@ def test_F2_regimes():
 
 def test_k_below_k_crit_is_bad_input():
     """k <= k_crit = [m g (l+b) + m1 g (l1 + l2/2)]/(4a^2) (9.197 N/m for the defaults with l1 = L)
-    is reported as bad input, not solved."""
+    is reported as bad input, not solved.
+
+    Reference: the closed form k_crit of SPEC section 2 (paper 000, section 5.1).  Tolerance: exact
+    classification (BadInput naming k_crit, i.e. exit status 2 on the command line)."""
     with pytest.raises(femslide.BadInput, match="k_crit"):
         femslide.solve("beam-extra-mass", k=5.0)

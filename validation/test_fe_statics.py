@@ -79,7 +79,10 @@ IDS = [f"{k}-EI{EI:.0e}" for k, EI in CASES]
 
 @pytest.mark.parametrize("kind,EI", CASES, ids=IDS)
 def test_converged(kind, EI):
-    """Every default FE run converges (contract key ``converged``)."""
+    """Every default FE run converges (contract key ``converged``).
+
+    Reference: SPEC section 7 contract (the accuracy itself is checked against the elastica in
+    test_vs_elastica).  Tolerance: exact (``converged`` is True)."""
     assert fe(kind, EI)["converged"] is True
 
 
@@ -109,7 +112,8 @@ def test_error_estimate(kind, EI):
 
 @pytest.mark.parametrize("kind,EI", CASES, ids=IDS)
 def test_global_statics(kind, EI):
-    """N1 + N2 = P and F1 + F2 = 0 (no horizontal load) within 1e-9 P."""
+    """Global statics of the structure (SPEC section 1): N1 + N2 = P and F1 + F2 = 0 (no horizontal
+    load).  Reference: exact equilibrium of the whole structure.  Tolerance: 1e-9 P."""
     f = flat(fe(kind, EI))
     assert abs(f["N1"] + f["N2"] - P) <= 1e-9 * P
     assert abs(f["F1"] + f["F2"]) <= 1e-9 * P
@@ -212,7 +216,9 @@ def test_reference_self_convergence(kind):
 def test_reference_path_is_principal(kind):
     """The reference's continuation in EI (= ramping gravity, since only EI/(P a^2) and EA/P enter) is
     one smooth branch: phi grows monotonically as EI falls from 1e12 to 1e1 and the shooting Jacobian
-    keeps its sign (no fold or bifurcation crossed), so it is the principal branch."""
+    keeps its sign (no fold or bifurcation crossed), so it is the principal branch.
+    Reference: the elastica shooting itself (references.py).  Tolerance: exact sign and monotonicity
+    checks, no numeric threshold."""
     for ea in (None, 1e6):
         key = ref._key({**ref.DEFAULTS, **({"L": None} if kind == "slider" else {}), "EA_ratio": ea})
         path = ref._path(kind, key)
