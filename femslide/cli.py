@@ -222,6 +222,12 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("femslide: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # output piped into a command that stopped reading (| head)
+        try:
+            sys.stdout = open(os.devnull, "w")
+        except OSError:
+            pass
+        return 0
     except Exception as exc:  # an internal error: say so plainly; FEMSLIDE_DEBUG=1 shows the traceback
         if os.environ.get("FEMSLIDE_DEBUG"):
             raise
