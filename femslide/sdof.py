@@ -437,6 +437,7 @@ class Oscillator:
         from_rest = True
         analytic_free = (self.kind == 0) and not F.harmonic
         steps = 0
+        merge_dt = 1e-6 * 8.0 * self.h_scan  # 1e-6 of the shortest period
         while t < t_end:
             steps += 1
             if steps > MAX_STEPS:
@@ -480,7 +481,12 @@ class Oscillator:
             segs.append((t, te, x0, u0, a0, a1, phi, state))
             friction_work += fk * abs(w1 - w)
             t, w, v = te, w1, 0.0
-            turning.append((t, w))
+            # a grazing zero (v and a vanish together, e.g. frictionless forcing) restarts from a
+            # round-off-sized net force and finds the same instant again: it is one turning point
+            if turning and te - turning[-1][0] <= merge_dt:
+                turning[-1] = (t, w)
+            else:
+                turning.append((t, w))
             G = F.value(t) - k * w
             if abs(G) <= fs:
                 stuck = True

@@ -1,7 +1,6 @@
-"""Strict xfails for wrong answers found by validation/stability.py (reported to the solver owner).
+"""Regression tests for wrong answers once found by validation/stability.py (now fixed).
 
-Each test asserts the correct behaviour against an exact reference; it fails today and is marked
-``xfail(strict=True)``, so the fix turns it into an XPASS error that asks for the marker's removal.
+Each test asserts the correct behaviour against an exact reference.
 """
 from __future__ import annotations
 
@@ -12,8 +11,6 @@ import pytest
 import femslide
 
 
-@pytest.mark.xfail(strict=True, reason="sdof: a touching zero of the velocity (mu = mu0 = 0) is reported as two "
-                                       "turning points ~3.5e-8 s apart (reported; femslide/sdof.py)")
 def test_frictionless_harmonic_turning_points_are_not_duplicated():
     """sdof-harmonic with mu = mu0 = 0, from rest, theta = omega/2 (defaults otherwise).
 
@@ -22,7 +19,7 @@ def test_frictionless_harmonic_turning_points_are_not_duplicated():
     (th t = 2 pi j) v only touches zero - one instant, not two.  Over the default 30 s: 158 instants.
     Tolerance: the count exactly, and the times within 1e-6 s (a touching zero, a double root of v,
     is located only to ~sqrt(eps) relative).
-    Reproducer: femslide simulate sdof-harmonic --set mu=0 --set mu0=0 --json  (210 turning points)."""
+    Was: femslide simulate sdof-harmonic --set mu=0 --set mu0=0 --json gave 210 turning points."""
     r = femslide.simulate("sdof-harmonic", mu=0.0, mu0=0.0)
     om, th, t_end = r["omega"], r["theta"], r["t_end"]
     zs = sorted(2 * math.pi * j / fr for fr in (om + th, om - th)
