@@ -143,7 +143,10 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
             y0[:model.n_q] *= phi / phi0
         lam0 = 1.0
     z_c, a_c = np.concatenate([y0, [lam0]]), alpha0.copy()
-    pred = z_c
+    pred = z_c.copy()
+    # start with the body already at the prescribed rotation: at the undeformed state the load factor
+    # can be undetermined (a + d = 0: the weight has no moment about A1, a singular Jacobian)
+    pred[theta_dof] = -phi_dir * phi
     phi_lo, phi_hi = 0.0, None
     for _ in range(200):
         out = controlled(phi, pred, a_c)
