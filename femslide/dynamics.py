@@ -276,7 +276,9 @@ class Structure:
             # converged at the tolerance, or at the round-off floor of the stiff rod (the nearly
             # inextensible rod, EA/EI ~ 1e6 m^-2, floors the force residual near 1e-10 relative):
             # no halving of the residual for 3 iterations while below 1e-8
-            conv = res <= NEWTON_TOL or (it >= 3 and res <= 1e-8 and min(hist[-4:-1]) <= 2.0 * res)
+            floor = 10.0 * info["noise"] / (1.0 + info["fmax"])  # the model's round-off estimate
+            conv = res <= NEWTON_TOL or (it >= 3 and res <= max(1e-8, floor)
+                                         and min(hist[-4:-1]) <= 2.0 * res)
             # the converged state takes one more (tiny) Newton step: the solution is then a smooth
             # function of phi to round-off, which the high-order integrator needs
             y += dy
