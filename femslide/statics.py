@@ -50,7 +50,7 @@ class Built:
     pin_B1: object = None
     tip_node: int = -1
     phi_dir: float = 1.0
-    phi_guess: float = 0.0
+    guess: object = None  # callable: phi [rad] of the equivalent spring-hinge model (path-following start)
     load_steps: int = 1
     control: str = "phi"  # "phi": path following on the body rotation; "load": load stepping
 
@@ -112,25 +112,25 @@ def _guess(v, kind):
 
 def build_slider(v, n):
     bt = _structure(v, n, False, True)
-    bt.phi_guess = _guess(v, "slider")
+    bt.guess = lambda: _guess(v, "slider")
     return bt
 
 
 def build_fixed(v, n):
     bt = _structure(v, n, True, False)
-    bt.phi_guess = _guess(v, "fixed")
+    bt.guess = lambda: _guess(v, "fixed")
     return bt
 
 
 def build_both(v, n):
     bt = _structure(v, n, True, True)
-    bt.phi_guess = 0.8 * _guess(v, "slider")
+    bt.guess = lambda: 0.8 * _guess(v, "slider")
     return bt
 
 
 def build_spring(v, n):
     bt = _structure(v, n, False, True, spring=True)
-    bt.phi_guess = _guess(v, "spring")
+    bt.guess = lambda: _guess(v, "spring")
     return bt
 
 
@@ -211,7 +211,7 @@ def _solve_structure(bt, warm=None, near=False):
             y, info = newton(m, y0, alpha0, lam=1.0)
             if info.converged and abs(y[th] - y0[th]) <= 0.1 * abs(y0[th]):
                 return y, info.alpha, info.iterations, info.history
-    br = principal_branch(m, m.body.dof0 + 2, bt.phi_dir, bt.phi_guess, y0, alpha0)
+    br = principal_branch(m, m.body.dof0 + 2, bt.phi_dir, bt.guess() if bt.guess else None, y0, alpha0)
     return br.y, br.alpha, br.iterations, br.history
 
 
