@@ -69,12 +69,9 @@ def chord_rotation(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray) -> np.n
     return alpha_ref + np.arctan2(cr * D[:, 1] - sr * D[:, 0], cr * D[:, 0] + sr * D[:, 1])
 
 
-def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool = True):
-    """Internal forces (n, 6), tangents (n, 6, 6) or None, basic forces (n, 3), alpha (n,) and,
-    with the tangent, the round-off level of each element's forces (n,).
-
-    ``U`` (n_nodes, 3) holds the nodal (u, v, theta).
-    """
+def basic_deformations(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray):
+    """Displacement differences dU (n, 2), chord length Ln, stretch u_bar [m], chord rotation alpha and
+    the end rotations relative to the chord t1, t2 [rad] of every element."""
     i, j = es.conn[:, 0], es.conn[:, 1]
     dU = U[j, :2] - U[i, :2]
     D = es.D0 + dU
@@ -82,10 +79,28 @@ def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool
     dx, dy = dU[:, 0], dU[:, 1]
     u_bar = ((2.0 * es.D0[:, 0] + dx) * dx + (2.0 * es.D0[:, 1] + dy) * dy) / (Ln + es.L0)
     alpha = chord_rotation(es, U, alpha_ref)
+    return dU, Ln, u_bar, alpha, U[i, 2] - alpha, U[j, 2] - alpha
+
+
+def strain_energy(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray) -> float:
+    """Elastic energy of all elements, sum of 1/2 (k00 u_bar^2 + [t1 t2] kb [t1 t2]^T) [model units]:
+    the energy whose gradient is the internal force of :func:`evaluate`."""
+    _, _, u_bar, _, t1, t2 = basic_deformations(es, U, alpha_ref)
+    kb = es.kb
+    e = (kb[:, 0, 0] * u_bar ** 2 + kb[:, 1, 1] * t1 ** 2 + (kb[:, 1, 2] + kb[:, 2, 1]) * t1 * t2
+         + kb[:, 2, 2] * t2 ** 2)
+    return 0.5 * float(np.sum(e))
+
+
+def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool = True):
+    """Internal forces (n, 6), tangents (n, 6, 6) or None, basic forces (n, 3), alpha (n,) and,
+    with the tangent, the round-off level of each element's forces (n,).
+
+    ``U`` (n_nodes, 3) holds the nodal (u, v, theta).
+    """
+    dU, Ln, u_bar, alpha, t1, t2 = basic_deformations(es, U, alpha_ref)
     beta = es.beta0 + alpha
     c, s = np.cos(beta), np.sin(beta)
-    t1 = U[i, 2] - alpha
-    t2 = U[j, 2] - alpha
     kb = es.kb
     k00, k11, k12, k21, k22 = kb[:, 0, 0], kb[:, 1, 1], kb[:, 1, 2], kb[:, 2, 1], kb[:, 2, 2]
     N = k00 * u_bar

@@ -57,6 +57,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
+from .corotational import strain_energy
 from .errors import BadInput, SolverFailure
 
 N_DEFAULT = 8          # elements of the flexible rod when n_elements is not given
@@ -136,24 +137,6 @@ class InertiaLoads:
             g[5] += -self.h * (self.FC @ de)
             H[5, 5] += self.h * (self.FC @ e)
         return lam * E, lam * g, lam * H, g
-
-
-def strain_energy(es, U, alpha_ref):
-    """Elastic energy of all corotational elements, sum of 1/2 (k00 u_bar^2 + [t1 t2] kb [t1 t2]^T),
-    the energy whose gradient is the internal force of :func:`femslide.corotational.evaluate`."""
-    from .corotational import chord_rotation
-    i, j = es.conn[:, 0], es.conn[:, 1]
-    dU = U[j, :2] - U[i, :2]
-    D = es.D0 + dU
-    Ln = np.hypot(D[:, 0], D[:, 1])
-    dx, dy = dU[:, 0], dU[:, 1]
-    u_bar = ((2.0 * es.D0[:, 0] + dx) * dx + (2.0 * es.D0[:, 1] + dy) * dy) / (Ln + es.L0)
-    alpha = chord_rotation(es, U, alpha_ref)
-    t1, t2 = U[i, 2] - alpha, U[j, 2] - alpha
-    kb = es.kb
-    e = (kb[:, 0, 0] * u_bar ** 2 + kb[:, 1, 1] * t1 ** 2 + (kb[:, 1, 2] + kb[:, 2, 1]) * t1 * t2
-         + kb[:, 2, 2] * t2 ** 2)
-    return 0.5 * float(np.sum(e))
 
 
 # -- the reduced structure ------------------------------------------------------------------------------
