@@ -29,8 +29,7 @@ def _run(command, scene, params):
     s = get(scene)
     if s.command != command:
         raise BadInput(f"scene {scene} is a '{s.command}' scene")
-    res, _ = run_one(s, s.resolve(params))
-    return res
+    return run_one(s, s.resolve(params))
 
 
 def solve(scene: str, **params) -> dict:

@@ -121,11 +121,11 @@ def _clean(obj):
     return x if math.isfinite(x) else None
 
 
-def run_one(scene, values, warm=None, out=None):
-    """Run a scene; return (result dict, state).  The result carries ``wall_time_s``."""
+def run_one(scene, values, out=None, quiet=False):
+    """Run a scene; return its result dict, with ``wall_time_s``; with ``out``, write its files and
+    result.json there.  ``quiet`` switches off progress bars."""
     t0 = time.perf_counter()
-    res, state = scene.run(values, warm)
-    res = dict(res)
+    res = dict(scene.run({**values, "_quiet": True} if quiet else values))
     res["wall_time_s"] = time.perf_counter() - t0
     if out:
         os.makedirs(out, exist_ok=True)
@@ -135,7 +135,7 @@ def run_one(scene, values, warm=None, out=None):
         with open(os.path.join(out, "result.json"), "w") as fh:
             json.dump(_clean(res), fh, indent=1)
     res.pop("_write", None)
-    return res, state
+    return res
 
 
 def _solve(args, command):
@@ -144,10 +144,8 @@ def _solve(args, command):
     if scene.command != command:
         raise BadInput(f"scene {scene.name} is a '{scene.command}' scene; run: femslide {scene.command} {args.scene}")
     values = tgt.resolve(parse_assignments(args.set))
-    if args.quiet:  # simulate runners read it (femslide/dynamics.py)
-        os.environ["FEMSLIDE_QUIET"] = "1"
     try:
-        res, _ = run_one(scene, values, out=args.out)
+        res = run_one(scene, values, out=args.out, quiet=args.quiet)
     except SolverFailure as exc:
         if args.json:
             print(json.dumps({"converged": False, "reason": exc.reason,

@@ -413,7 +413,7 @@ class Ground:
 
 
 def _quiet(v):
-    return bool(v.get("_quiet")) or os.environ.get("FEMSLIDE_QUIET", "") not in ("", "0")
+    return bool(v.get("_quiet"))
 
 
 class _Progress:
@@ -496,7 +496,7 @@ def _integrate(run, t0, t1, y0, events, s_c=None, max_step=np.inf):
                      dense_output=True, events=events, max_step=max_step)
 
 
-def run_oscillation(v, warm=None):
+def run_oscillation(v):
     """beam-oscillation: free oscillation about the vertical equilibrium from rest at phi0."""
     _check_common(v)
     from .hinge import k_crit
@@ -571,7 +571,7 @@ def run_oscillation(v, warm=None):
         "integration_time_s": T_int,
         "_write": lambda d: _write(d, "beam-oscillation", hist, st),
     }
-    return res, None
+    return res
 
 
 def _sample_times(sol, omega, t_end, tps, per_period=64):
@@ -660,7 +660,7 @@ def _write(out_dir, name, hist, st):
 STEADY_RTOL = 1e-6   # two successive forcing periods agree to this (relative to the amplitude)
 
 
-def run_friction(v, warm=None):
+def run_friction(v):
     """beam-friction: Coulomb friction in the sliding clamp under a horizontal ground acceleration.
 
     The run is a sequence of segments, each integrated by DOP853 with event location:
@@ -836,7 +836,7 @@ def run_friction(v, warm=None):
         "integration_time_s": time.perf_counter() - t_wall,
         "_write": lambda d: _write(d, "beam-friction", hist, st),
     }
-    return res, None
+    return res
 
 
 def _steady(ground, theta, tps, t_end, rows):

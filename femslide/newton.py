@@ -107,7 +107,7 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
     """Principal equilibrium at lam = 1 by control of the body rotation phi = -Theta.
 
     ``phi_guess`` (magnitude, rad) is a first estimate (the equivalent spring-hinge model); ``y0``,
-    ``alpha0`` a state to start from (a previous sweep point or a coarser mesh).
+    ``alpha0`` a state to start from (the interpolated solution of a coarser mesh).
     Raises :class:`SolverFailure` with the residual history when it does not converge.
     """
     total_it = 0
@@ -135,12 +135,7 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
         phi = min(phi_guess, 0.1) if phi_guess else 0.01
         lam0 = 0.0
     else:
-        phi0 = abs(y0[theta_dof])
-        phi = phi_guess or phi0 or 0.01
-        y0 = y0.copy()
-        if phi0 > 0.0 and phi_guess and phi < 0.2:
-            # a neighbouring solution (a sweep): displacements scale with phi near the rigid limit
-            y0[:model.n_q] *= phi / phi0
+        phi = abs(y0[theta_dof]) or phi_guess or 0.01
         lam0 = 1.0
     z_c, a_c = np.concatenate([y0, [lam0]]), alpha0.copy()
     pred = z_c.copy()

@@ -4,17 +4,17 @@ from __future__ import annotations
 from . import hinge
 
 
-def hinge_slider(v, warm=None):
-    return hinge.solve_slider(**v), None
+def hinge_slider(v):
+    return hinge.solve_slider(**v)
 
 
-def hinge_fixed(v, warm=None):
-    return hinge.solve_fixed(**v), None
+def hinge_fixed(v):
+    return hinge.solve_fixed(**v)
 
 
-def hinge_spring(v, warm=None):
-    return hinge.solve_slider(**v), None
+def hinge_spring(v):
+    return hinge.solve_slider(**v)
 
 
-def hinge_extra_mass(v, warm=None):
-    return hinge.solve_extra_mass(**v), None
+def hinge_extra_mass(v):
+    return hinge.solve_extra_mass(**v)

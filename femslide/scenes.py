@@ -2,10 +2,11 @@
 
 A runner is named ``"module:function"`` and imported only when the scene runs, so listing scenes or
 solving a spring-hinge scene never imports the FE machinery (or numpy).  A runner has the signature
-``run(values: dict, warm=None) -> (result: dict, state)``: ``values`` are validated parameters,
-``warm`` the ``state`` a previous run of the same scene returned (sweeps continue from it), and
-``result`` the JSON object of the contract (SPEC section 7).  Runners raise
-:class:`~femslide.errors.SolverFailure` when they do not converge.
+``run(values: dict) -> result: dict``: ``values`` are validated parameters (plus private keys
+starting with ``_``, e.g. ``_quiet`` to switch off progress bars), ``result`` the JSON object of the
+contract (SPEC section 7); private result keys (``_write``: the --out writer) are not printed.
+Runners raise :class:`~femslide.errors.SolverFailure` when they do not converge.  Every run starts
+from scratch, so a case gives the same numbers whether it is solved alone or in a sweep.
 """
 from __future__ import annotations
 
@@ -37,9 +38,9 @@ class Scene:
     def resolve(self, given: dict) -> dict:
         return self.params.resolve(given, scene=self.name)
 
-    def run(self, values: dict, warm=None):
+    def run(self, values: dict) -> dict:
         module, func = self.runner.split(":")
-        return getattr(importlib.import_module(module, __package__), func)(values, warm)
+        return getattr(importlib.import_module(module, __package__), func)(values)
 
 
 SCENES: dict[str, Scene] = {s.name: s for s in [

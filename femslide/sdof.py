@@ -763,7 +763,7 @@ def build(values: dict) -> tuple[Oscillator, float, float]:
     return osc, float(values.get("w0", 0.0)), float(values["t_end"])
 
 
-def run(values: dict, warm=None):
+def run(values: dict) -> dict:
     """Simulate one scene; returns (contract result dict, None)."""
     osc, w0, t_end = build(values)
     sol = osc.run(w0, t_end)
@@ -788,7 +788,7 @@ def run(values: dict, warm=None):
         "theta": osc.F.theta if osc.F.harmonic else None,
         "_write": sol.write,
     })
-    return res, None
+    return res
 
 
 run_free = run_decay = run_harmonic = run

@@ -172,10 +172,12 @@ def build_cantilever_load(v, n):
 
 # -- solution ---------------------------------------------------------------------------------------
 
-def _solve_load_steps(bt, warm=None):
+def _solve_load_steps(bt, start=None):
+    """Load stepping from the undeformed state (stable scenes: cantilevers, beam-extra-mass), or one
+    Newton solve at full load from ``start``, the interpolated coarser-mesh solution, if it converges."""
     m = bt.model
-    if warm is not None:  # a prolonged solution of the same load: one Newton solve at full load
-        y, info = newton(m, warm[0], warm[1], lam=1.0)
+    if start is not None:
+        y, info = newton(m, start[0], start[1], lam=1.0)
         if info.converged:
             return y, info.alpha, info.iterations, info.history
     y, alpha = m.zero_state()
@@ -196,21 +198,23 @@ def _solve_load_steps(bt, warm=None):
     return y, alpha, its, hist
 
 
-def _solve_structure(bt, warm=None, near=False):
-    """Solve a built model.  ``warm`` = (y, alpha) start; ``near`` says it is the same problem on a
-    coarser mesh (prolonged), so a plain Newton solve at full load is tried first and kept only if
-    it stays on the branch (same sign of phi, within 10 %); otherwise the path following decides."""
+def _solve_structure(bt, start=None):
+    """Solve a built model; returns (y, alpha, iterations, residual history).
+
+    ``start`` = (y, alpha) is the solution of the same problem on a coarser mesh interpolated onto
+    this one: a plain Newton solve at full load is tried first and kept only if it stays on the
+    branch (same sign of phi, within 10 %); otherwise the path following decides, starting from it.
+    """
     if bt.control == "load":
-        return _solve_load_steps(bt, warm)
+        return _solve_load_steps(bt, start)
     m = bt.model
     y0 = alpha0 = None
-    if warm is not None:
-        y0, alpha0 = warm
-        if near:
-            th = m.body.dof0 + 2
-            y, info = newton(m, y0, alpha0, lam=1.0)
-            if info.converged and abs(y[th] - y0[th]) <= 0.1 * abs(y0[th]):
-                return y, info.alpha, info.iterations, info.history
+    if start is not None:
+        y0, alpha0 = start
+        th = m.body.dof0 + 2
+        y, info = newton(m, y0, alpha0, lam=1.0)
+        if info.converged and abs(y[th] - y0[th]) <= 0.1 * abs(y0[th]):
+            return y, info.alpha, info.iterations, info.history
     br = principal_branch(m, m.body.dof0 + 2, bt.phi_dir, bt.guess() if bt.guess else None, y0, alpha0)
     return br.y, br.alpha, br.iterations, br.history
 
@@ -377,12 +381,8 @@ class Level:
     res: dict
 
 
-def solve_scene(scene: str, v: dict, warm=None):
-    """Solve a static FE scene; returns (result dict, state for a continuation).
-
-    ``warm`` is the state a previous solve of the same scene returned (a sweep): its coarsest
-    level starts the path following of this one.
-    """
+def solve_scene(scene: str, v: dict) -> dict:
+    """Solve a static FE scene from scratch; returns the contract's result dict (SI units)."""
     build = BUILDERS[scene]
     cache: dict[int, Level] = {}
     its = [0]
@@ -391,13 +391,11 @@ def solve_scene(scene: str, v: dict, warm=None):
         if n in cache:
             return cache[n]
         bt = build(v, n)
-        start, near = None, False
+        start = None
         if n > N_DIRECT or (n + 1) // 2 in cache:
             c = level((n + 1) // 2)
-            start, near = prolong(c.bt, c.y, c.alpha, bt), True
-        elif warm is not None and warm.get("n_first") == n:
-            start = warm["first"]
-        y, a, k, _ = _solve_structure(bt, start, near)
+            start = prolong(c.bt, c.y, c.alpha, bt)
+        y, a, k, _ = _solve_structure(bt, start)
         its[0] += k
         cache[n] = Level(n, bt, y, a, extract(bt, y, a, v))
         return cache[n]
@@ -454,9 +452,7 @@ def solve_scene(scene: str, v: dict, warm=None):
         err = max(err, _roundoff_scatter(fine))
     out = {"converged": True, **res, "iterations": its[0], "error_estimate": err, "_n_elements": fine.n}
     out["_write"] = lambda d: _write_vtu(fine.bt, fine.y, fine.alpha, d, scene)
-    first = cache[min(cache)]
-    state = {"n_first": first.n, "first": (first.y, first.alpha)}
-    return out, state
+    return out
 
 
 def _write_vtu(bt, y, alpha, out_dir, scene):
@@ -465,8 +461,8 @@ def _write_vtu(bt, y, alpha, out_dir, scene):
 
 
 def _runner(scene):
-    def run(values, warm=None):
-        return solve_scene(scene, values, warm)
+    def run(values):
+        return solve_scene(scene, values)
     run.__name__ = "run_" + scene.replace("-", "_")
     return run
 

@@ -38,7 +38,7 @@ def solve_case(scene_name: str, values: dict, out_dir: str | None = None):
     from .scenes import get
     scene = get(scene_name)
     try:
-        res, _ = run_one(scene, values, None, out=out_dir)
+        res = run_one(scene, values, out=out_dir, quiet=True)  # the sweep has its own bar
     except SolverFailure as exc:
         return {"converged": False, "reason": exc.reason}, "failed"
     except BadInput as exc:
@@ -240,13 +240,8 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, das
     return 0 if all(s == "converged" for s in statuses) else 1
 
 
-def _fmt(v):
-    if isinstance(v, float):
-        return f"{v:.10g}"
-    return "-" if v is None else str(v)
-
-
 def _row_text(name, res):
+    from .cli import _fmt
     keys = [k for k in ("phi", "M_max", "slide", "iterations", "error_estimate", "wall_time_s") if k in res]
     return (f"{name}={_fmt(res[name]):>12}  converged={res.get('converged')}  "
             + "  ".join(f"{k}={_fmt(res[k])}" for k in keys))

@@ -24,7 +24,7 @@ from femslide.scenes import get  # noqa: E402
 
 def run_scene(name, **given):
     scene = get(name)
-    return sdof.run(scene.resolve(given))[0]
+    return sdof.run(scene.resolve(given))
 
 
 def solution(name, **given):

@@ -14,7 +14,6 @@ Run: /work/venv/bin/pytest -q validation/test_beam_oscillation.py -s   (slow: ~1
 """
 from __future__ import annotations
 
-import math
 import os
 import sys
 
@@ -36,7 +35,7 @@ def f58(v, phi):
 
 
 def history(v, tmp):
-    res, _ = dynamics.run_oscillation({**v, "_quiet": True})
+    res = dynamics.run_oscillation({**v, "_quiet": True})
     res["_write"](str(tmp))
     H = np.loadtxt(os.path.join(str(tmp), "history.csv"), delimiter=",", skiprows=1)
     return res, H
@@ -76,7 +75,7 @@ def test_regimes_of_section_2(p, A, slope, tmp_path):
         c = 3 * EI / 1.5
         phi0 = A * c ** (-p)
         v = get("beam-oscillation").resolve({"EI": EI, "phi0": phi0, "t_end": 1.3})
-        res, _ = dynamics.run_oscillation({**v, "_quiet": True})
+        res = dynamics.run_oscillation({**v, "_quiet": True})
         F.append(res["F2_max"])
         print(f"\np = {p}: EI = {EI:g}, c = {c:.3g}, phi0 = {phi0:.3e}: F2_max = {res['F2_max']:.6g} N, "
               f"energy_balance = {res['energy_balance']:.1e}")

@@ -36,7 +36,7 @@ WITH_STOPS = (0.1, 0.2, 0.3, 0.4, 0.5)
 
 
 def run(name, **given):
-    return sdof.run(get(name).resolve(given))[0]
+    return sdof.run(get(name).resolve(given))
 
 
 def solution(name, **given):

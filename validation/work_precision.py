@@ -42,7 +42,6 @@ Dynamics:
 from __future__ import annotations
 
 import csv
-import math
 import os
 import pathlib
 import sys
@@ -68,12 +67,9 @@ FIELDS = ["part", "problem", "method", "setting", "n_elements", "value", "err_M"
 
 
 def best_of(fn, repeats=REPEATS):
-    best, out = math.inf, None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
+    """(best time [s], result) of ``repeats`` calls: bench_dynamics.best_time."""
+    from bench_dynamics import best_time
+    return best_time(fn, repeats)
 
 
 # -- statics -----------------------------------------------------------------------------------------
