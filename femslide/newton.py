@@ -99,7 +99,6 @@ class Branch:
     alpha: np.ndarray
     iterations: int
     history: list
-    path: list  # (phi, lam) points visited
 
 
 def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alpha0=None,
@@ -112,7 +111,6 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
     """
     total_it = 0
     hist_all = []
-    path = []
 
     def controlled(phi, z0, a0):
         nonlocal total_it
@@ -153,7 +151,6 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
             continue
         z, a = out
         lam = z[-1]
-        path.append((phi_dir * phi, lam))
         z_c, a_c = z, a
         if abs(lam - 1.0) <= 1e-13:
             break
@@ -163,8 +160,7 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
             total_it += info_f.iterations
             if info_f.converged and abs(abs(y_f[theta_dof]) - phi) <= 0.05 * phi \
                     and np.sign(y_f[theta_dof]) == -phi_dir:
-                path.append((-y_f[theta_dof], 1.0))
-                return Branch(y_f, info_f.alpha, total_it, info_f.history, path)
+                return Branch(y_f, info_f.alpha, total_it, info_f.history)
         dz = tangent(z, a)
         slope = dz[-1]
         if lam > 1.0:
@@ -195,4 +191,4 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
     total_it += info.iterations
     if not info.converged:
         raise SolverFailure(f"final Newton solve at full load: {info.reason}", info.history)
-    return Branch(y, info.alpha, total_it, info.history, path)
+    return Branch(y, info.alpha, total_it, info.history)

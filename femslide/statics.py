@@ -265,7 +265,7 @@ def prolong(coarse: Built, y, alpha, fine: Built):
     return yf, af
 
 
-def extract(bt: Built, y, alpha, v) -> dict:
+def extract(bt: Built, y, alpha) -> dict:
     """The contract's result values (SI units) from a converged state."""
     m = bt.model
     q = y[:m.n_q]
@@ -397,7 +397,7 @@ def solve_scene(scene: str, v: dict) -> dict:
             start = prolong(c.bt, c.y, c.alpha, bt)
         y, a, k, _ = _solve_structure(bt, start)
         its[0] += k
-        cache[n] = Level(n, bt, y, a, extract(bt, y, a, v))
+        cache[n] = Level(n, bt, y, a, extract(bt, y, a))
         return cache[n]
 
     fixed_n = v.get("n_elements")

@@ -177,7 +177,7 @@ def mesh_data(bt, y, alpha):
 def _summary(bt, y, alpha, scene, field):
     """Sidecar values: the contract's result values for this state (its own mesh, no extrapolation)."""
     from .statics import extract
-    res = extract(bt, y, alpha, None)
+    res = extract(bt, y, alpha)
     m = bt.model
     out = {"scene": scene, "units": "SI (m, N, N m, rad)", "Lref": bt.Lref, "Fref": bt.Fref,
            "n_elements": int(m.elements.size) if m.elements is not None else 0,

@@ -62,7 +62,7 @@ def _solved(gm):
 def test_global_equilibrium(gm):
     """Forces and the moment about A1 of the reactions and the weight vanish (1e-9 P, 1e-9 P a)."""
     v, bt, y, alpha = _solved(gm)
-    res = statics.extract(bt, y, alpha, v)
+    res = statics.extract(bt, y, alpha)
     P, a = v["m"] * v["g"], v["a"]
     R = res["reactions"]
     m = bt.model
