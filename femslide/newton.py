@@ -106,15 +106,17 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
     """Principal equilibrium at lam = 1 by control of the body rotation phi = -Theta.
 
     ``phi_guess`` (magnitude, rad) is a first estimate (the equivalent spring-hinge model); ``y0``,
-    ``alpha0`` a state to start from (the interpolated solution of a coarser mesh).
+    ``alpha0`` a state to start from (the deformed spring-hinge mechanism at phi_guess, or the
+    interpolated solution of a coarser mesh), used only if the load factor that holds its rotation
+    is between 0.25 and 2: otherwise the path starts from the undeformed state.
     Raises :class:`SolverFailure` with the residual history when it does not converge.
     """
     total_it = 0
     hist_all = []
 
-    def controlled(phi, z0, a0):
+    def controlled(phi, z0, a0, maxit=40):
         nonlocal total_it
-        z, info = newton(model, z0, a0, control=(theta_dof, -phi_dir * phi), tol=tol)
+        z, info = newton(model, z0, a0, control=(theta_dof, -phi_dir * phi), tol=tol, maxit=maxit)
         total_it += info.iterations
         hist_all.extend(info.history)
         if not info.converged:
@@ -128,21 +130,31 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
         rhs[-1] = -phi_dir
         return solve_linear(A, rhs)
 
+    def start(y, a, phi, lam):
+        z = np.concatenate([y, [lam]])
+        pred = z.copy()
+        # start with the body already at the prescribed rotation: at the undeformed state the load
+        # factor can be undetermined (a + d = 0: the weight has no moment about A1, a singular Jacobian)
+        pred[theta_dof] = -phi_dir * phi
+        return z, a.copy(), pred, phi
+
+    cold = model.zero_state()
+    cold_phi = min(phi_guess, 0.1) if phi_guess else 0.01
     if y0 is None:
-        y0, alpha0 = model.zero_state()
-        phi = min(phi_guess, 0.1) if phi_guess else 0.01
-        lam0 = 0.0
+        z_c, a_c, pred, phi = start(*cold, cold_phi, 0.0)
     else:
-        phi = abs(y0[theta_dof]) or phi_guess or 0.01
-        lam0 = 1.0
-    z_c, a_c = np.concatenate([y0, [lam0]]), alpha0.copy()
-    pred = z_c.copy()
-    # start with the body already at the prescribed rotation: at the undeformed state the load factor
-    # can be undetermined (a + d = 0: the weight has no moment about A1, a singular Jacobian)
-    pred[theta_dof] = -phi_dir * phi
+        z_c, a_c, pred, phi = start(y0, alpha0, abs(y0[theta_dof]) or phi_guess or 0.01, 1.0)
+    trial = y0 is not None  # a given start is trusted only if its load factor comes out near 1
     phi_lo, phi_hi = 0.0, None
     for _ in range(200):
-        out = controlled(phi, pred, a_c)
+        # a good start converges in a few iterations: do not spend long on a poor one
+        out = controlled(phi, pred, a_c, maxit=12 if trial else 40)
+        if trial:
+            trial = False
+            if out is None or not 0.25 <= out[0][-1] <= 2.0:
+                # a poor start (a guess far off the equilibrium): march from the undeformed state
+                z_c, a_c, pred, phi = start(*cold, cold_phi, 0.0)
+                continue
         if out is None:
             if phi - phi_lo <= 1e-12 * max(phi, 1e-300):
                 raise SolverFailure(f"path following stalled at phi = {phi_dir * phi:.6g} rad", hist_all)

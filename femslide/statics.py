@@ -29,6 +29,7 @@ from .joints import BodyPin, GuideLine, NodePin, SliderSpring, SlidingClamp, Wel
 from .loads import BodyWeight, NodeLoad, RigidPieceWeight
 from .model import Model
 from .newton import newton, principal_branch
+from .predictor import mechanism_state
 from .rod import Rod
 
 TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (10x below 1e-6)
@@ -105,6 +106,10 @@ def _guess(v, kind):
             return abs(hinge.solve_fixed(**{**v, "c": c})["phi"])
         L = v.get("L") or v["l"]
         c = 3.0 * v["EI"] / L
+        if kind == "both":
+            # both rods bend by about the same angle: two such springs in series (phi 2^(1/3) larger,
+            # which the FE solution approaches as EI grows: 1.175 at EI = 1e2, 1.260 at 1e10)
+            c *= 0.5
         return abs(hinge.solve_slider(**{**v, "c": c, "l1": L, "k": v.get("k", 0.0) if kind == "spring" else 0.0})["phi"])
     except SolverFailure:
         return 0.05
@@ -124,7 +129,7 @@ def build_fixed(v, n):
 
 def build_both(v, n):
     bt = _structure(v, n, True, True)
-    bt.guess = lambda: 0.8 * _guess(v, "slider")
+    bt.guess = lambda: _guess(v, "both")
     return bt
 
 
@@ -204,19 +209,28 @@ def _solve_structure(bt, start=None):
     ``start`` = (y, alpha) is the solution of the same problem on a coarser mesh interpolated onto
     this one: a plain Newton solve at full load is tried first and kept only if it stays on the
     branch (same sign of phi, within 10 %); otherwise the path following decides, starting from it.
+    Without ``start`` the path following starts from the deformed spring-hinge mechanism at the
+    spring-hinge rotation (femslide.predictor).
     """
     if bt.control == "load":
         return _solve_load_steps(bt, start)
     m = bt.model
     y0 = alpha0 = None
+    its = 0
     if start is not None:
         y0, alpha0 = start
         th = m.body.dof0 + 2
         y, info = newton(m, y0, alpha0, lam=1.0)
         if info.converged and abs(y[th] - y0[th]) <= 0.1 * abs(y0[th]):
             return y, info.alpha, info.iterations, info.history
-    br = principal_branch(m, m.body.dof0 + 2, bt.phi_dir, bt.guess() if bt.guess else None, y0, alpha0)
-    return br.y, br.alpha, br.iterations, br.history
+        its = info.iterations
+    guess = bt.guess() if bt.guess else None
+    if start is None and guess:
+        start = mechanism_state(bt, guess)
+        if start is not None:
+            y0, alpha0 = start
+    br = principal_branch(m, m.body.dof0 + 2, bt.phi_dir, guess, y0, alpha0)
+    return br.y, br.alpha, its + br.iterations, br.history
 
 
 def prolong(coarse: Built, y, alpha, fine: Built):
