@@ -25,7 +25,9 @@ from . import corotational
 from .body import Body
 from .forms import basic_stiffness
 
-DENSE_LIMIT = 600  # unknowns; above it a banded (or sparse) LU is faster
+DENSE_LIMIT = 100  # unknowns; above it a banded LU is faster when the band is narrow
+SPARSE_LIMIT = 600  # unknowns; above it a wide-band system goes to sparse LU
+_BANDS: dict = {}    # band patterns by sparsity pattern: the same topology is renumbered once
 
 
 class Banded:
@@ -153,7 +155,7 @@ class Model:
         return self
 
     def _pattern(self, control):
-        """Static index arrays (rows, cols) and the banded pattern for a mode (cached)."""
+        """Static index arrays (rows, cols), size, banded pattern or None, sparse flag (cached)."""
         key = None if control is None else int(control)
         if key in self._patterns:
             return self._patterns[key]
@@ -165,8 +167,20 @@ class Model:
             rows = np.concatenate([self._rows, [j], ld])
             cols = np.concatenate([self._cols, [key], np.full(ld.size, j)])
             size = self.n + 1
-        band = Banded(rows, cols, size) if size > DENSE_LIMIT else None
-        self._patterns[key] = (rows, cols, size, band)
+        # storage: dense (band None) for small systems, banded when the renumbered band is narrow,
+        # else dense up to SPARSE_LIMIT unknowns and sparse above
+        band, sparse = None, False
+        if size > DENSE_LIMIT:
+            pkey = (size, rows.tobytes(), cols.tobytes())
+            band = _BANDS.get(pkey)
+            if band is None:
+                band = Banded(rows, cols, size)
+                if len(_BANDS) > 64:
+                    _BANDS.clear()
+                _BANDS[pkey] = band
+            if band.kl + band.ku >= size // 4:
+                band, sparse = None, size > SPARSE_LIMIT
+        self._patterns[key] = (rows, cols, size, band, sparse)
         return self._patterns[key]
 
     def zero_state(self):
@@ -223,14 +237,14 @@ class Model:
             dof, value = control
             r[-1] = q[dof] - value
             vals += [np.ones(1), fl[self._load_dofs]]
-        rows, cols, size, band = self._pattern(None if control is None else control[0])
+        rows, cols, size, band, sparse = self._pattern(None if control is None else control[0])
         vals = np.concatenate(vals)
-        if band is None:
-            A = np.bincount(rows * size + cols, weights=vals, minlength=size * size).reshape(size, size)
-        elif band.kl + band.ku < size // 8:
+        if band is not None:
             A = band.assemble(vals)
-        else:
+        elif sparse:
             A = sp.csc_matrix((vals, (rows, cols)), shape=(size, size))
+        else:
+            A = np.bincount(rows * size + cols, weights=vals, minlength=size * size).reshape(size, size)
         return r, A, {"fl": fl, "fmax": fmax, "noise": noise, "lam": lam, "alpha": alpha}
 
 

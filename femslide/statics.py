@@ -11,7 +11,7 @@ is O(h^2)); refinement stops when every output is estimated accurate to 1e-7, or
 level changes stop shrinking like h^2 (round-off of a very stiff model dominates; the raw finest values
 are then reported).  ``error_estimate`` is the estimated relative error of the reported M_max: the
 change of the extrapolated values between successive levels (/15 for an O(h^4) remainder), and at
-least the round-off scatter of M_max (Newton reconverged from a perturbed state).  With
+least the round-off scatter of M_max (Newton reconverged from a slightly perturbed state).  With
 ``n_elements`` = N the values are those of the N-element mesh and the estimate compares N with N/2
 (a single element has no estimate: null).  Meshes finer than 16 elements start from the Hermite-
 interpolated solution of half as many elements.
@@ -27,7 +27,7 @@ from . import hinge
 from .errors import BadInput, SolverFailure
 from .joints import BodyPin, GuideLine, NodePin, SliderSpring, SlidingClamp, Weld
 from .loads import BodyWeight, NodeLoad, RigidPieceWeight
-from .model import Model
+from .model import Model, solve_linear
 from .newton import newton, principal_branch
 from .predictor import mechanism_state
 from .rod import Rod
@@ -207,29 +207,32 @@ def _solve_structure(bt, start=None):
     """Solve a built model; returns (y, alpha, iterations, residual history).
 
     ``start`` = (y, alpha) is the solution of the same problem on a coarser mesh interpolated onto
-    this one: a plain Newton solve at full load is tried first and kept only if it stays on the
-    branch (same sign of phi, within 10 %); otherwise the path following decides, starting from it.
-    Without ``start`` the path following starts from the deformed spring-hinge mechanism at the
-    spring-hinge rotation (femslide.predictor).
+    this one.  Without it the start is the deformed spring-hinge mechanism at the spring-hinge
+    rotation (femslide.predictor).  A plain Newton solve at full load is tried first and kept only if
+    it stays on the branch: same sign of phi, within 10 % of the coarser mesh's phi, or within 5 % of
+    the spring-hinge phi.  Otherwise the path following decides, starting from the same state.
     """
     if bt.control == "load":
         return _solve_load_steps(bt, start)
     m = bt.model
+    th = m.body.dof0 + 2
+    guess = None
+    within, maxit = 0.1, 40
+    if start is None and bt.guess:
+        guess = bt.guess()
+        start = mechanism_state(bt, guess) if guess else None
+        within, maxit = 0.05, 15  # a good prediction converges in a few iterations
     y0 = alpha0 = None
     its = 0
     if start is not None:
         y0, alpha0 = start
-        th = m.body.dof0 + 2
-        y, info = newton(m, y0, alpha0, lam=1.0)
-        if info.converged and abs(y[th] - y0[th]) <= 0.1 * abs(y0[th]):
+        y, info = newton(m, y0, alpha0, lam=1.0, maxit=maxit)
+        if info.converged and y[th] * y0[th] > 0 and abs(y[th] - y0[th]) <= within * abs(y0[th]):
             return y, info.alpha, info.iterations, info.history
         its = info.iterations
-    guess = bt.guess() if bt.guess else None
-    if start is None and guess:
-        start = mechanism_state(bt, guess)
-        if start is not None:
-            y0, alpha0 = start
-    br = principal_branch(m, m.body.dof0 + 2, bt.phi_dir, guess, y0, alpha0)
+    if guess is None and bt.guess:
+        guess = bt.guess()
+    br = principal_branch(m, th, bt.phi_dir, guess, y0, alpha0)
     return br.y, br.alpha, its + br.iterations, br.history
 
 
@@ -326,17 +329,30 @@ def _flat(res):
 
 
 def _roundoff_scatter(lv: Level) -> float:
-    """Relative change of M_max when Newton reconverges from the solution perturbed by 1e-6
-    (relative, alternating signs): how well round-off lets the equilibrium be determined."""
+    """Relative change of M_max when Newton reconverges from the solution perturbed by 1e-10
+    (relative, alternating signs): how well round-off lets the equilibrium be determined.
+
+    Two plain Newton steps: the first brings the perturbation down to O(1e-20) (quadratic), the
+    second is taken from a residual at round-off level, as the last step of a solve is; the state
+    they reach is as good a solution as the original, and their difference is the scatter.
+    (A perturbation of 1e-6 gives the same scatter but, with axial stiffnesses up to 1e15 P/a, is
+    outside Newton's quadratic range and needs a full solve.)
+    """
     m = lv.bt.model
     y = lv.y.copy()
+    q = y[:m.n_q]
     sign = np.where(np.arange(m.n_q) % 2 == 0, 1.0, -1.0)
-    y[:m.n_q] += 1e-6 * sign * np.maximum(np.abs(y[:m.n_q]), 1e-6 * np.abs(y[:m.n_q]).max())
-    y2, info = newton(m, y, lv.alpha, lam=1.0)
-    if not info.converged:
+    q += 1e-10 * sign * np.maximum(np.abs(q), 1e-6 * np.abs(q).max())
+    try:
+        for _ in range(2):
+            r, A, _ = m.system(y, lv.alpha, 1.0)
+            y -= solve_linear(A, r)
+    except (np.linalg.LinAlgError, RuntimeError, ValueError):
+        return 0.0
+    if not np.all(np.isfinite(y)):
         return 0.0
     q0, _ = m.element_forces(lv.y[:m.n_q], lv.alpha)
-    q1, _ = m.element_forces(y2[:m.n_q], lv.alpha)
+    q1, _ = m.element_forces(y[:m.n_q], lv.alpha)
     M0 = np.abs(q0[:, 1:]).max()
     return float(abs(np.abs(q1[:, 1:]).max() - M0) / M0) if M0 > 0 else 0.0
 
