@@ -1,0 +1,206 @@
+"""Element, joint and assembly kernels against closed forms and finite differences (issue 3 item 1).
+
+- basic stiffness from the scikit-fem forms against the closed forms: EA/L and EI/L [[4, 2], [2, 4]]
+  for constant stiffness; for EI(s) = E0 + E1 s and EA(s) linear the exact integrals
+  k11 = (4 EI_m - E1 L)/L, k22 = (4 EI_m + E1 L)/L, k12 = 2 EI_m/L, k00 = EA_m/L (EI_m, EA_m: the
+  values at the element middle); tolerance 1e-12 relative;
+- corotational element: internal force = gradient of the strain energy and tangent = Jacobian of the
+  internal force, by central differences (step 1e-6; tolerance 1e-6 of the largest entry), at large
+  deformed states, chords turned past pi included; zero force under a rigid motion of 3.5 rad;
+- joints and loads: gradients and Hessians by central differences (tolerance 1e-7);
+- the assembled Jacobian of every structure scene, in load and in phi control, by central differences
+  of the assembled residual (tolerance 1e-6 of its largest entry).
+"""
+import math
+
+import numpy as np
+import pytest
+
+from femslide import corotational
+from femslide.body import Body
+from femslide.forms import basic_stiffness
+from femslide.joints import BodyPin, GuideLine, NodePin, SliderSpring, SlidingClamp, Weld
+from femslide.loads import BodyWeight, NodeLoad, RigidPieceWeight
+from femslide.scenes import SCENES
+import femslide.statics as st
+
+RNG = np.random.default_rng(20261121)
+
+
+def test_basic_stiffness_constant_is_the_closed_form():
+    L0 = np.array([0.5, 1.0, 2.5])
+    kb = basic_stiffness(L0, np.array([0.0, 0.5, 1.5]), 7.0, 3e5)
+    for k, L in zip(kb, L0):
+        ref = np.array([[3e5 / L, 0, 0], [0, 4 * 7.0 / L, 2 * 7.0 / L], [0, 2 * 7.0 / L, 4 * 7.0 / L]])
+        assert np.allclose(k, ref, rtol=1e-12, atol=0)
+
+
+def test_basic_stiffness_linear_EI_EA_is_exact():
+    E0, E1, A0, A1 = 3.0, 2.0, 1e4, -3e3
+    L0 = np.array([0.4, 0.7, 1.1])
+    s0 = np.concatenate([[0.0], np.cumsum(L0)[:-1]])
+    kb = basic_stiffness(L0, s0, lambda s: E0 + E1 * s, lambda s: A0 + A1 * s)
+    for k, L, s in zip(kb, L0, s0):
+        EIm, EAm = E0 + E1 * (s + L / 2), A0 + A1 * (s + L / 2)
+        ref = np.array([[EAm / L, 0, 0],
+                        [0, (4 * EIm - E1 * L) / L, 2 * EIm / L],
+                        [0, 2 * EIm / L, (4 * EIm + E1 * L) / L]])
+        assert np.allclose(k, ref, rtol=1e-12, atol=1e-12 * np.abs(ref).max())
+
+
+def _elements(n=3, turn=0.0):
+    """n elements of assorted lengths and directions; EA/EI = 1e3 so that both terms matter."""
+    X = np.cumsum(np.vstack([[0.0, 0.0], RNG.uniform(0.3, 1.0, (n, 2)) * [1, 1]]), axis=0)
+    conn = np.stack([np.arange(n), np.arange(1, n + 1)], axis=1)
+    D0 = X[1:] - X[:-1]
+    L0 = np.hypot(*D0.T)
+    kb = basic_stiffness(L0, np.zeros(n), 2.0, 2e3)
+    es = corotational.ElementSet(conn, D0, L0, np.arctan2(D0[:, 1], D0[:, 0]), kb, float(np.abs(X).max()))
+    return es, X
+
+
+def _rigid(X, ang, shift=(0.3, -0.2)):
+    c, s = math.cos(ang), math.sin(ang)
+    Xr = X @ np.array([[c, s], [-s, c]]) + shift
+    U = np.zeros((X.shape[0], 3))
+    U[:, :2] = Xr - X
+    U[:, 2] = ang
+    return U
+
+
+def test_rigid_motion_past_pi_gives_no_force():
+    es, X = _elements()
+    U = _rigid(X, 3.5)
+    alpha_ref = np.full(es.size, 3.4)   # continued from a neighbouring state, not wrapped to (-pi, pi]
+    f, K, q, alpha, _ = corotational.evaluate(es, U, alpha_ref)
+    assert np.allclose(alpha, 3.5, atol=1e-13, rtol=0)
+    assert np.abs(q).max() <= 1e-9 and np.abs(f).max() <= 1e-9
+
+
+@pytest.mark.parametrize("turn", [0.0, 1.2, 3.5, -4.0])
+def test_force_is_energy_gradient_and_tangent_its_jacobian(turn):
+    es, X = _elements()
+    U = _rigid(X, turn) + RNG.normal(0, 0.05, (X.shape[0], 3))
+    alpha_ref = np.full(es.size, turn)
+    f, K, _, _, _ = corotational.evaluate(es, U, alpha_ref)
+    nd = U.size
+    h = 1e-6
+    F = np.zeros(nd)
+    J = np.zeros((nd, nd))
+    for k in range(nd):
+        Up, Um = U.copy(), U.copy()
+        Up.flat[k] += h
+        Um.flat[k] -= h
+        F[k] = (corotational.strain_energy(es, Up, alpha_ref) - corotational.strain_energy(es, Um, alpha_ref)) / (2 * h)
+        fp = corotational.evaluate(es, Up, alpha_ref)[0]
+        fm = corotational.evaluate(es, Um, alpha_ref)[0]
+        J[:, k] = _assemble_f(es, fp - fm, nd) / (2 * h)
+    assert np.abs(_assemble_f(es, f, nd) - F).max() <= 1e-6 * np.abs(F).max()
+    assert np.abs(_assemble_K(es, K, nd) - J).max() <= 1e-6 * np.abs(J).max()
+
+
+def _edofs(es):
+    c = es.conn
+    return np.concatenate([3 * c[:, :1] + np.arange(3), 3 * c[:, 1:] + np.arange(3)], axis=1)
+
+
+def _assemble_f(es, f, nd):
+    return np.bincount(_edofs(es).ravel(), weights=f.ravel(), minlength=nd)
+
+
+def _assemble_K(es, K, nd):
+    ed = _edofs(es)
+    A = np.zeros((nd, nd))
+    for e in range(es.size):
+        A[np.ix_(ed[e], ed[e])] += K[e]
+    return A
+
+
+def _joint_cases():
+    body = Body(np.array([0.3, 2.0]), 6)
+    return [
+        (NodePin(0), 2), (NodePin(0, clamp=True), 3),
+        (BodyPin(body, np.array([0.1, -2.0]), np.array([0.0, 0.0])), 3),
+        (Weld(0, np.array([0.2, 1.9]), body, np.array([-0.1, -0.1])), 6),
+        (SlidingClamp(0, np.array([2.0, 1.5]), body, np.array([1.7, -0.5])), 6),
+        (GuideLine(body, np.array([1.7, 0.0]), np.array([2.0, 0.0])), 3),
+    ]
+
+
+@pytest.mark.parametrize("joint,k", _joint_cases(), ids=lambda x: type(x).__name__ if not isinstance(x, int) else "")
+def test_joint_gradient_and_hessian(joint, k):
+    z = RNG.normal(0, 0.4, k)
+    g, G, H = joint.eval(z)
+    h = 1e-6
+    for j in range(k):
+        zp, zm = z.copy(), z.copy()
+        zp[j] += h
+        zm[j] -= h
+        gp, Gp, _ = joint.eval(zp)
+        gm, Gm, _ = joint.eval(zm)
+        assert np.allclose(G[:, j], (gp - gm) / (2 * h), atol=1e-7, rtol=0)
+        assert np.allclose(H[:, :, j], (Gp - Gm) / (2 * h), atol=1e-7, rtol=0)
+
+
+def _term_cases():
+    body = Body(np.array([0.3, 2.0]), 6)
+    clamp = SlidingClamp(0, np.array([2.0, 1.5]), body, np.array([1.7, -0.5]))
+    return [
+        (BodyWeight(body, np.array([1.2, 0.4]), 1.3), 3),
+        (RigidPieceWeight(0, np.array([2.0, 1.5]), body, 0.7, 0.4), 6),
+        (NodeLoad(0, np.array([0.3, -1.0, 0.2])), 3),
+        (SliderSpring(clamp, 3.0, 0.8), 6),
+    ]
+
+
+@pytest.mark.parametrize("term,k", _term_cases(), ids=lambda x: type(x).__name__ if not isinstance(x, int) else "")
+@pytest.mark.parametrize("lam", [0.3, 1.0])
+def test_load_gradient_and_hessian(term, k, lam):
+    z = RNG.normal(0, 0.4, k)
+    _, g, H, g0 = term.eval(z, lam)
+    h = 1e-6
+    for j in range(k):
+        zp, zm = z.copy(), z.copy()
+        zp[j] += h
+        zm[j] -= h
+        Ep, gp, _, _ = term.eval(zp, lam)
+        Em, gm, _, _ = term.eval(zm, lam)
+        assert abs(g[j] - (Ep - Em) / (2 * h)) <= 1e-7
+        assert np.allclose(H[:, j], (gp - gm) / (2 * h), atol=1e-7, rtol=0)
+    # d gradient / d lam
+    lp = term.eval(z, lam + h)[1]
+    lm = term.eval(z, lam - h)[1]
+    assert np.allclose(g0, (lp - lm) / (2 * h), atol=1e-7, rtol=0)
+
+
+def _dense(A):
+    if isinstance(A, np.ndarray):
+        return A
+    if hasattr(A, "toarray"):
+        return A.toarray()
+    raise TypeError(type(A))
+
+
+@pytest.mark.parametrize("scene", ["beam-slider", "beam-fixed", "beam-both", "beam-spring", "beam-extra-mass"])
+@pytest.mark.parametrize("control", [False, True])
+def test_assembled_jacobian(scene, control):
+    v = SCENES[scene].resolve({"EI": 30.0, "EA": 3e3, "n_elements": 3})
+    bt = st.BUILDERS[scene](v, 3)
+    m = bt.model
+    y = RNG.normal(0, 0.02, m.n)
+    y[m.n_q:] = RNG.normal(0, 1.0, m.n_c)
+    alpha_ref = np.zeros(m.elements.size)
+    ctl = None
+    if control:
+        y = np.concatenate([y, [0.8]])
+        ctl = (m.body.dof0 + 2, -0.01)
+    r, A, _ = m.system(y, alpha_ref, 0.8, ctl)
+    A = _dense(A)
+    h = 1e-6
+    J = np.zeros_like(A)
+    for k in range(y.size):
+        yp, ym = y.copy(), y.copy()
+        yp[k] += h
+        ym[k] -= h
+        J[:, k] = (m.system(yp, alpha_ref, 0.8, ctl)[0] - m.system(ym, alpha_ref, 0.8, ctl)[0]) / (2 * h)
+    assert np.abs(A - J).max() <= 1e-6 * np.abs(J).max()
