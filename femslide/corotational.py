@@ -41,12 +41,17 @@ def _k_map():
 
 
 _K_MAP = _k_map()
+_K_MAP7 = np.ascontiguousarray(_K_MAP[:7])
+_EPS = float(np.finfo(float).eps)
 
 
 @dataclass
 class ElementSet:
     """Static element data: connectivity (n, 2) into the node list, initial chord vectors D0 (n, 2),
-    lengths L0 (n,), initial chord angles beta0 (n,), basic stiffness kb (n, 3, 3)."""
+    lengths L0 (n,), initial chord angles beta0 (n,), basic stiffness kb (n, 3, 3).
+
+    The per-element constants of :func:`evaluate` (stiffness entries, their combinations and the
+    constant bending part of the tangent) are derived once here."""
 
     conn: np.ndarray
     D0: np.ndarray
@@ -54,6 +59,19 @@ class ElementSet:
     beta0: np.ndarray
     kb: np.ndarray
     xmax: float = 1.0  # largest |initial coordinate|: sets the round-off of the chord angles
+
+    def __post_init__(self):
+        kb = self.kb
+        self.i, self.j = self.conn[:, 0].copy(), self.conn[:, 1].copy()
+        self.D0x, self.D0y = self.D0[:, 0].copy(), self.D0[:, 1].copy()
+        self.k00, self.k11, self.k12 = kb[:, 0, 0].copy(), kb[:, 1, 1].copy(), kb[:, 1, 2].copy()
+        self.k21, self.k22 = kb[:, 2, 1].copy(), kb[:, 2, 2].copy()
+        self.kappa = self.k11 + self.k12 + self.k21 + self.k22
+        self.rho1, self.rho2 = self.k11 + self.k12, self.k21 + self.k22
+        self.k_noise = self.k11 + np.abs(self.k12)
+        self.k00_2 = 2.0 * self.k00
+        self.inv_L0 = 1.0 / self.L0
+        self.K_bend = np.stack([self.k11, self.k12, self.k21, self.k22], axis=1) @ _K_MAP[7:]
 
     @property
     def size(self):
@@ -96,52 +114,56 @@ def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool
     """Internal forces (n, 6), tangents (n, 6, 6) or None, basic forces (n, 3), alpha (n,) and,
     with the tangent, the round-off level of each element's forces (n,).
 
-    ``U`` (n_nodes, 3) holds the nodal (u, v, theta).
+    ``U`` (n_nodes, 3) holds the nodal (u, v, theta).  Written for few numpy calls: with a handful of
+    elements the cost is the number of calls, not their size.
     """
-    dU, Ln, u_bar, alpha, t1, t2 = basic_deformations(es, U, alpha_ref)
-    beta = es.beta0 + alpha
-    c, s = np.cos(beta), np.sin(beta)
-    kb = es.kb
-    k00, k11, k12, k21, k22 = kb[:, 0, 0], kb[:, 1, 1], kb[:, 1, 2], kb[:, 2, 1], kb[:, 2, 2]
-    N = k00 * u_bar
-    M1 = k11 * t1 + k12 * t2
-    M2 = k21 * t1 + k22 * t2
-    q = np.column_stack([N, M1, M2])
-    n = es.size
+    Ui, Uj = U[es.i], U[es.j]
+    d = Uj - Ui
+    dx, dy = d[:, 0], d[:, 1]
+    Dx, Dy = es.D0x + dx, es.D0y + dy
+    Ln = np.hypot(Dx, Dy)
+    u_bar = ((es.D0x + Dx) * dx + (es.D0y + Dy) * dy) / (Ln + es.L0)
+    b_ref = es.beta0 + alpha_ref
+    cr, sr = np.cos(b_ref), np.sin(b_ref)
+    alpha = alpha_ref + np.arctan2(cr * Dy - sr * Dx, cr * Dx + sr * Dy)
+    t1, t2 = Ui[:, 2] - alpha, Uj[:, 2] - alpha
+    N = es.k00 * u_bar
+    M1 = es.k11 * t1 + es.k12 * t2
+    M2 = es.k21 * t1 + es.k22 * t2
+    inv = 1.0 / Ln
+    c, s = Dx * inv, Dy * inv  # cos and sin of the chord angle beta = beta0 + alpha
     # With p = (c, s), w = (s, -c): d Ln/d d = r = (-p, 0, p, 0), d beta/d d = (w, 0, -w, 0)/Ln.
     # f = N r - (M1 + M2) z/Ln + M1 e3 + M2 e6
-    m = (M1 + M2) / Ln
+    m = (M1 + M2) * inv
     fu = -(N * c + m * s)
-    fv = -(N * s - m * c)
-    f = np.empty((n, 6))
-    f[:, 0], f[:, 1], f[:, 2], f[:, 3], f[:, 4], f[:, 5] = fu, fv, M1, -fu, -fv, M2
+    fv = m * c - N * s
+    # np.array of a list and a transposed view: a third of the cost of np.stack for few elements
+    f = np.array([fu, fv, M1, -fu, -fv, M2]).T
+    q = np.array([N, M1, M2]).T
     if not tangent:
         return f, None, q, alpha
     # round-off floor of the basic forces: u_bar and the angles carry absolute errors ~ eps times
     # the displacement and rotation magnitudes; EA/L amplifies the first (EA/EI up to 1e12 m^-2);
     # the chord angle carries eps |x| / L0 (node coordinates rounded), which EI/L0 turns into moment
-    # noise and 1/Ln into shear noise in the nodal forces
-    eps = np.finfo(float).eps
-    dmag = np.abs(dU).max(axis=1)
-    xmag = es.xmax + np.abs(U[:, :2]).max()
-    ang = np.abs(t1) + np.abs(t2) + np.abs(alpha) + 2.0 * xmag / es.L0
-    # u_j - u_i is rounded to eps |u| (the displacement magnitude), and u_bar ~ D0 . dU / L0
-    umag = np.abs(U[:, :2]).max()
-    noise = eps * (2.0 * k00 * (umag + dmag) * (1.0 + dmag / es.L0)
-                   + (k11 + np.abs(k12)) * ang * (1.0 + 2.0 / Ln))
+    # noise and 1/Ln into shear noise in the nodal forces.  u_j - u_i is rounded to eps |u| (the
+    # displacement magnitude), and u_bar ~ D0 . dU / L0
+    dmag = np.maximum(np.abs(dx), np.abs(dy))
+    umag = float(np.abs(U[:, :2]).max())
+    ang = np.abs(t1) + np.abs(t2) + np.abs(alpha) + (2.0 * (es.xmax + umag)) * es.inv_L0
+    noise = _EPS * (es.k00_2 * (umag + dmag) * (1.0 + dmag * es.inv_L0)
+                    + es.k_noise * ang * (1.0 + 2.0 * inv))
     # K = B^T kb B + N z z^T/Ln + (M1 + M2)/Ln^2 (r z^T + z r^T) has the translational block
     # [[X, -X], [-X, X]] with X = k00 p p^T + (kappa + N Ln)/Ln^2 w w^T - m/Ln (p w^T + w p^T),
     # translation-rotation columns -+ rho_a w/Ln (rho_a: row sums of the bending block) and the
-    # bending block itself: 11 numbers per element mapped to the 36 entries by a constant matrix.
-    kappa = k11 + k12 + k21 + k22
-    a_ww = (kappa + N * Ln) / Ln ** 2
-    b_pw = m / Ln
-    P = np.empty((n, 11))
-    P[:, 0] = k00 * c * c + a_ww * s * s - 2.0 * b_pw * c * s
-    P[:, 1] = k00 * c * s - a_ww * s * c - b_pw * (c * (-c) + s * s)
-    P[:, 2] = k00 * s * s + a_ww * c * c + 2.0 * b_pw * s * c
-    r1, r2 = (k11 + k12) / Ln, (k21 + k22) / Ln
-    P[:, 3], P[:, 4], P[:, 5], P[:, 6] = r1 * s, -r1 * c, r2 * s, -r2 * c
-    P[:, 7], P[:, 8], P[:, 9], P[:, 10] = k11, k12, k21, k22
-    K = (P @ _K_MAP).reshape(n, 6, 6)
+    # bending block itself: 11 numbers per element mapped to the 36 entries by a constant matrix
+    # (the 4 of the bending block are constant: es.K_bend).
+    a_ww = (es.kappa + N * Ln) * inv * inv
+    b_pw = m * inv
+    cc, cs, ss = c * c, c * s, s * s
+    b2 = 2.0 * b_pw * cs
+    r1, r2 = es.rho1 * inv, es.rho2 * inv
+    k00 = es.k00
+    P = np.array([k00 * cc + a_ww * ss - b2, (k00 - a_ww) * cs + b_pw * (cc - ss),
+                  k00 * ss + a_ww * cc + b2, r1 * s, -r1 * c, r2 * s, -r2 * c])
+    K = (P.T @ _K_MAP7 + es.K_bend).reshape(-1, 6, 6)
     return f, K, q, alpha, noise

@@ -79,8 +79,9 @@ class RotationLock:
     def dofs(self):
         return np.array([self.dof])
 
-    def eval(self, z):
-        return np.array([z[0] - self.value]), np.ones((1, 1)), np.zeros((1, 1, 1))
+    def eval(self, z, mu=None):
+        """g, G and the Hessians (or, given the multiplier, their weighted sum): joints.py protocol."""
+        return np.array([z[0] - self.value]), np.ones((1, 1)), np.zeros((1, 1) if mu is not None else (1, 1, 1))
 
 
 @dataclass
@@ -95,9 +96,10 @@ class SlideLock:
     def dofs(self):
         return self.clamp.dofs
 
-    def eval(self, z):
+    def eval(self, z, mu=None):
+        """g, G and the Hessians (or, given the multiplier, their weighted sum): joints.py protocol."""
         s, ds, Hs = self.clamp.slide(z)
-        return np.array([s - self.value]), ds[None, :], Hs[None, :, :]
+        return np.array([s - self.value]), ds[None, :], (Hs[None, :, :] if mu is None else mu[0] * Hs)
 
 
 @dataclass

@@ -1,7 +1,9 @@
 """Joints as exact constraints g(z) = 0 (Lagrange multipliers), and the slider spring.
 
 Every constraint acts on a few model dofs and returns its values g (m,), gradient G (m, k) and
-Hessians H (m, k, k) over those dofs.  The multiplier mu of a constraint is the generalised force it
+Hessians H (m, k, k) over those dofs, or, given the multipliers mu, the weighted Hessian sum_i mu_i H_i
+(k, k) that the Newton tangent needs.  The kinematics are scalar ``math``: a joint has a handful of
+numbers, and numpy's per-call cost would dominate.  The multiplier mu of a constraint is the generalised force it
 exerts *on the constraint's first participant taken with a minus sign*: the support reaction of a pin
 is -mu, the clamp's transverse force on the rod end is -mu_1 n and its moment -mu_2.
 
@@ -18,6 +20,7 @@ Joints (SPEC section 3):
 from __future__ import annotations
 
 from dataclasses import dataclass
+import math
 
 import numpy as np
 
@@ -28,8 +31,37 @@ def node_dofs(node):
     return np.arange(3 * node, 3 * node + 3)
 
 
+class _Joint:
+    """g, G and the Hessians from ``_parts(z) -> (g, G, hess)`` (lists; hess: (i, a, b, value) for
+    the nonzero entries H_i[a, b])."""
+
+    def eval(self, z, mu=None):
+        g, G, hess = self._parts(z.tolist())
+        G = np.array(G)
+        k = G.shape[1]
+        if mu is None:
+            H = np.zeros((len(g), k, k))
+            for i, a, b, v in hess:
+                H[i, a, b] += v
+            return np.array(g), G, H
+        mu = mu.tolist()
+        Hmu = np.zeros((k, k))
+        for i, a, b, v in hess:
+            Hmu[a, b] += mu[i] * v
+        return np.array(g), G, Hmu
+
+
+def _point(A0, zb, r):
+    """Position (x, y) of the body point with local offset r, and R(Theta) r (its d/dTheta is
+    (-Rr_y, Rr_x), its d2/dTheta2 is -Rr)."""
+    c, s = math.cos(zb[2]), math.sin(zb[2])
+    rx, ry = r
+    Rx, Ry = c * rx - s * ry, s * rx + c * ry
+    return A0[0] + zb[0] + Rx, A0[1] + zb[1] + Ry, Rx, Ry
+
+
 @dataclass
-class NodePin:
+class NodePin(_Joint):
     node: int
     clamp: bool = False
     name: str = "pin"
@@ -42,13 +74,13 @@ class NodePin:
     def size(self):
         return 3 if self.clamp else 2
 
-    def eval(self, z):
+    def _parts(self, z):
         m = self.size
-        return z.copy(), np.eye(m), np.zeros((m, m, m))
+        return z, np.eye(m), ()
 
 
 @dataclass
-class BodyPin:
+class BodyPin(_Joint):
     body: Body
     r: np.ndarray      # body-local offset of the pinned point
     ground: np.ndarray  # ground point [m]
@@ -59,18 +91,15 @@ class BodyPin:
     def dofs(self):
         return self.body.dofs
 
-    def eval(self, z):
-        p, dp, d2p = self.body.point(z, self.r)
-        G = np.zeros((2, 3))
-        G[:, :2] = np.eye(2)
-        G[:, 2] = dp
-        H = np.zeros((2, 3, 3))
-        H[:, 2, 2] = d2p
-        return p - self.ground, G, H
+    def _parts(self, z):
+        px, py, Rx, Ry = _point(self.body.A0, z, self.r)
+        g = [px - self.ground[0], py - self.ground[1]]
+        G = [[1.0, 0.0, -Ry], [0.0, 1.0, Rx]]
+        return g, G, ((0, 2, 2, -Rx), (1, 2, 2, -Ry))
 
 
 @dataclass
-class Weld:
+class Weld(_Joint):
     node: int
     X0: np.ndarray  # initial node position
     body: Body
@@ -82,20 +111,17 @@ class Weld:
     def dofs(self):
         return np.concatenate([node_dofs(self.node), self.body.dofs])
 
-    def eval(self, z):
-        p, dp, d2p = self.body.point(z[3:], self.r)
-        g = np.array([self.X0[0] + z[0] - p[0], self.X0[1] + z[1] - p[1], z[2] - z[5]])
-        G = np.zeros((3, 6))
-        G[0, 0] = G[1, 1] = G[2, 2] = 1.0
-        G[0, 3] = G[1, 4] = G[2, 5] = -1.0
-        G[:2, 5] = -dp
-        H = np.zeros((3, 6, 6))
-        H[:2, 5, 5] = -d2p
-        return g, G, H
+    def _parts(self, z):
+        px, py, Rx, Ry = _point(self.body.A0, z[3:], self.r)
+        g = [self.X0[0] + z[0] - px, self.X0[1] + z[1] - py, z[2] - z[5]]
+        G = [[1.0, 0.0, 0.0, -1.0, 0.0, Ry],
+             [0.0, 1.0, 0.0, 0.0, -1.0, -Rx],
+             [0.0, 0.0, 1.0, 0.0, 0.0, -1.0]]
+        return g, G, ((0, 5, 5, Rx), (1, 5, 5, Ry))
 
 
 @dataclass
-class SlidingClamp:
+class SlidingClamp(_Joint):
     """Rod node S on the body-fixed line through body point r along body direction (0, 1)."""
 
     node: int
@@ -109,45 +135,37 @@ class SlidingClamp:
     def dofs(self):
         return np.concatenate([node_dofs(self.node), self.body.dofs])
 
-    def _rel(self, z):
-        # w = p_S - A0 - U_b (so that g1 = w.n - r_x, s = w.e - r_y)
-        return self.X0 + z[:2] - self.body.A0 - z[3:5]
+    def _frame(self, z):
+        """n = (cos Th, sin Th), e = (-sin Th, cos Th) and w = p_S - A0 - U_b (so that
+        g1 = w.n - r_x, s = w.e - r_y), as scalars."""
+        c, s = math.cos(z[5]), math.sin(z[5])
+        wx = self.X0[0] + z[0] - self.body.A0[0] - z[3]
+        wy = self.X0[1] + z[1] - self.body.A0[1] - z[4]
+        return c, s, wx, wy, wx * c + wy * s, -wx * s + wy * c
 
-    def eval(self, z):
-        th = z[5]
-        n = np.array([np.cos(th), np.sin(th)])
-        e = np.array([-np.sin(th), np.cos(th)])
-        w = self._rel(z)
-        g = np.array([w @ n - self.r[0], z[2] - th])
-        G = np.zeros((2, 6))
-        G[0, :2] = n
-        G[0, 3:5] = -n
-        G[0, 5] = w @ e
-        G[1, 2], G[1, 5] = 1.0, -1.0
-        H = np.zeros((2, 6, 6))
-        H[0, 5, 5] = -(w @ n)
-        H[0, :2, 5] = H[0, 5, :2] = e
-        H[0, 3:5, 5] = H[0, 5, 3:5] = -e
-        return g, G, H
+    def _parts(self, z):
+        c, s, _, _, wn, we = self._frame(z)
+        g = [wn - self.r[0], z[2] - z[5]]
+        G = [[c, s, 0.0, -c, -s, we], [0.0, 0.0, 1.0, 0.0, 0.0, -1.0]]
+        hess = ((0, 5, 5, -wn), (0, 0, 5, -s), (0, 5, 0, -s), (0, 1, 5, c), (0, 5, 1, c),
+                (0, 3, 5, s), (0, 5, 3, s), (0, 4, 5, -c), (0, 5, 4, -c))
+        return g, G, hess
 
     def slide(self, z):
         """Slide s [m], its gradient and Hessian over the joint dofs."""
-        th = z[5]
-        n = np.array([np.cos(th), np.sin(th)])
-        e = np.array([-np.sin(th), np.cos(th)])
-        w = self._rel(z)
-        s = w @ e - self.r[1]
-        ds = np.zeros(6)
-        ds[:2], ds[3:5], ds[5] = e, -e, -(w @ n)
+        c, s, _, _, wn, we = self._frame(z.tolist())
+        ds = np.array([-s, c, 0.0, s, -c, -wn])
         H = np.zeros((6, 6))
-        H[5, 5] = -(w @ e)
-        H[:2, 5] = H[5, :2] = -n
-        H[3:5, 5] = H[5, 3:5] = n
-        return s, ds, H
+        H[5, 5] = -we
+        H[0, 5] = H[5, 0] = -c
+        H[1, 5] = H[5, 1] = -s
+        H[3, 5] = H[5, 3] = c
+        H[4, 5] = H[5, 4] = s
+        return we - self.r[1], ds, H
 
 
 @dataclass
-class GuideLine:
+class GuideLine(_Joint):
     body: Body
     r: np.ndarray       # body-local offset of the guide point B
     ground: np.ndarray  # ground pin of the rigid rod, B1
@@ -158,26 +176,21 @@ class GuideLine:
     def dofs(self):
         return self.body.dofs
 
-    def eval(self, z):
-        th = z[2]
-        n = np.array([np.cos(th), np.sin(th)])
-        e = np.array([-np.sin(th), np.cos(th)])
-        w = self.body.A0 + z[:2] - self.ground
-        g = np.array([w @ n + self.r[0]])
-        G = np.zeros((1, 3))
-        G[0, :2], G[0, 2] = n, w @ e
-        H = np.zeros((1, 3, 3))
-        H[0, 2, 2] = -(w @ n)
-        H[0, :2, 2] = H[0, 2, :2] = e
-        return g, G, H
+    def _parts(self, z):
+        c, s = math.cos(z[2]), math.sin(z[2])
+        wx = self.body.A0[0] + z[0] - self.ground[0]
+        wy = self.body.A0[1] + z[1] - self.ground[1]
+        wn, we = wx * c + wy * s, -wx * s + wy * c
+        hess = ((0, 2, 2, -wn), (0, 0, 2, -s), (0, 2, 0, -s), (0, 1, 2, c), (0, 2, 1, c))
+        return [wn + self.r[0]], [[c, s, we]], hess
 
     def slide(self, z):
         """Advance of the rigid rod past the guide point along e: s = l_rod - (B - B1).e."""
-        p, _, _ = self.body.point(z, self.r)
+        px, py, _, _ = _point(self.body.A0, z.tolist(), self.r)
         th = z[2]
-        e = np.array([-np.sin(th), np.cos(th)])
         p0 = self.body.A0 + self.r
-        return (p0 - self.ground) @ np.array([0.0, 1.0]) - (p - self.ground) @ e
+        return (p0[1] - self.ground[1]) - ((px - self.ground[0]) * -math.sin(th)
+                                            + (py - self.ground[1]) * math.cos(th))
 
 
 @dataclass

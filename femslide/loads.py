@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .body import Body
-from .joints import node_dofs
+from .joints import _point, node_dofs
 
 
 @dataclass
@@ -27,11 +27,12 @@ class BodyWeight:
         return self.body.dofs
 
     def eval(self, z, lam=1.0):
-        p, dp, d2p = self.body.point(z, self.r)
-        g0 = self.W * np.array([0.0, 1.0, dp[1]])
+        _, py, Rx, Ry = _point(self.body.A0, z.tolist(), self.r)
+        W = self.W
+        g0 = np.array([0.0, W, W * Rx])
         H = np.zeros((3, 3))
-        H[2, 2] = self.W * d2p[1]
-        return lam * self.W * p[1], lam * g0, lam * H, g0
+        H[2, 2] = -lam * W * Ry
+        return lam * W * py, lam * g0, H, g0
 
 
 @dataclass

@@ -25,6 +25,7 @@ from . import corotational
 from .body import Body
 from .forms import basic_stiffness
 
+_ONE = np.ones(1)
 DENSE_LIMIT = 100  # unknowns; above it a banded LU is faster when the band is narrow
 SPARSE_LIMIT = 600  # unknowns; above it a wide-band system goes to sparse LU
 _BANDS: dict = {}    # band patterns by sparsity pattern: the same topology is renumbered once
@@ -132,7 +133,7 @@ class Model:
             c = self.elements.conn
             ed = np.concatenate([3 * c[:, :1] + np.arange(3), 3 * c[:, 1:] + np.arange(3)], axis=1)
             self.edofs = ed
-            self._ebin = ed.ravel()
+            self._ebinT = ed.T.ravel()  # matches the (6, n_elements) layout of the element forces
             rows.append(np.repeat(ed, 6, axis=1).ravel())
             cols.append(np.tile(ed, (1, 6)).ravel())
         for t in self.terms:
@@ -148,10 +149,14 @@ class Model:
         self._cols = np.concatenate(cols).astype(np.intp)
         self._term_dofs = [t.dofs for t in self.terms]
         self._con_dofs = [c.dofs for c in self.constraints]
+        self._con_mu = [slice(self.c_off[i], self.c_off[i + 1]) for i in range(len(self.constraints))]
+        self._con_rows = [slice(self.n_q + self.c_off[i], self.n_q + self.c_off[i + 1])
+                          for i in range(len(self.constraints))]
         # loads act on few dofs: d r / d lam is sparse with a static pattern
         self._load_dofs = (np.unique(np.concatenate(self._term_dofs)) if self.terms
                            else np.zeros(0, np.intp))
         self._patterns = {}
+        self._flat = {}
         return self
 
     def _pattern(self, control):
@@ -180,6 +185,8 @@ class Model:
                 _BANDS[pkey] = band
             if band.kl + band.ku >= size // 4:
                 band, sparse = None, size > SPARSE_LIMIT
+        if band is None and not sparse:
+            self._flat[size] = rows * size + cols
         self._patterns[key] = (rows, cols, size, band, sparse)
         return self._patterns[key]
 
@@ -198,12 +205,13 @@ class Model:
         _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False)
         return qb, alpha
 
-    def system(self, y, alpha_ref, lam=1.0, control=None):
+    def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True):
         """Residual and Jacobian of the equations at y.
 
         ``control``: None (load ``lam`` given) or (dof, value): the dof is prescribed, lam is the
         last unknown y[-1].  Returns (r, A, info) with A dense, banded or sparse CSC
-        (:func:`solve_linear` solves any of them).
+        (:func:`solve_linear` solves any of them), or None with ``jacobian=False`` (then
+        info["noise"] is not estimated either).
         """
         n_q, n_c = self.n_q, self.n_c
         q, mu = y[:n_q], y[n_q:n_q + n_c]
@@ -216,27 +224,33 @@ class Model:
         fmax = noise = 0.0
         alpha = alpha_ref
         if self.elements is not None:
-            f, K, qb, alpha, enoise = corotational.evaluate(self.elements, self.nodal(q), alpha_ref)
-            r[:n_q] += np.bincount(self._ebin, weights=f.ravel(), minlength=n_q)
-            vals.append(K.ravel())
-            fmax = float(np.abs(f).max())
-            noise = 4.0 * float(enoise.max())
+            out = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=jacobian)
+            f, K, alpha = out[0], out[1], out[3]
+            fT = f.T  # (6, n_elements): contiguous as evaluate builds it
+            r[:n_q] += np.bincount(self._ebinT, weights=fT.ravel(), minlength=n_q)
+            fmax = float(np.abs(fT).max())
+            if jacobian:
+                vals.append(K.ravel())
+                noise = 4.0 * float(out[4].max())
         for t, d in zip(self.terms, self._term_dofs):
             _, gt, Ht, g0 = t.eval(q[d], lam)
             r[d] += gt
             fl[d] += g0
             vals.append(Ht.ravel())
-        for i, (c, d) in enumerate(zip(self.constraints, self._con_dofs)):
-            g, G, H = c.eval(q[d])
-            o, m = n_q + self.c_off[i], c.size
-            mi = mu[self.c_off[i]:self.c_off[i] + m]
-            r[d] += G.T @ mi
-            r[o:o + m] = g
-            vals += [H.reshape(m, -1).T @ mi, G.ravel(), G.ravel()]
+        for c, d, ci, gi in zip(self.constraints, self._con_dofs, self._con_mu, self._con_rows):
+            mi = mu[ci]
+            g, G, Hmu = c.eval(q[d], mi)
+            r[d] += mi @ G
+            r[gi] = g
+            Gr = G.ravel()
+            vals += [Hmu.ravel(), Gr, Gr]
+        info = {"fl": fl, "fmax": fmax, "noise": noise, "lam": lam, "alpha": alpha}
         if control is not None:
             dof, value = control
             r[-1] = q[dof] - value
-            vals += [np.ones(1), fl[self._load_dofs]]
+            vals += [_ONE, fl[self._load_dofs]]
+        if not jacobian:
+            return r, None, info
         rows, cols, size, band, sparse = self._pattern(None if control is None else control[0])
         vals = np.concatenate(vals)
         if band is not None:
@@ -244,8 +258,8 @@ class Model:
         elif sparse:
             A = sp.csc_matrix((vals, (rows, cols)), shape=(size, size))
         else:
-            A = np.bincount(rows * size + cols, weights=vals, minlength=size * size).reshape(size, size)
-        return r, A, {"fl": fl, "fmax": fmax, "noise": noise, "lam": lam, "alpha": alpha}
+            A = np.bincount(self._flat[size], weights=vals, minlength=size * size).reshape(size, size)
+        return r, A, info
 
 
 def solve_linear(A, b):

@@ -79,14 +79,14 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
             dy *= max_rot / big
         y += dy
         if at_floor and (np.abs(dy[:n_q]).max() <= 1e-13 * (1.0 + np.abs(y[:n_q]).max()) or floor_its >= 4):
-            r, _, info = model.system(y, alpha_ref, lam, control)
+            r, _, info = model.system(y, alpha_ref, lam, control, jacobian=False)
             hist.append(float(np.abs(r[:n_q]).max()) / (1.0 + info["fmax"]))
             return y, NewtonInfo(True, it, hist, "" if floor_its < 4 else "at round-off level",
                                  alpha=info["alpha"])
         # round-off floor: a step at the level of machine precision cannot improve further
         step = np.abs(dy[:n_q]).max()
         if step <= 1e-14 * (1.0 + np.abs(y[:n_q]).max()) and res <= 1e3 * tol and res >= 0.5 * prev:
-            r, _, info = model.system(y, alpha_ref, lam, control)
+            r, _, info = model.system(y, alpha_ref, lam, control, jacobian=False)
             hist.append(float(np.abs(r).max()))
             return y, NewtonInfo(True, it, hist, alpha=info["alpha"])
         prev = res
