@@ -28,7 +28,6 @@ from .forms import basic_stiffness
 _ONE = np.ones(1)
 DENSE_LIMIT = 100  # unknowns; above it a banded LU is faster when the band is narrow
 SPARSE_LIMIT = 600  # unknowns; above it a wide-band system goes to sparse LU
-_BANDS: dict = {}    # band patterns by sparsity pattern: the same topology is renumbered once
 
 
 class Banded:
@@ -71,6 +70,66 @@ class BandMatrix:
         out = np.empty_like(x)
         out[p.perm] = x
         return out
+
+
+_TOPOLOGIES: dict = {}  # dof layouts and Jacobian patterns by model topology
+
+
+class _Topology:
+    """Dof layout of a finalized model and the scatter patterns of its Jacobian (static)."""
+
+    def __init__(self, model, con_dofs, term_dofs):
+        n_q = model.n_q
+        sizes = [c.size for c in model.constraints]
+        self.c_off = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
+        self.n_c = int(self.c_off[-1])
+        self.n = n_q + self.n_c
+        rows, cols = [], []
+        self.edofs = self.ebinT = None
+        if model.elements is not None:
+            c = model.elements.conn
+            ed = np.concatenate([3 * c[:, :1] + np.arange(3), 3 * c[:, 1:] + np.arange(3)], axis=1)
+            self.edofs = ed
+            self.ebinT = ed.T.ravel()  # matches the (6, n_elements) layout of the element forces
+            rows.append(np.repeat(ed, 6, axis=1).ravel())
+            cols.append(np.tile(ed, (1, 6)).ravel())
+        for d in term_dofs:
+            rows.append(np.repeat(d, d.size))
+            cols.append(np.tile(d, d.size))
+        for i, d in enumerate(con_dofs):
+            o, m = n_q + self.c_off[i], sizes[i]
+            rows += [np.repeat(d, d.size), np.repeat(np.arange(o, o + m), d.size), np.tile(d, m)]
+            cols += [np.tile(d, d.size), np.tile(d, m), np.repeat(np.arange(o, o + m), d.size)]
+        self.rows = np.concatenate(rows).astype(np.intp)
+        self.cols = np.concatenate(cols).astype(np.intp)
+        self.con_mu = [slice(self.c_off[i], self.c_off[i + 1]) for i in range(len(sizes))]
+        self.con_rows = [slice(n_q + self.c_off[i], n_q + self.c_off[i + 1]) for i in range(len(sizes))]
+        # loads act on few dofs: d r / d lam is sparse with a static pattern
+        self.load_dofs = (np.unique(np.concatenate(term_dofs)) if term_dofs else np.zeros(0, np.intp))
+        self.patterns = {}
+
+    def pattern(self, control):
+        key = None if control is None else int(control)
+        if key in self.patterns:
+            return self.patterns[key]
+        if control is None:
+            rows, cols, size = self.rows, self.cols, self.n
+        else:
+            j = self.n
+            ld = self.load_dofs
+            rows = np.concatenate([self.rows, [j], ld])
+            cols = np.concatenate([self.cols, [key], np.full(ld.size, j)])
+            size = self.n + 1
+        # storage: dense (band None) for small systems, banded when the renumbered band is narrow,
+        # else dense up to SPARSE_LIMIT unknowns and sparse above
+        band, sparse = None, False
+        if size > DENSE_LIMIT:
+            band = Banded(rows, cols, size)
+            if band.kl + band.ku >= size // 4:
+                band, sparse = None, size > SPARSE_LIMIT
+        flat = rows * size + cols if band is None and not sparse else None
+        self.patterns[key] = (rows, cols, size, band, sparse, flat)
+        return self.patterns[key]
 
 
 class Model:
@@ -123,72 +182,30 @@ class Model:
         return t
 
     def finalize(self):
-        """Fix the dof layout and precompute the scatter pattern of the Jacobian (static)."""
-        sizes = [c.size for c in self.constraints]
-        self.c_off = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
-        self.n_c = int(self.c_off[-1])
-        self.n = self.n_q + self.n_c
-        rows, cols = [], []
-        if self.elements is not None:
-            c = self.elements.conn
-            ed = np.concatenate([3 * c[:, :1] + np.arange(3), 3 * c[:, 1:] + np.arange(3)], axis=1)
-            self.edofs = ed
-            self._ebinT = ed.T.ravel()  # matches the (6, n_elements) layout of the element forces
-            rows.append(np.repeat(ed, 6, axis=1).ravel())
-            cols.append(np.tile(ed, (1, 6)).ravel())
-        for t in self.terms:
-            d = t.dofs
-            rows.append(np.repeat(d, d.size))
-            cols.append(np.tile(d, d.size))
-        for i, c in enumerate(self.constraints):
-            d = c.dofs
-            o, m = self.n_q + self.c_off[i], c.size
-            rows += [np.repeat(d, d.size), np.repeat(np.arange(o, o + m), d.size), np.tile(d, m)]
-            cols += [np.tile(d, d.size), np.tile(d, m), np.repeat(np.arange(o, o + m), d.size)]
-        self._rows = np.concatenate(rows).astype(np.intp)
-        self._cols = np.concatenate(cols).astype(np.intp)
-        self._term_dofs = [t.dofs for t in self.terms]
-        self._con_dofs = [c.dofs for c in self.constraints]
-        self._con_mu = [slice(self.c_off[i], self.c_off[i + 1]) for i in range(len(self.constraints))]
-        self._con_rows = [slice(self.n_q + self.c_off[i], self.n_q + self.c_off[i + 1])
-                          for i in range(len(self.constraints))]
-        # loads act on few dofs: d r / d lam is sparse with a static pattern
-        self._load_dofs = (np.unique(np.concatenate(self._term_dofs)) if self.terms
-                           else np.zeros(0, np.intp))
-        self._patterns = {}
-        self._flat = {}
+        """Fix the dof layout and the scatter pattern of the Jacobian (static; shared by every model
+        of the same topology: the levels of a mesh refinement and the cases of a sweep)."""
+        con_dofs = [c.dofs for c in self.constraints]
+        term_dofs = [t.dofs for t in self.terms]
+        key = (self.n_q, self.elements.conn.tobytes() if self.elements is not None else b"",
+               tuple((c.size, d.tobytes()) for c, d in zip(self.constraints, con_dofs)),
+               tuple(d.tobytes() for d in term_dofs))
+        topo = _TOPOLOGIES.get(key)
+        if topo is None:
+            topo = _Topology(self, con_dofs, term_dofs)
+            if len(_TOPOLOGIES) > 64:
+                _TOPOLOGIES.clear()
+            _TOPOLOGIES[key] = topo
+        self._topo = topo
+        self.c_off, self.n_c, self.n = topo.c_off, topo.n_c, topo.n
+        self.edofs, self._ebinT, self._load_dofs = topo.edofs, topo.ebinT, topo.load_dofs
+        self._term_dofs, self._con_dofs = term_dofs, con_dofs
+        self._con_mu, self._con_rows = topo.con_mu, topo.con_rows
         return self
 
     def _pattern(self, control):
-        """Static index arrays (rows, cols), size, banded pattern or None, sparse flag (cached)."""
-        key = None if control is None else int(control)
-        if key in self._patterns:
-            return self._patterns[key]
-        if control is None:
-            rows, cols, size = self._rows, self._cols, self.n
-        else:
-            j = self.n
-            ld = self._load_dofs
-            rows = np.concatenate([self._rows, [j], ld])
-            cols = np.concatenate([self._cols, [key], np.full(ld.size, j)])
-            size = self.n + 1
-        # storage: dense (band None) for small systems, banded when the renumbered band is narrow,
-        # else dense up to SPARSE_LIMIT unknowns and sparse above
-        band, sparse = None, False
-        if size > DENSE_LIMIT:
-            pkey = (size, rows.tobytes(), cols.tobytes())
-            band = _BANDS.get(pkey)
-            if band is None:
-                band = Banded(rows, cols, size)
-                if len(_BANDS) > 64:
-                    _BANDS.clear()
-                _BANDS[pkey] = band
-            if band.kl + band.ku >= size // 4:
-                band, sparse = None, size > SPARSE_LIMIT
-        if band is None and not sparse:
-            self._flat[size] = rows * size + cols
-        self._patterns[key] = (rows, cols, size, band, sparse)
-        return self._patterns[key]
+        """Static index arrays (rows, cols), size, banded pattern or None, sparse flag, and the dense
+        scatter index (cached per topology)."""
+        return self._topo.pattern(control)
 
     def zero_state(self):
         ne = self.elements.size if self.elements is not None else 0
@@ -251,14 +268,14 @@ class Model:
             vals += [_ONE, fl[self._load_dofs]]
         if not jacobian:
             return r, None, info
-        rows, cols, size, band, sparse = self._pattern(None if control is None else control[0])
+        rows, cols, size, band, sparse, flat = self._pattern(None if control is None else control[0])
         vals = np.concatenate(vals)
         if band is not None:
             A = band.assemble(vals)
         elif sparse:
             A = sp.csc_matrix((vals, (rows, cols)), shape=(size, size))
         else:
-            A = np.bincount(self._flat[size], weights=vals, minlength=size * size).reshape(size, size)
+            A = np.bincount(flat, weights=vals, minlength=size * size).reshape(size, size)
         return r, A, info
 
 
