@@ -207,6 +207,15 @@ class Model:
         scatter index (cached per topology)."""
         return self._topo.pattern(control)
 
+    def rotation_dofs(self):
+        """Indices of the rotational dofs (node and body rotations) among the unknowns (cached)."""
+        if getattr(self, "_rot", None) is None:
+            rot = list(range(2, 3 * self.n_nodes, 3))
+            if self.body is not None:
+                rot.append(self.body.dof0 + 2)
+            self._rot = np.array(rot, dtype=np.intp)
+        return self._rot
+
     def zero_state(self):
         ne = self.elements.size if self.elements is not None else 0
         return np.zeros(self.n), np.zeros(ne)
