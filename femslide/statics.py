@@ -5,14 +5,16 @@ the top of the left rod; flexible rods are meshes of corotational beams.  The mo
 nondimensional units (lengths by a, forces by P = m g) so that EI/(P a^2) from 1 to 1e12 needs no
 tuning.  Cantilevers use L and EI/L^2.
 
-Accuracy: with ``n_elements`` unset the mesh is refined by doubling (n, 2n, 4n, ...) and the reported
-values are Richardson-extrapolated from the two finest meshes (the corotational discretisation error
-is O(h^2)); refinement stops when every output is estimated accurate to 1e-7, or when the level-to-
-level changes stop shrinking like h^2 (round-off of a very stiff model dominates; the raw finest values
-are then reported), or when the first two meshes already agree to 3e-8 (their O(h^2) error estimate
-1e-8: the finer mesh's raw values are reported, with that estimate).  ``error_estimate`` is the estimated relative error of the reported M_max: the
-change of the extrapolated values between successive levels (/15 for an O(h^4) remainder), and at
-least the round-off scatter of M_max (Newton reconverged from a slightly perturbed state).  With
+Accuracy: with ``n_elements`` unset the mesh is refined by doubling (n, 2n, 4n, ...; n = 2 elements
+per rod, or 4 and 8 when the spring-hinge rotation exceeds 0.3 and 1 rad) and the reported values are
+Richardson-extrapolated from the two finest meshes (the corotational discretisation error is O(h^2)).
+Refinement stops when every output is estimated accurate to 1e-7; or when the level-to-level changes
+stop shrinking like h^2 (round-off of a very stiff model dominates; the raw finest values are then
+reported); or when the first two meshes already agree to 3e-8 (their O(h^2) error estimate 1e-8: the
+finer mesh's raw values are reported, with that estimate).  ``error_estimate`` is the estimated
+relative error of the reported M_max: the change of the extrapolated values between successive levels
+(/15 for an O(h^4) remainder), and at least the round-off scatter of M_max (Newton reconverged from a
+slightly perturbed state).  With
 ``n_elements`` = N the values are those of the N-element mesh and the estimate compares N with N/2
 (a single element has no estimate: null).  Meshes finer than 16 elements start from the Hermite-
 interpolated solution of half as many elements.
@@ -114,6 +116,18 @@ def _guess(v, kind):
         return abs(hinge.solve_slider(**{**v, "c": c, "l1": L, "k": v.get("k", 0.0) if kind == "spring" else 0.0})["phi"])
     except SolverFailure:
         return 0.05
+
+
+GUESS_KIND = {"beam-slider": "slider", "beam-fixed": "fixed", "beam-both": "both", "beam-spring": "spring"}
+
+
+def _start_level(phi_guess):
+    """Elements per rod of the first adaptive mesh: more for large rotations, which need fine meshes
+    anyway (EI = 1e2 N m^2, phi ~ 1.2 rad: 64 elements), so that no level is spent on coarse meshes
+    far from the asymptotic O(h^2) regime."""
+    if phi_guess is None or phi_guess < 0.3:
+        return N_START
+    return 4 if phi_guess < 1.0 else 8
 
 
 def build_slider(v, n):
@@ -417,11 +431,15 @@ def solve_scene(scene: str, v: dict) -> dict:
     build = BUILDERS[scene]
     cache: dict[int, Level] = {}
     its = [0]
+    kind = GUESS_KIND.get(scene)
+    phi_guess = _guess(v, kind) if kind else None  # the spring-hinge rotation, computed once
 
     def level(n: int) -> Level:
         if n in cache:
             return cache[n]
         bt = build(v, n)
+        if phi_guess is not None:
+            bt.guess = lambda: phi_guess
         start = None
         if n > N_DIRECT or (n + 1) // 2 in cache:
             c = level((n + 1) // 2)
@@ -443,7 +461,7 @@ def solve_scene(scene: str, v: dict) -> dict:
             ratio = (fixed_n / (fixed_n // 2)) ** 2
             err = abs(f2[0] - f1[0]) / (ratio - 1.0) / max(abs(f2[0]), 1e-300)
     else:
-        n = N_START
+        n = _start_level(phi_guess)
         ext = []
         prev_worst = prev_raw0 = math.inf
         fine = level(n)
