@@ -247,7 +247,13 @@ def _solve_structure(bt, start=None):
         its = info.iterations
     if guess is None and bt.guess:
         guess = bt.guess()
-    br = principal_branch(m, th, bt.phi_dir, guess, y0, alpha0)
+    try:
+        br = principal_branch(m, th, bt.phi_dir, guess, y0, alpha0)
+    except SolverFailure:
+        if y0 is None:
+            raise
+        # the path from the given start failed: the march from the undeformed state decides
+        br = principal_branch(m, th, bt.phi_dir, guess)
     return br.y, br.alpha, its + br.iterations, br.history
 
 
@@ -461,7 +467,9 @@ def solve_scene(scene: str, v: dict) -> dict:
             ratio = (fixed_n / (fixed_n // 2)) ** 2
             err = abs(f2[0] - f1[0]) / (ratio - 1.0) / max(abs(f2[0]), 1e-300)
     else:
-        n = _start_level(phi_guess)
+        # (beam-both's guess is only the two-spring estimate: its path may have to march from the
+        # undeformed state, which is cheapest and surest on the coarsest mesh)
+        n = _start_level(phi_guess) if kind != "both" else N_START
         ext = []
         prev_worst = prev_raw0 = math.inf
         fine = level(n)
