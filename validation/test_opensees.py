@@ -1,4 +1,5 @@
-"""Cross-check of femslide's corotational beam against OpenSees (openseespy) on a cantilever tip load.
+"""Cross-checks against OpenSees (openseespy): the corotational beam on a cantilever tip load, and the
+sliding clamp of beam-slider against a penalty clamp (see the last test).
 
 Reference: OpenSees (an independent FE code): 2D model, ``geomTransf Corotational``,
 ``elasticBeamColumn`` elements (E A = 1e6, E I = 1, femslide's default EA = 1e6 EI), L = 1, clamped at
@@ -83,3 +84,21 @@ def test_opensees_vs_elastica(p):
         e32, e64 = o32[k] - exact[k], o64[k] - exact[k]
         assert 3.5 <= e32 / e64 <= 4.5, (k, e32, e64)
         assert abs((4 * o64[k] - o32[k]) / 3 - exact[k]) <= 1e-6, k
+
+
+@pytest.mark.parametrize("EI", [1e4, 1e6, 1e8, 1e10])
+def test_beam_slider_against_a_penalty_clamp_in_opensees(EI):
+    """The exact sliding clamp (Lagrange multipliers) against OpenSees' corotational beams with the
+    clamp as a penalty: a corotational beam, stiff in bending (1e6 x EI), almost without axial
+    stiffness, from a body point on the guide line to the rod top (``bench_statics.opensees_slider``).
+    Same mesh (32 elements, femslide ``n_elements=32``); OpenSees is driven by displacement control of
+    the body rotation to femslide's phi.  Reference values: its load factor must be 1 and its M_max
+    femslide's, both within 2e-5 (the penalty's own error, measured 4e-6 at 1e6)."""
+    import bench_statics
+    from femslide.scenes import get
+    res = femslide.solve("beam-slider", EI=EI, n_elements=32)
+    v = get("beam-slider").resolve({"EI": EI})
+    _, lam, M, status, _ = bench_statics.opensees_slider(v, res["phi"])
+    assert status == 0
+    assert abs(lam - 1.0) <= 2e-5, lam
+    assert abs(M / res["M_max"] - 1.0) <= 2e-5, (M, res["M_max"])
