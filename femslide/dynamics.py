@@ -215,9 +215,7 @@ class Structure:
 
     # -- statics ----------------------------------------------------------------------------------
     def _system(self, y, alpha):
-        r, A, info = self.model.system(y, alpha, 1.0)
-        if not isinstance(A, np.ndarray):
-            A = A.toarray() if hasattr(A, "toarray") else np.asarray(A)
+        r, A, info = self.model.system(y, alpha, 1.0, dense=True)
         if self.slock is not None and self.mode != "stuck":
             i = self.row_s
             jN = self.row_clamp

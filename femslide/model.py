@@ -231,13 +231,13 @@ class Model:
         _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False)
         return qb, alpha
 
-    def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True):
+    def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
         """Residual and Jacobian of the equations at y.
 
         ``control``: None (load ``lam`` given) or (dof, value): the dof is prescribed, lam is the
         last unknown y[-1].  Returns (r, A, info) with A dense, banded or sparse CSC
-        (:func:`solve_linear` solves any of them), or None with ``jacobian=False`` (then
-        info["noise"] is not estimated either).
+        (:func:`solve_linear` solves any of them; ``dense=True`` asks for a dense array whatever
+        the size), or None with ``jacobian=False`` (then info["noise"] is not estimated either).
         """
         n_q, n_c = self.n_q, self.n_c
         q, mu = y[:n_q], y[n_q:n_q + n_c]
@@ -279,7 +279,10 @@ class Model:
             return r, None, info
         rows, cols, size, band, sparse, flat = self._pattern(None if control is None else control[0])
         vals = np.concatenate(vals)
-        if band is not None:
+        if dense:
+            A = np.zeros((size, size))
+            np.add.at(A, (rows, cols), vals)
+        elif band is not None:
             A = band.assemble(vals)
         elif sparse:
             A = sp.csc_matrix((vals, (rows, cols)), shape=(size, size))

@@ -26,3 +26,13 @@ def test_frictionless_harmonic_turning_points_are_not_duplicated():
     got = [p["t"] for p in r["turning_points"]]
     assert len(got) == len(exact), (len(got), len(exact))
     assert max(abs(a - b) for a, b in zip(got, exact)) <= 1e-6
+
+
+def test_dynamics_on_a_mesh_above_the_dense_limit():
+    """beam-oscillation with 64 elements (more unknowns than model.DENSE_LIMIT, where statics solves
+    banded) crashed when the banded Jacobian reached the dynamics' dense LU.  Reference: the same run
+    on the default 8-element mesh: the largest |F2| agrees to the O(h^2) of the meshes, 1e-3."""
+    fine = femslide.simulate("beam-oscillation", n_elements=64, t_end=0.3)
+    coarse = femslide.simulate("beam-oscillation", t_end=0.3)
+    assert fine["converged"]
+    assert abs(fine["F2_max"] / coarse["F2_max"] - 1.0) <= 1e-3
