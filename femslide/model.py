@@ -279,14 +279,12 @@ class Model:
             return r, None, info
         rows, cols, size, band, sparse, flat = self._pattern(None if control is None else control[0])
         vals = np.concatenate(vals)
-        if dense:
-            A = np.zeros((size, size))
-            np.add.at(A, (rows, cols), vals)
-        elif band is not None:
+        if band is not None and not dense:
             A = band.assemble(vals)
-        elif sparse:
+        elif sparse and not dense:
             A = sp.csc_matrix((vals, (rows, cols)), shape=(size, size))
         else:
+            flat = rows * size + cols if flat is None else flat
             A = np.bincount(flat, weights=vals, minlength=size * size).reshape(size, size)
         return r, A, info
 

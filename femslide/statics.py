@@ -14,10 +14,10 @@ reported); or when the first two meshes already agree to 3e-8 (their O(h^2) erro
 finer mesh's raw values are reported, with that estimate).  ``error_estimate`` is the estimated
 relative error of the reported M_max: the change of the extrapolated values between successive levels
 (/15 for an O(h^4) remainder), and at least the round-off scatter of M_max (Newton reconverged from a
-slightly perturbed state).  With
-``n_elements`` = N the values are those of the N-element mesh and the estimate compares N with N/2
-(a single element has no estimate: null).  Meshes finer than 16 elements start from the Hermite-
-interpolated solution of half as many elements.
+slightly perturbed state).  With ``n_elements`` = N the values are those of the N-element mesh and the
+estimate compares N with N/2 (a single element has no estimate: null).  Meshes finer than 16 elements
+start from the Hermite-interpolated solution of half as many elements; the first mesh starts from the
+deformed spring-hinge mechanism (femslide.predictor).
 """
 from __future__ import annotations
 
