@@ -78,26 +78,27 @@ class ElementSet:
         return self.L0.size
 
 
-def chord_rotation(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray) -> np.ndarray:
-    """Chord rotation alpha [rad] of every element, continued from ``alpha_ref``."""
-    i, j = es.conn[:, 0], es.conn[:, 1]
-    D = es.D0 + U[j, :2] - U[i, :2]
+def _kinematics(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray):
+    """Displacement differences dx, dy, deformed chord components Dx, Dy and length Ln, stretch
+    u_bar [m], chord rotation alpha (continued from ``alpha_ref``) and the end rotations relative to
+    the chord t1, t2 [rad] of every element (the one place they are computed)."""
+    Ui, Uj = U[es.i], U[es.j]
+    d = Uj - Ui
+    dx, dy = d[:, 0], d[:, 1]
+    Dx, Dy = es.D0x + dx, es.D0y + dy
+    Ln = np.hypot(Dx, Dy)
+    u_bar = ((es.D0x + Dx) * dx + (es.D0y + Dy) * dy) / (Ln + es.L0)
     b_ref = es.beta0 + alpha_ref
     cr, sr = np.cos(b_ref), np.sin(b_ref)
-    return alpha_ref + np.arctan2(cr * D[:, 1] - sr * D[:, 0], cr * D[:, 0] + sr * D[:, 1])
+    alpha = alpha_ref + np.arctan2(cr * Dy - sr * Dx, cr * Dx + sr * Dy)
+    return dx, dy, Dx, Dy, Ln, u_bar, alpha, Ui[:, 2] - alpha, Uj[:, 2] - alpha
 
 
 def basic_deformations(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray):
     """Displacement differences dU (n, 2), chord length Ln, stretch u_bar [m], chord rotation alpha and
     the end rotations relative to the chord t1, t2 [rad] of every element."""
-    i, j = es.conn[:, 0], es.conn[:, 1]
-    dU = U[j, :2] - U[i, :2]
-    D = es.D0 + dU
-    Ln = np.hypot(D[:, 0], D[:, 1])
-    dx, dy = dU[:, 0], dU[:, 1]
-    u_bar = ((2.0 * es.D0[:, 0] + dx) * dx + (2.0 * es.D0[:, 1] + dy) * dy) / (Ln + es.L0)
-    alpha = chord_rotation(es, U, alpha_ref)
-    return dU, Ln, u_bar, alpha, U[i, 2] - alpha, U[j, 2] - alpha
+    dx, dy, _, _, Ln, u_bar, alpha, t1, t2 = _kinematics(es, U, alpha_ref)
+    return np.column_stack([dx, dy]), Ln, u_bar, alpha, t1, t2
 
 
 def strain_energy(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray) -> float:
@@ -117,16 +118,7 @@ def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool
     ``U`` (n_nodes, 3) holds the nodal (u, v, theta).  Written for few numpy calls: with a handful of
     elements the cost is the number of calls, not their size.
     """
-    Ui, Uj = U[es.i], U[es.j]
-    d = Uj - Ui
-    dx, dy = d[:, 0], d[:, 1]
-    Dx, Dy = es.D0x + dx, es.D0y + dy
-    Ln = np.hypot(Dx, Dy)
-    u_bar = ((es.D0x + Dx) * dx + (es.D0y + Dy) * dy) / (Ln + es.L0)
-    b_ref = es.beta0 + alpha_ref
-    cr, sr = np.cos(b_ref), np.sin(b_ref)
-    alpha = alpha_ref + np.arctan2(cr * Dy - sr * Dx, cr * Dx + sr * Dy)
-    t1, t2 = Ui[:, 2] - alpha, Uj[:, 2] - alpha
+    dx, dy, Dx, Dy, Ln, u_bar, alpha, t1, t2 = _kinematics(es, U, alpha_ref)
     N = es.k00 * u_bar
     M1 = es.k11 * t1 + es.k12 * t2
     M2 = es.k21 * t1 + es.k22 * t2

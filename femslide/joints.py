@@ -1,11 +1,12 @@
 """Joints as exact constraints g(z) = 0 (Lagrange multipliers), and the slider spring.
 
 Every constraint acts on a few model dofs and returns its values g (m,), gradient G (m, k) and
-Hessians H (m, k, k) over those dofs, or, given the multipliers mu, the weighted Hessian sum_i mu_i H_i
-(k, k) that the Newton tangent needs.  The kinematics are scalar ``math``: a joint has a handful of
-numbers, and numpy's per-call cost would dominate.  The multiplier mu of a constraint is the generalised force it
-exerts *on the constraint's first participant taken with a minus sign*: the support reaction of a pin
-is -mu, the clamp's transverse force on the rod end is -mu_1 n and its moment -mu_2.
+Hessians H (m, k, k) over those dofs, or, given the multipliers mu, the weighted Hessian
+sum_i mu_i H_i (k, k) that the Newton tangent needs.  The kinematics are scalar ``math``: a joint has a
+handful of numbers, and numpy's per-call cost would dominate.  The multiplier mu of a constraint is
+the generalised force it exerts *on the constraint's first participant taken with a minus sign*: the
+support reaction of a pin is -mu, the clamp's transverse force on the rod end is -mu_1 n and its
+moment -mu_2.
 
 Joints (SPEC section 3):
 - :class:`NodePin`: a rod node pinned to the ground (u = v = 0); optionally clamped (theta = 0).
@@ -51,13 +52,11 @@ class _Joint:
         return np.array(g), G, Hmu
 
 
-def _point(A0, zb, r):
-    """Position (x, y) of the body point with local offset r, and R(Theta) r (its d/dTheta is
-    (-Rr_y, Rr_x), its d2/dTheta2 is -Rr)."""
-    c, s = math.cos(zb[2]), math.sin(zb[2])
-    rx, ry = r
-    Rx, Ry = c * rx - s * ry, s * rx + c * ry
-    return A0[0] + zb[0] + Rx, A0[1] + zb[1] + Ry, Rx, Ry
+def _guide_frame(theta, wx, wy):
+    """cos and sin of the body rotation and the components of w along the body's guide normal
+    n = (cos Th, sin Th) and guide direction e = (-sin Th, cos Th)."""
+    c, s = math.cos(theta), math.sin(theta)
+    return c, s, wx * c + wy * s, -wx * s + wy * c
 
 
 @dataclass
@@ -92,7 +91,7 @@ class BodyPin(_Joint):
         return self.body.dofs
 
     def _parts(self, z):
-        px, py, Rx, Ry = _point(self.body.A0, z, self.r)
+        px, py, Rx, Ry = self.body.place(z, self.r)
         g = [px - self.ground[0], py - self.ground[1]]
         G = [[1.0, 0.0, -Ry], [0.0, 1.0, Rx]]
         return g, G, ((0, 2, 2, -Rx), (1, 2, 2, -Ry))
@@ -112,7 +111,7 @@ class Weld(_Joint):
         return np.concatenate([node_dofs(self.node), self.body.dofs])
 
     def _parts(self, z):
-        px, py, Rx, Ry = _point(self.body.A0, z[3:], self.r)
+        px, py, Rx, Ry = self.body.place(z[3:], self.r)
         g = [self.X0[0] + z[0] - px, self.X0[1] + z[1] - py, z[2] - z[5]]
         G = [[1.0, 0.0, 0.0, -1.0, 0.0, Ry],
              [0.0, 1.0, 0.0, 0.0, -1.0, -Rx],
@@ -136,15 +135,12 @@ class SlidingClamp(_Joint):
         return np.concatenate([node_dofs(self.node), self.body.dofs])
 
     def _frame(self, z):
-        """n = (cos Th, sin Th), e = (-sin Th, cos Th) and w = p_S - A0 - U_b (so that
-        g1 = w.n - r_x, s = w.e - r_y), as scalars."""
-        c, s = math.cos(z[5]), math.sin(z[5])
-        wx = self.X0[0] + z[0] - self.body.A0[0] - z[3]
-        wy = self.X0[1] + z[1] - self.body.A0[1] - z[4]
-        return c, s, wx, wy, wx * c + wy * s, -wx * s + wy * c
+        """:func:`_guide_frame` of w = p_S - A0 - U_b (so that g1 = w.n - r_x, s = w.e - r_y)."""
+        return _guide_frame(z[5], self.X0[0] + z[0] - self.body.A0[0] - z[3],
+                            self.X0[1] + z[1] - self.body.A0[1] - z[4])
 
     def _parts(self, z):
-        c, s, _, _, wn, we = self._frame(z)
+        c, s, wn, we = self._frame(z)
         g = [wn - self.r[0], z[2] - z[5]]
         G = [[c, s, 0.0, -c, -s, we], [0.0, 0.0, 1.0, 0.0, 0.0, -1.0]]
         hess = ((0, 5, 5, -wn), (0, 0, 5, -s), (0, 5, 0, -s), (0, 1, 5, c), (0, 5, 1, c),
@@ -153,7 +149,7 @@ class SlidingClamp(_Joint):
 
     def slide(self, z):
         """Slide s [m], its gradient and Hessian over the joint dofs."""
-        c, s, _, _, wn, we = self._frame(z.tolist())
+        c, s, wn, we = self._frame(z.tolist())
         ds = np.array([-s, c, 0.0, s, -c, -wn])
         H = np.zeros((6, 6))
         H[5, 5] = -we
@@ -176,21 +172,21 @@ class GuideLine(_Joint):
     def dofs(self):
         return self.body.dofs
 
+    def _frame(self, z):
+        """:func:`_guide_frame` of w = A0 + U_b - B1 (so that (B - B1).n = w.n + r_x and
+        (B - B1).e = w.e + r_y)."""
+        return _guide_frame(z[2], self.body.A0[0] + z[0] - self.ground[0],
+                            self.body.A0[1] + z[1] - self.ground[1])
+
     def _parts(self, z):
-        c, s = math.cos(z[2]), math.sin(z[2])
-        wx = self.body.A0[0] + z[0] - self.ground[0]
-        wy = self.body.A0[1] + z[1] - self.ground[1]
-        wn, we = wx * c + wy * s, -wx * s + wy * c
+        c, s, wn, we = self._frame(z)
         hess = ((0, 2, 2, -wn), (0, 0, 2, -s), (0, 2, 0, -s), (0, 1, 2, c), (0, 2, 1, c))
         return [wn + self.r[0]], [[c, s, we]], hess
 
     def slide(self, z):
         """Advance of the rigid rod past the guide point along e: s = l_rod - (B - B1).e."""
-        px, py, _, _ = _point(self.body.A0, z.tolist(), self.r)
-        th = z[2]
-        p0 = self.body.A0 + self.r
-        return (p0[1] - self.ground[1]) - ((px - self.ground[0]) * -math.sin(th)
-                                            + (py - self.ground[1]) * math.cos(th))
+        _, _, _, we = self._frame(z.tolist())
+        return (self.body.A0[1] + self.r[1] - self.ground[1]) - (we + self.r[1])
 
 
 @dataclass

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .body import Body
-from .joints import _point, node_dofs
+from .joints import node_dofs
 
 
 @dataclass
@@ -27,7 +27,7 @@ class BodyWeight:
         return self.body.dofs
 
     def eval(self, z, lam=1.0):
-        _, py, Rx, Ry = _point(self.body.A0, z.tolist(), self.r)
+        _, py, Rx, Ry = self.body.place(z.tolist(), self.r)
         W = self.W
         g0 = np.array([0.0, W, W * Rx])
         H = np.zeros((3, 3))

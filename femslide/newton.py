@@ -122,7 +122,8 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
     ``phi_guess`` (magnitude, rad) is a first estimate (the equivalent spring-hinge model); ``y0``,
     ``alpha0`` a state to start from (the deformed spring-hinge mechanism at phi_guess, or the
     interpolated solution of a coarser mesh), used only if the load factor that holds its rotation
-    is between 0.25 and 2: otherwise the path starts from the undeformed state.
+    is between 0.25 and 2 and the path from it succeeds: otherwise the path starts from the
+    undeformed state.
     Raises :class:`SolverFailure` with the residual history when it does not converge.
     """
     total_it = 0
@@ -144,77 +145,77 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
         rhs[-1] = -phi_dir
         return solve_linear(A, rhs)
 
-    def start(y, a, phi, lam):
-        z = np.concatenate([y, [lam]])
-        pred = z.copy()
+    def follow(y, a, phi, lam, trial):
+        """The path from the state (y, a) with phi prescribed; ``trial``: give up early (raise) if
+        the load factor holding that state's rotation is far from 1."""
+        nonlocal total_it
+        z_c, a_c = np.concatenate([y, [lam]]), a.copy()
+        pred = z_c.copy()
         # start with the body already at the prescribed rotation: at the undeformed state the load
         # factor can be undetermined (a + d = 0: the weight has no moment about A1, a singular Jacobian)
         pred[theta_dof] = -phi_dir * phi
-        return z, a.copy(), pred, phi
-
-    cold = model.zero_state()
-    cold_phi = min(phi_guess, 0.1) if phi_guess else 0.01
-    if y0 is None:
-        z_c, a_c, pred, phi = start(*cold, cold_phi, 0.0)
-    else:
-        z_c, a_c, pred, phi = start(y0, alpha0, abs(y0[theta_dof]) or phi_guess or 0.01, 1.0)
-    trial = y0 is not None  # a given start is trusted only if its load factor comes out near 1
-    phi_lo, phi_hi = 0.0, None
-    for _ in range(200):
-        # a good start converges in a few iterations: do not spend long on a poor one
-        out = controlled(phi, pred, a_c, maxit=12 if trial else 40)
-        if trial:
-            trial = False
-            if out is None or not 0.25 <= out[0][-1] <= 2.0:
-                # a poor start (a guess far off the equilibrium): march from the undeformed state
-                z_c, a_c, pred, phi = start(*cold, cold_phi, 0.0)
+        phi_lo, phi_hi = 0.0, None
+        for _ in range(200):
+            # a good start converges in a few iterations: do not spend long on a poor one
+            out = controlled(phi, pred, a_c, maxit=12 if trial else 40)
+            if trial:
+                trial = False
+                if out is None or not 0.25 <= out[0][-1] <= 2.0:
+                    raise SolverFailure("poor start: load factor far from 1", hist_all)
+            if out is None:
+                if phi - phi_lo <= 1e-12 * max(phi, 1e-300):
+                    raise SolverFailure(f"path following stalled at phi = {phi_dir * phi:.6g} rad", hist_all)
+                phi = phi_lo + 0.5 * (phi - phi_lo)
+                pred = z_c
                 continue
-        if out is None:
-            if phi - phi_lo <= 1e-12 * max(phi, 1e-300):
-                raise SolverFailure(f"path following stalled at phi = {phi_dir * phi:.6g} rad", hist_all)
-            phi = phi_lo + 0.5 * (phi - phi_lo)
-            pred = z_c
-            continue
-        z, a = out
-        lam = z[-1]
-        z_c, a_c = z, a
-        if abs(lam - 1.0) <= 1e-13:
-            break
-        if abs(lam - 1.0) <= 1e-2:
-            # close to full load: release phi; keep the result only if it stays on this branch
-            y_f, info_f = newton(model, z[:model.n], a, lam=1.0, tol=tol)
-            total_it += info_f.iterations
-            if info_f.converged and abs(abs(y_f[theta_dof]) - phi) <= 0.05 * phi \
-                    and np.sign(y_f[theta_dof]) == -phi_dir:
-                return Branch(y_f, info_f.alpha, total_it, info_f.history)
-        dz = tangent(z, a)
-        slope = dz[-1]
-        if lam > 1.0:
-            phi_hi = phi
-            new = phi - (lam - 1.0) / slope if slope > 0 else 0.5 * (phi + phi_lo)
-            if not phi_lo < new < phi:
-                new = 0.5 * (phi + phi_lo)
-        else:
-            phi_lo = phi
-            if slope > 0 and lam > 0:
-                # Newton in log-log: lam ~ phi^p near the rigid limit (p = 3 for a quartic potential)
-                p = max(slope * phi / lam, 0.5)
-                new = min(phi * lam ** (-1.0 / p), 2.0 * phi, phi + 0.35)
+            z, a = out
+            lam = z[-1]
+            z_c, a_c = z, a
+            if abs(lam - 1.0) <= 1e-13:
+                break
+            if abs(lam - 1.0) <= 1e-2:
+                # close to full load: release phi; keep the result only if it stays on this branch
+                y_f, info_f = newton(model, z[:model.n], a, lam=1.0, tol=tol)
+                total_it += info_f.iterations
+                if info_f.converged and abs(abs(y_f[theta_dof]) - phi) <= 0.05 * phi \
+                        and np.sign(y_f[theta_dof]) == -phi_dir:
+                    return Branch(y_f, info_f.alpha, total_it, info_f.history)
+            dz = tangent(z, a)
+            slope = dz[-1]
+            if lam > 1.0:
+                phi_hi = phi
+                new = phi - (lam - 1.0) / slope if slope > 0 else 0.5 * (phi + phi_lo)
+                if not phi_lo < new < phi:
+                    new = 0.5 * (phi + phi_lo)
             else:
-                new = phi + min(0.1, phi)  # before/past a limit point: keep marching
-            if phi_hi is not None and not new < phi_hi:
-                new = 0.5 * (phi + phi_hi)
-            if new >= phi_max:
-                raise SolverFailure(f"no equilibrium on the principal branch up to |phi| = {phi_max:g} rad",
-                                    hist_all)
-        if abs(new - phi) <= 1e-15 * phi:
-            break
-        pred = z + dz * (new - phi) if abs(new - phi) < 0.1 else z.copy()
-        phi = new
-    else:
-        raise SolverFailure("path following did not reach the full load in 200 steps", hist_all)
-    y, info = newton(model, z_c[:model.n], a_c, lam=1.0, tol=tol)
-    total_it += info.iterations
-    if not info.converged:
-        raise SolverFailure(f"final Newton solve at full load: {info.reason}", info.history)
-    return Branch(y, info.alpha, total_it, info.history)
+                phi_lo = phi
+                if slope > 0 and lam > 0:
+                    # Newton in log-log: lam ~ phi^p near the rigid limit (p = 3 for a quartic potential)
+                    p = max(slope * phi / lam, 0.5)
+                    new = min(phi * lam ** (-1.0 / p), 2.0 * phi, phi + 0.35)
+                else:
+                    new = phi + min(0.1, phi)  # before/past a limit point: keep marching
+                if phi_hi is not None and not new < phi_hi:
+                    new = 0.5 * (phi + phi_hi)
+                if new >= phi_max:
+                    raise SolverFailure(f"no equilibrium on the principal branch up to |phi| = {phi_max:g} rad",
+                                        hist_all)
+            if abs(new - phi) <= 1e-15 * phi:
+                break
+            pred = z + dz * (new - phi) if abs(new - phi) < 0.1 else z.copy()
+            phi = new
+        else:
+            raise SolverFailure("path following did not reach the full load in 200 steps", hist_all)
+        y, info = newton(model, z_c[:model.n], a_c, lam=1.0, tol=tol)
+        total_it += info.iterations
+        if not info.converged:
+            raise SolverFailure(f"final Newton solve at full load: {info.reason}", info.history)
+        return Branch(y, info.alpha, total_it, info.history)
+
+    if y0 is not None:
+        try:
+            return follow(y0, alpha0, abs(y0[theta_dof]) or phi_guess or 0.01, 1.0, trial=True)
+        except SolverFailure:
+            pass  # a poor or failing start: the march from the undeformed state decides
+    y, a = model.zero_state()
+    return follow(y, a, min(phi_guess, 0.1) if phi_guess else 0.01, 0.0, trial=False)

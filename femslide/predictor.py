@@ -51,6 +51,28 @@ def _clamp_top(clamp, ref, nrm, e, base, chord):
     return base + c0 + (-ce + math.sqrt(disc)) * e
 
 
+def _bent_top(joint, ref, R, nrm, e, base, L, beta0, th):
+    """(top, beta, t_top) of a rod of length L pinned at ``base`` (initial chord angle beta0) whose
+    top is welded to the body or held in its clamp (body reference point at ``ref``, rotation th):
+    the top point, the chord angle and the top tangent's angle against the chord; the clamped top is
+    where the guide line meets the bent rod's chord.  None if the guide line is out of reach."""
+    chord = L
+    for _ in range(4):
+        if isinstance(joint, Weld):
+            top = ref + R @ joint.r
+        else:
+            top = _clamp_top(joint, ref, nrm, e, base, chord)
+            if top is None:
+                return None
+        beta = math.atan2(top[1] - base[1], top[0] - base[0])
+        t_top = math.remainder(th - (beta - beta0), 2.0 * math.pi)
+        new = _chord(L, t_top)
+        if abs(new - chord) <= 1e-15 * L:
+            break
+        chord = new
+    return top, beta, t_top
+
+
 def mechanism_state(bt, phi):
     """(y, alpha): a start state of the built structure ``bt`` at body rotation phi [rad] (phi >= 0
     towards the side the load pushes), or None if the geometry admits none (guide line out of reach)."""
@@ -98,14 +120,8 @@ def mechanism_state(bt, phi):
             L_j = float(np.hypot(*(m.X0[m.node(j, -1)] - base_j)))
 
             def mismatch(psi):  # sum of the top angles (tangent against chord) of the two rods
-                chord = L_j
-                for _ in range(3):
-                    top = _clamp_top(tops[j], A0 + pose(psi), nrm, e, base_j, chord)
-                    if top is None:
-                        return math.nan
-                    t_j = th - (math.atan2(*(top - base_j)[::-1]) - math.pi / 2)
-                    chord = _chord(L_j, t_j)
-                return t_j + (th + psi)
+                bent = _bent_top(tops[j], A0 + pose(psi), R, nrm, e, base_j, L_j, math.pi / 2, th)
+                return math.nan if bent is None else bent[2] + (th + psi)
 
             # secant from the rigid turn with the body (psi = -Theta)
             p0, p1 = -th, -th + 1e-3 * (1.0 + abs(th))
@@ -132,23 +148,10 @@ def mechanism_state(bt, phi):
         L = float(np.hypot(*(X[-1] - X[0])))
         xi = np.hypot(*(X - base).T) / L
         beta0 = math.atan2(X[-1, 1] - X[0, 1], X[-1, 0] - X[0, 0])
-        chord = L
-        for _ in range(3):
-            if isinstance(joint, Weld):
-                top = A0 + U + R @ joint.r
-            elif isinstance(joint, SlidingClamp):
-                top = _clamp_top(joint, A0 + U, nrm, e, base, chord)
-                if top is None:
-                    return None
-            else:
-                return None
-            D = top - base
-            beta = math.atan2(D[1], D[0])
-            t_top = math.remainder(th - (beta - beta0), 2.0 * math.pi)
-            new = _chord(L, t_top)
-            if abs(new - chord) <= 1e-15 * L:
-                break
-            chord = new
+        bent = _bent_top(joint, A0 + U, R, nrm, e, base, L, beta0, th) if joint is not None else None
+        if bent is None:
+            return None
+        _, beta, t_top = bent
         # tangent angle relative to the chord: t(xi) = t_top (3 xi^2 - 1) / 2; mean over an element
         xa, xb = xi[:-1], xi[1:]
         t_el = 0.5 * t_top * (xa * xa + xa * xb + xb * xb - 1.0)

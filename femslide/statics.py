@@ -247,13 +247,7 @@ def _solve_structure(bt, start=None):
         its = info.iterations
     if guess is None and bt.guess:
         guess = bt.guess()
-    try:
-        br = principal_branch(m, th, bt.phi_dir, guess, y0, alpha0)
-    except SolverFailure:
-        if y0 is None:
-            raise
-        # the path from the given start failed: the march from the undeformed state decides
-        br = principal_branch(m, th, bt.phi_dir, guess)
+    br = principal_branch(m, th, bt.phi_dir, guess, y0, alpha0)
     return br.y, br.alpha, its + br.iterations, br.history
 
 
