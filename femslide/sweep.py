@@ -69,7 +69,8 @@ def _load_done(path):
             if rec.get("status") == "error":
                 continue
             row = {k: v for k, v in rec.items() if k not in EXTRA}
-            done[_key(rec["scene"], rec["params"])] = row
+            status = rec.get("status") or ("converged" if row.get("converged") else "failed")
+            done[_key(rec["scene"], rec["params"])] = (row, status)
     return done
 
 
@@ -189,10 +190,9 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, das
         path = os.path.join(out, JSONL)
         done = _load_done(path)
         for i, v in enumerate(cases):
-            row = done.get(_key(scene.name, v))
-            if row is not None:
-                rows[i] = row
-                statuses[i] = "converged" if row.get("converged") else "failed"
+            prev = done.get(_key(scene.name, v))
+            if prev is not None:
+                rows[i], statuses[i] = prev
         stream = _open_stream(path)
     todo = [i for i in range(n) if rows[i] is None]
 

@@ -139,6 +139,14 @@ def test_jsonl_stream_and_resume(tmp_path):
     assert len(path.read_text().splitlines()) == 5
 
 
+def test_resumed_rows_keep_their_status(tmp_path):
+    """A bad-input case (k below k_crit) exits 2; resuming the same sweep from its jsonl must too
+    (the stored status was once dropped and re-guessed as a failure, exit 1)."""
+    args = ("sweep", "hinge-extra-mass", "--vary", "k=9,100", "--json", "--out", str(tmp_path))
+    assert cli(*args)[0] == 2
+    assert cli(*args, "--resume")[0] == 2
+
+
 def test_resume_needs_out():
     code, _, err = cli("sweep", "hinge-slider", "--vary", "c=1e4", "--resume")
     assert code == 2 and "--out" in err
