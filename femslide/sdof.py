@@ -328,9 +328,11 @@ class Oscillator:
             elif kind == 1:
                 C, S = 1.0, tau
             else:
-                e2 = exp_(wd * tau)
-                C, S = 0.5 * (e2 + 1.0 / e2), 0.5 * (e2 - 1.0 / e2) / wd
-            e = exp_(-sig * tau) if sig else 1.0
+                # over-damped: e^{-sigma tau} folded into cosh and sinh (0 < wd < sigma), so that
+                # neither overflows on long stuck or sliding stretches
+                ep, em = exp_((wd - sig) * tau), exp_(-(wd + sig) * tau)
+                C, S = 0.5 * (ep + em), 0.5 * (ep - em) / wd
+            e = exp_(-sig * tau) if sig and kind != 2 else 1.0
             w = e * (x0 * C + xs * S) + a0 + a1 * tau
             v = e * (u0 * C - xv * S) + a1
             Ft = fconst + fq * tau
@@ -562,9 +564,10 @@ class Solution:
             C, S = np.cos(wd * tau), np.sin(wd * tau) / wd
         elif o.kind == 1:
             C, S = np.ones_like(tau), tau
-        else:
-            C, S = np.cosh(wd * tau), np.sinh(wd * tau) / wd
-        e = np.exp(-sig * tau)
+        else:  # over-damped: e^{-sigma tau} folded in (no overflow), as in the segment solution
+            ep, em = np.exp((wd - sig) * tau), np.exp(-(wd + sig) * tau)
+            C, S = 0.5 * (ep + em), 0.5 * (ep - em) / wd
+        e = np.exp(-sig * tau) if o.kind != 2 else 1.0
         w = e * (x0 * C + (u0 + sig * x0) * S) + a0 + a1 * tau
         v = e * (u0 * C - (sig * u0 + om * om * x0) * S) + a1
         F = o.F

@@ -6,7 +6,10 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 import femslide
+from femslide import sdof
 
 
 def test_frictionless_harmonic_turning_points_are_not_duplicated():
@@ -36,3 +39,20 @@ def test_dynamics_on_a_mesh_above_the_dense_limit():
     coarse = femslide.simulate("beam-oscillation", t_end=0.3)
     assert fine["converged"]
     assert abs(fine["F2_max"] / coarse["F2_max"] - 1.0) <= 1e-3
+
+
+@pytest.mark.parametrize("c_v,t_end", [(100.0, 30.0), (60.0, 100.0)])
+def test_overdamped_oscillator_does_not_overflow(c_v, t_end):
+    """sdof-free heavily over-damped (c_v = 100, 60 N s/m; sigma up to 50/s) over 30..100 s: cosh and
+    sinh of the over-damped solution overflowed (OverflowError, or a nan energy balance) before
+    e^{-sigma t} could damp them.  Reference: scipy DOP853 with event switching at rtol 1e-12
+    (validation/sdof_reference.py): the final position within 1e-9 m; energy balance finite."""
+    import sdof_reference as ref
+    from femslide.scenes import get
+    v = get("sdof-free").resolve({"c_v": c_v, "t_end": t_end})
+    res = femslide.simulate("sdof-free", c_v=c_v, t_end=t_end)
+    assert res["converged"] and math.isfinite(res["energy_balance"])
+    osc, w0, _ = sdof.build(v)
+    w_end = float(osc.run(w0, t_end).eval([t_end])[0][0])
+    iv = ref.ivp_simulate(v["m"], v["k"], c_v, v["mu"], v["mu0"], v["g"], v["w0"], t_end=t_end)
+    assert abs(w_end - float(ref.ivp_eval(iv, t_end)[0])) <= 1e-9
