@@ -710,7 +710,6 @@ def run_friction(v):
     jump_loss = 0.0
     n_steps = n_fev = 0
     short = 0
-    Emax = abs(E0)
 
     def set_mode():
         st.mode, st.sigma = mode, sigma
@@ -754,7 +753,7 @@ def run_friction(v):
             t, z = t_new, sol.y[:, -1].copy()
             if sol.status != 1:
                 break
-            phi, w = float(z[0]), float(z[1])
+            phi = float(z[0])
             if mode == "stuck":
                 p = run.eval(t, phi, s_c)
                 E_before = st.potential(p.y, p.alpha)

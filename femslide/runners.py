@@ -12,8 +12,7 @@ def hinge_fixed(v):
     return hinge.solve_fixed(**v)
 
 
-def hinge_spring(v):
-    return hinge.solve_slider(**v)
+hinge_spring = hinge_slider  # section 4: the slider model with its spring k
 
 
 def hinge_extra_mass(v):

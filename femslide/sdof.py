@@ -392,7 +392,6 @@ class Oscillator:
 
     def _record_exceed(self, t, kw, thr):
         rt, rF = self.F.rt, self.F.rF
-        n = len(rt)
         if t < rt[0]:
             if abs(kw) > thr:
                 return t

@@ -7,7 +7,6 @@ writes validation/series_convergence.png.  The exact reference is validation/hin
 """
 from __future__ import annotations
 
-import math
 import pathlib
 import sys
 

@@ -25,7 +25,7 @@ Checks (TOL = 1e-6 relative unless stated):
 * beam-slider, beam-fixed: the independent elastica references.solve_structure(kind, EI,
   EA_ratio=EA/EI) (M_max, phi relative; reactions relative to P) where it converges, else, for
   EI/(P a^2) >= 1e8, the spring-hinge equivalent (c = 3EI/L, l1 = L; c = 3EI/(4l), M_max = 2|T|:
-  SPEC section 3; agreement O(EI^(-1/3)) relative, so tolerance 1e-3 there... see REF_HINGE_TOL);
+  SPEC section 3; agreement O(EI^(-1/3)) relative, so tolerance 1e-3 there);
   always also the global statics N1 + N2 = P, F1 + F2 = 0 (1e-9 P) and, for beam-slider (rigid
   left rod: the body turns about A1), the moment about A1: 2a N2 - P x_G(phi) = 0 (1e-9 P a).
 * beam-both: no independent reference: global statics (forces, 1e-9 P) and a finite error estimate.
@@ -67,7 +67,6 @@ TIMEOUT = 60.0
 RUNS = pathlib.Path(tempfile.gettempdir()) / "femslide_stability_runs.json"   # raw runs for --recheck
 BAD = ("WRONG", "WRONG?", "internal error", "timeout", "check error", "bad-input message unclear")
 TOL = 1e-6
-REF_HINGE_TOL = None  # set per case: see hinge_check
 G, M_, A = 9.81, 1.0, 1.0
 P = M_ * G
 
@@ -463,8 +462,8 @@ def write_md(rows, t_total):
     bugs = [r for r in rows if r["outcome"] in BAD]
     if bugs:
         L += ["## Open bug reports (wrong answers reported as converged: not accepted rows)", "",
-              "Reported to the solver owner with these reproducers; each has a strict xfail in "
-              "`validation/test_known_bugs.py`.", ""]
+              "Reported to the solver owner with these reproducers; each fixed bug gets a regression "
+              "test in `validation/test_known_bugs.py`.", ""]
         for r in bugs:
             L.append(f"* `{r.get('argv', r['scene'])}` - {r['outcome']}: {r['detail']}")
         L.append("")

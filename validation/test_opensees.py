@@ -90,15 +90,15 @@ def test_opensees_vs_elastica(p):
 def test_beam_slider_against_a_penalty_clamp_in_opensees(EI):
     """The exact sliding clamp (Lagrange multipliers) against OpenSees' corotational beams with the
     clamp as a penalty: a corotational beam, stiff in bending (1e6 x EI), almost without axial
-    stiffness, from a body point on the guide line to the rod top (``bench_statics.opensees_slider``).
+    stiffness, from a body point on the guide line to the rod top (``opensees_models.opensees_slider``).
     Same mesh (32 elements, femslide ``n_elements=32``); OpenSees is driven by displacement control of
     the body rotation to femslide's phi.  Reference values: its load factor must be 1 and its M_max
     femslide's, both within 2e-5 (the penalty's own error, measured 4e-6 at 1e6)."""
-    import bench_statics
+    from opensees_models import opensees_slider
     from femslide.scenes import get
     res = femslide.solve("beam-slider", EI=EI, n_elements=32)
     v = get("beam-slider").resolve({"EI": EI})
-    _, lam, M, status, _ = bench_statics.opensees_slider(v, res["phi"])
+    _, lam, M, status, _ = opensees_slider(v, res["phi"])
     assert status == 0
     assert abs(lam - 1.0) <= 2e-5, lam
     assert abs(M / res["M_max"] - 1.0) <= 2e-5, (M, res["M_max"])
