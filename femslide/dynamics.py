@@ -2,7 +2,7 @@
 
 Model (SI units; the statics inside are nondimensional, lengths by a, forces by P = m g):
 
-* The structure is that of ``beam-extra-mass`` (femslide/statics.py) at dm = 0: rigid left rod AA1
+* The structure is that of ``beam-extra-mass`` (femslide/paper.py) at dm = 0: rigid left rod AA1
   (part of the body, pinned at A1), flexible right rod of free length L (n_elements corotational
   beams, pinned at B1) in the sliding clamp at B, the slider spring k preloaded with
   F_el = P (a + d)/(2a) so that phi = 0 is the equilibrium, and the rigid telescopic piece (mass m1,
@@ -104,13 +104,10 @@ class SlideLock:
 
 @dataclass
 class InertiaLoads:
-    """Dead forces and moments on the body (at local offset rG) and on the piece centre (rod node S
-    plus h along the guide): d'Alembert loads for the recovery of reactions.  Zero during the run."""
-    node: int
-    X0: np.ndarray
-    body: object
-    rG: np.ndarray
-    h: float
+    """Dead forces FG and moment MB on the body (at its centroid) and FC on the piece's centroid:
+    d'Alembert loads for the recovery of reactions.  Zero during the run."""
+    body_dofs: np.ndarray
+    piece_dofs: np.ndarray | None
     FG: np.ndarray
     MB: float = 0.0
     FC: np.ndarray = None
@@ -118,27 +115,15 @@ class InertiaLoads:
 
     @property
     def dofs(self):
-        return np.concatenate([np.arange(3 * self.node, 3 * self.node + 3), self.body.dofs])
+        return self.body_dofs if self.piece_dofs is None else np.concatenate([self.body_dofs, self.piece_dofs])
 
     def eval(self, z, lam=1.0):
-        g = np.zeros(6)
-        H = np.zeros((6, 6))
-        p, dp, d2p = self.body.point(z[3:], self.rG)
-        FG = self.FG
-        E = -FG @ p - self.MB * z[5]
-        g[3:5] = -FG
-        g[5] = -FG @ dp - self.MB
-        H[5, 5] = -FG @ d2p
-        if self.FC is not None:
-            th = z[5]
-            e = np.array([-math.sin(th), math.cos(th)])
-            de = np.array([-math.cos(th), -math.sin(th)])
-            c = self.X0 + z[:2] + self.h * e
-            E += -self.FC @ c
-            g[:2] += -self.FC
-            g[5] += -self.h * (self.FC @ de)
-            H[5, 5] += self.h * (self.FC @ e)
-        return lam * E, lam * g, lam * H, g
+        g = np.zeros(z.size)
+        g[:2] = -self.FG
+        g[2] = -self.MB
+        if self.FC is not None and self.piece_dofs is not None:
+            g[3:5] = -self.FC
+        return lam * float(g @ z), lam * g, np.zeros((z.size, z.size)), g
 
 
 # -- the reduced structure ------------------------------------------------------------------------------
@@ -162,7 +147,8 @@ class Structure:
     """beam-extra-mass at dm = 0 with a rotation lock (and, with friction, a slide lock)."""
 
     def __init__(self, v, friction=False):
-        from .statics import _structure
+        from .model import Model
+        from .paper import declare
         n = v.get("n_elements") or N_DEFAULT
         if n > N_MAX_DYN:
             raise BadInput(f"parameter n_elements = {n} is too large for the dynamic scenes; "
@@ -173,29 +159,27 @@ class Structure:
             vv["m1"] = 0.0
             vv.setdefault("l2", 1.0)
         self.v = vv
-        bt = _structure(vv, n, False, True, extra_mass=True)
-        self.bt = bt
-        m = bt.model
-        self.model = m
         a = v["a"]
         self.a, self.P = a, v["m"] * v["g"]
         self.Pa = self.P * a
-        th_dof = m.body.dof0 + 2
+        m = Model(declare("beam-extra-mass", vv).freeze(), {"right": n}, a, self.P, finalize=False)
+        self.model = m
+        self.clamp = clamp = m.joint["clamp"]
+        th_dof = m.body_dof("deck") + 2
         self.th_dof = th_dof
         self.rot = m.add_constraint(RotationLock(th_dof))
-        self.slock = m.add_constraint(SlideLock(bt.clamp)) if friction else None
-        top = bt.clamp.node
+        self.slock = m.add_constraint(SlideLock(clamp)) if friction else None
         self.h = 0.5 * vv["l2"] / a
-        self.rG = np.array([1.0 + v["d"] / a, v["b"] / a])
-        self.inertia = m.add_term(InertiaLoads(top, m.X0[top], m.body, self.rG, self.h, np.zeros(2)))
+        piece = np.arange(m.body_dof("piece"), m.body_dof("piece") + 3) if "piece" in m.body_index else None
+        self.inertia = m.add_term(InertiaLoads(np.arange(th_dof - 2, th_dof + 1), piece, np.zeros(2)))
         m.finalize()
         idx = m.constraints.index(self.rot)
         self.row_rot = m.n_q + int(m.c_off[idx])
-        self.row_clamp = m.n_q + int(m.c_off[m.constraints.index(bt.clamp)])
-        self.row_A1 = m.n_q + int(m.c_off[m.constraints.index(bt.pin_A1)])
-        self.row_B1 = m.n_q + int(m.c_off[m.constraints.index(bt.pin_B1)])
+        self.row_clamp = m.n_q + int(m.c_off[m.constraints.index(clamp)])
+        self.row_A1 = m.n_q + int(m.c_off[m.constraints.index(m.joint["A1"])])
+        self.row_B1 = m.n_q + int(m.c_off[m.constraints.index(m.joint["B1"])])
         self.row_s = (m.n_q + int(m.c_off[m.constraints.index(self.slock)])) if friction else None
-        self.cdofs = bt.clamp.dofs
+        self.cdofs = clamp.dofs
         # masses (SI)
         self.mass, self.m1 = v["m"], vv["m1"]
         self.JG = v["m"] * ((2 * a) ** 2 + (2 * v["b"]) ** 2) / 12.0
@@ -280,13 +264,13 @@ class Structure:
         raise SolverFailure(f"statics at phi = {phi:.6g} rad did not converge ({self.mode})", hist)
 
     def slide(self, y):
-        return float(self.bt.clamp.slide(y[self.cdofs])[0])
+        return float(self.clamp.slide(y[self.cdofs])[0])
 
     def potential(self, y, alpha):
         """Total potential energy of a state [P a]: strain energy + weights + spring (no inertia)."""
         m = self.model
         q = y[:m.n_q]
-        E = strain_energy(m.elements, m.nodal(q), alpha)
+        E = strain_energy(m.elements, m.nodal(q), alpha) + float(m.p_lin @ q)
         for t in m.terms:
             if t is self.inertia:
                 continue
@@ -300,7 +284,7 @@ class Structure:
         e = np.zeros(y.size)
         e[self.row_rot] = 1.0
         y1 = -sla.lu_solve(lu, e, check_finite=False)        # dy/dphi
-        s, ds, Hs = self.bt.clamp.slide(y[self.cdofs])
+        s, ds, Hs = self.clamp.slide(y[self.cdofs])
         q1 = y1[self.cdofs]
         s1 = float(ds @ q1)
         s2 = 0.0
@@ -649,7 +633,7 @@ def _write(out_dir, name, hist, st):
     frames = []
     for k in idx:
         y, alpha = hist["states"][k]
-        pts, cells, pdata, cdata, field = mesh_data(st.bt, y, alpha)
+        pts, cells, pdata, cdata = mesh_data(st.model, y, alpha)
         frames.append((float(H[k, 0]), pts, cells, pdata, cdata))
     files = write_series(frames, out_dir, name)
     return [path] + files

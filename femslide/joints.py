@@ -1,211 +1,241 @@
-"""Joints as exact constraints g(z) = 0 (Lagrange multipliers), and the slider spring.
+"""Joints as exact constraints g(z) = 0 (Lagrange multipliers), and the springs joints carry.
 
-Every constraint acts on a few model dofs and returns its values g (m,), gradient G (m, k) and
-Hessians H (m, k, k) over those dofs, or, given the multipliers mu, the weighted Hessian
-sum_i mu_i H_i (k, k) that the Newton tangent needs.  The kinematics are scalar ``math``: a joint has a
-handful of numbers, and numpy's per-call cost would dominate.  The multiplier mu of a constraint is
-the generalised force it exerts *on the constraint's first participant taken with a minus sign*: the
-support reaction of a pin is -mu, the clamp's transverse force on the rod end is -mu_1 n and its
-moment -mu_2.
+Every part of a model moves as a *frame* with three dofs (u, v, theta): a rod node (its
+displacement and rotation) or a rigid body (the displacement of its centroid and its rotation); the
+ground is a frame without dofs.  A point fixed to a frame at reference offset r from the frame's
+origin X sits at X + (u, v) + R(theta) r.  A joint connects a point of part a to a point of part b
+(both at the joint point ``at`` in the reference configuration); with w = p_a - p_b and the guide
+direction e = R(theta_b) e0 carried by b, n = e turned by +90 degrees:
 
-Joints (SPEC section 3):
-- :class:`NodePin`: a rod node pinned to the ground (u = v = 0); optionally clamped (theta = 0).
-- :class:`BodyPin`: a body point pinned to the ground (a rigid rod AA1 is part of the body).
-- :class:`Weld`: a rod end welded to the body (same position and rotation).
-- :class:`SlidingClamp`: prismatic joint; the rod node S stays on the body-fixed guide line and
-  turns with the body; the slide s along the line is free.  s > 0 when the rod end advances along
-  the guide direction e (up the guide in the vertical state).
-- :class:`GuideLine`: a rigid rod pinned at a ground point and held by a sliding clamp: the body's
-  guide point stays on the line through the ground point along the guide direction.
+- ``pin``:    w = 0                                   (2 equations)
+- ``weld``:   w = 0, theta_a - theta_b = 0            (3)
+- ``slider``: w . n = 0, theta_a - theta_b = 0        (2; the slide s = w . e is free)
+- ``roller``: w . n = 0                               (1)
+
+Each constraint returns its values g (m,), gradient G (m, k) and Hessians over its k <= 6 dofs (a's
+then b's), or, given the multipliers mu, the weighted Hessian sum_i mu_i H_i that the Newton tangent
+needs.  The kinematics are scalar ``math``: a joint has a handful of numbers, and numpy's per-call
+cost would dominate.  Sign of the multipliers: the equations are stationarity of
+U + V + mu . g, so the generalised force of the joint on a is -G_a^T mu: a pin's force on a is -mu,
+a slider's transverse force on a is -mu_1 n and its moment -mu_2.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
-from .body import Body
+SIZES = {"pin": 2, "weld": 3, "slider": 2, "roller": 1}
 
 
-def node_dofs(node):
-    return np.arange(3 * node, 3 * node + 3)
+@dataclass(frozen=True)
+class Carrier:
+    """One side of a joint: the frame's first dof (None for the ground), the frame origin X and the
+    offset r of the joint point from it, in the reference configuration (model units)."""
+
+    dof0: int | None
+    X: tuple
+    r: tuple
+
+    @property
+    def dofs(self):
+        return np.arange(self.dof0, self.dof0 + 3) if self.dof0 is not None else np.zeros(0, np.intp)
 
 
-class _Joint:
-    """g, G and the Hessians from ``_parts(z) -> (g, G, hess)`` (lists; hess: (i, a, b, value) for
-    the nonzero entries H_i[a, b])."""
+def _point(z, i, c: Carrier):
+    """(px, py, Rx, Ry, theta) of the carrier's joint point; Rr = R(theta) r."""
+    rx, ry = c.r
+    if i is None:
+        return c.X[0] + rx, c.X[1] + ry, 0.0, 0.0, 0.0
+    t = z[i + 2]
+    if rx == 0.0 and ry == 0.0:   # a rod node: no lever
+        return c.X[0] + z[i], c.X[1] + z[i + 1], 0.0, 0.0, t
+    co, si = math.cos(t), math.sin(t)
+    Rx, Ry = co * rx - si * ry, si * rx + co * ry
+    return c.X[0] + z[i] + Rx, c.X[1] + z[i + 1] + Ry, Rx, Ry, t
+
+
+class Link:
+    """A joint between carriers a and b (see the module docstring)."""
+
+    def __init__(self, name: str, kind: str, a: Carrier, b: Carrier, axis=None):
+        self.name, self.kind, self.a, self.b = name, kind, a, b
+        self.size = SIZES[kind]
+        self.ia = 0 if a.dof0 is not None else None
+        self.ib = (3 if a.dof0 is not None else 0) if b.dof0 is not None else None
+        self.dofs = np.concatenate([a.dofs, b.dofs]).astype(np.intp)
+        self.k = self.dofs.size
+        self.lever_a = a.r != (0.0, 0.0)
+        self.lever_b = b.r != (0.0, 0.0)
+        self.e0 = tuple(axis) if axis is not None else (0.0, 1.0)
+        self.n0 = (-self.e0[1], self.e0[0])
+
+    # -- kinematics ----------------------------------------------------------------------------------
+    def _w(self, z):
+        """w = p_a - p_b, its gradient [(dof, dwx, dwy)], second derivatives [(dof, d2wx, d2wy)]
+        (only theta-theta of a body carrier), b's rotation and a's rotation."""
+        ia, ib = self.ia, self.ib
+        ax, ay, Rax, Ray, tha = _point(z, ia, self.a)
+        bx, by, Rbx, Rby, thb = _point(z, ib, self.b)
+        dw, d2w = [], []
+        if ia is not None:
+            dw += [(ia, 1.0, 0.0), (ia + 1, 0.0, 1.0)]
+            if self.lever_a:
+                dw.append((ia + 2, -Ray, Rax))
+                d2w.append((ia + 2, -Rax, -Ray))
+        if ib is not None:
+            dw += [(ib, -1.0, 0.0), (ib + 1, 0.0, -1.0)]
+            if self.lever_b:
+                dw.append((ib + 2, Rby, -Rbx))
+                d2w.append((ib + 2, Rbx, Rby))
+        return ax - bx, ay - by, dw, d2w, tha, thb
+
+    def _frame(self, thb):
+        """Guide direction e and normal n carried by b (constant for the ground)."""
+        co, si = math.cos(thb), math.sin(thb)
+        ex, ey = self.e0
+        nx, ny = self.n0
+        return co * ex - si * ey, si * ex + co * ey, co * nx - si * ny, si * nx + co * ny
+
+    def _parts(self, z):
+        k, ia, ib = self.k, self.ia, self.ib
+        wx, wy, dw, d2w, tha, thb = self._w(z)
+        g, G, hess = [], [], []
+        if self.kind in ("pin", "weld"):
+            gx, gy = [0.0] * k, [0.0] * k
+            for i, dx, dy in dw:
+                gx[i] += dx
+                gy[i] += dy
+            g += [wx, wy]
+            G += [gx, gy]
+            for i, hx, hy in d2w:
+                hess += [(0, i, i, hx), (1, i, i, hy)]
+        else:
+            ex, ey, nx, ny = self._frame(thb)
+            row = [0.0] * k
+            for i, dx, dy in dw:
+                row[i] += dx * nx + dy * ny
+            for i, hx, hy in d2w:
+                hess.append((0, i, i, hx * nx + hy * ny))
+            if ib is not None:
+                j = ib + 2
+                row[j] -= wx * ex + wy * ey           # w . dn/dthb, dn/dthb = -e
+                for i, dx, dy in dw:                  # 2 sym(dw . dn/dthb) (x) delta_b
+                    v = -(dx * ex + dy * ey)
+                    hess += [(0, i, j, v), (0, j, i, v)]
+                hess.append((0, j, j, -(wx * nx + wy * ny)))  # w . d2n/dthb2, d2n = -n
+            g.append(wx * nx + wy * ny)
+            G.append(row)
+        if self.kind in ("weld", "slider"):
+            row = [0.0] * k
+            if ia is not None:
+                row[ia + 2] = 1.0
+            if ib is not None:
+                row[ib + 2] = -1.0
+            g.append(tha - thb)
+            G.append(row)
+        return g, G, hess
 
     def eval(self, z, mu=None):
+        """g, G and the Hessians (m, k, k), or with ``mu`` the weighted Hessian (k, k)."""
         g, G, hess = self._parts(z.tolist())
-        G = np.array(G)
-        k = G.shape[1]
+        k = self.k
         if mu is None:
             H = np.zeros((len(g), k, k))
             for i, a, b, v in hess:
                 H[i, a, b] += v
-            return np.array(g), G, H
+            return np.array(g), np.array(G), H
         mu = mu.tolist()
-        Hmu = np.zeros((k, k))
+        Hmu = [0.0] * (k * k)
         for i, a, b, v in hess:
-            Hmu[a, b] += mu[i] * v
-        return np.array(g), G, Hmu
+            Hmu[a * k + b] += mu[i] * v
+        return np.array(g), np.array(G), np.array(Hmu).reshape(k, k)
 
-
-def _guide_frame(theta, wx, wy):
-    """cos and sin of the body rotation and the components of w along the body's guide normal
-    n = (cos Th, sin Th) and guide direction e = (-sin Th, cos Th)."""
-    c, s = math.cos(theta), math.sin(theta)
-    return c, s, wx * c + wy * s, -wx * s + wy * c
-
-
-@dataclass
-class NodePin(_Joint):
-    node: int
-    clamp: bool = False
-    name: str = "pin"
-
-    @property
-    def dofs(self):
-        return node_dofs(self.node)[: 3 if self.clamp else 2]
-
-    @property
-    def size(self):
-        return 3 if self.clamp else 2
-
-    def _parts(self, z):
-        m = self.size
-        return z, np.eye(m), ()
-
-
-@dataclass
-class BodyPin(_Joint):
-    body: Body
-    r: np.ndarray      # body-local offset of the pinned point
-    ground: np.ndarray  # ground point [m]
-    name: str = "pin"
-    size: int = 2
-
-    @property
-    def dofs(self):
-        return self.body.dofs
-
-    def _parts(self, z):
-        px, py, Rx, Ry = self.body.place(z, self.r)
-        g = [px - self.ground[0], py - self.ground[1]]
-        G = [[1.0, 0.0, -Ry], [0.0, 1.0, Rx]]
-        return g, G, ((0, 2, 2, -Rx), (1, 2, 2, -Ry))
-
-
-@dataclass
-class Weld(_Joint):
-    node: int
-    X0: np.ndarray  # initial node position
-    body: Body
-    r: np.ndarray   # body-local offset of the weld point
-    name: str = "weld"
-    size: int = 3
-
-    @property
-    def dofs(self):
-        return np.concatenate([node_dofs(self.node), self.body.dofs])
-
-    def _parts(self, z):
-        px, py, Rx, Ry = self.body.place(z[3:], self.r)
-        g = [self.X0[0] + z[0] - px, self.X0[1] + z[1] - py, z[2] - z[5]]
-        G = [[1.0, 0.0, 0.0, -1.0, 0.0, Ry],
-             [0.0, 1.0, 0.0, 0.0, -1.0, -Rx],
-             [0.0, 0.0, 1.0, 0.0, 0.0, -1.0]]
-        return g, G, ((0, 5, 5, Rx), (1, 5, 5, Ry))
-
-
-@dataclass
-class SlidingClamp(_Joint):
-    """Rod node S on the body-fixed line through body point r along body direction (0, 1)."""
-
-    node: int
-    X0: np.ndarray
-    body: Body
-    r: np.ndarray
-    name: str = "clamp"
-    size: int = 2
-
-    @property
-    def dofs(self):
-        return np.concatenate([node_dofs(self.node), self.body.dofs])
-
-    def _frame(self, z):
-        """:func:`_guide_frame` of w = p_S - A0 - U_b (so that g1 = w.n - r_x, s = w.e - r_y)."""
-        return _guide_frame(z[5], self.X0[0] + z[0] - self.body.A0[0] - z[3],
-                            self.X0[1] + z[1] - self.body.A0[1] - z[4])
-
-    def _parts(self, z):
-        c, s, wn, we = self._frame(z)
-        g = [wn - self.r[0], z[2] - z[5]]
-        G = [[c, s, 0.0, -c, -s, we], [0.0, 0.0, 1.0, 0.0, 0.0, -1.0]]
-        hess = ((0, 5, 5, -wn), (0, 0, 5, -s), (0, 5, 0, -s), (0, 1, 5, c), (0, 5, 1, c),
-                (0, 3, 5, s), (0, 5, 3, s), (0, 4, 5, -c), (0, 5, 4, -c))
-        return g, G, hess
-
+    # -- joint quantities ------------------------------------------------------------------------------
     def slide(self, z):
-        """Slide s [m], its gradient and Hessian over the joint dofs."""
-        c, s, wn, we = self._frame(z.tolist())
-        ds = np.array([-s, c, 0.0, s, -c, -wn])
-        H = np.zeros((6, 6))
-        H[5, 5] = -we
-        H[0, 5] = H[5, 0] = -c
-        H[1, 5] = H[5, 1] = -s
-        H[3, 5] = H[5, 3] = c
-        H[4, 5] = H[5, 4] = s
-        return we - self.r[1], ds, H
+        """Slide s = w . e (model units), its gradient and Hessian over the joint dofs (slider, roller).
+        The reference slide (0 when a starts at ``at``) is subtracted by the caller."""
+        z = z.tolist()
+        k, ib = self.k, self.ib
+        wx, wy, dw, d2w, _, thb = self._w(z)
+        ex, ey, nx, ny = self._frame(thb)
+        ds = np.zeros(k)
+        H = np.zeros((k, k))
+        for i, dx, dy in dw:
+            ds[i] += dx * ex + dy * ey
+        for i, hx, hy in d2w:
+            H[i, i] += hx * ex + hy * ey
+        if ib is not None:
+            j = ib + 2
+            ds[j] += wx * nx + wy * ny               # de/dthb = n
+            for i, dx, dy in dw:
+                v = dx * nx + dy * ny
+                H[i, j] += v
+                H[j, i] += v
+            H[j, j] -= wx * ex + wy * ey             # d2e/dthb2 = -e
+        return wx * ex + wy * ey, ds, H
+
+    def rotation(self, z):
+        """theta_a - theta_b [rad] and its gradient over the joint dofs."""
+        z = z.tolist()
+        d = np.zeros(self.k)
+        t = 0.0
+        if self.ia is not None:
+            t += z[self.ia + 2]
+            d[self.ia + 2] = 1.0
+        if self.ib is not None:
+            t -= z[self.ib + 2]
+            d[self.ib + 2] = -1.0
+        return t, d
+
+    def frame(self, z):
+        """(e, n) of the guide at the state z (global unit vectors)."""
+        thb = float(z[self.ib + 2]) if self.ib is not None else 0.0
+        ex, ey, nx, ny = self._frame(thb)
+        return np.array([ex, ey]), np.array([nx, ny])
+
+    def point_a(self, z):
+        """Position of a's joint point (model units) and the lever of a's forces about a's frame."""
+        px, py, Rx, Ry, _ = _point(z.tolist(), self.ia, self.a)
+        return np.array([px, py]), np.array([Rx, Ry])
 
 
 @dataclass
-class GuideLine(_Joint):
-    body: Body
-    r: np.ndarray       # body-local offset of the guide point B
-    ground: np.ndarray  # ground pin of the rigid rod, B1
-    name: str = "guide"
-    size: int = 1
+class RotationalSpring:
+    """Spiral spring c [model units] of a pin: energy (c/2) (theta_a - theta_b)^2."""
 
-    @property
-    def dofs(self):
-        return self.body.dofs
-
-    def _frame(self, z):
-        """:func:`_guide_frame` of w = A0 + U_b - B1 (so that (B - B1).n = w.n + r_x and
-        (B - B1).e = w.e + r_y)."""
-        return _guide_frame(z[2], self.body.A0[0] + z[0] - self.ground[0],
-                            self.body.A0[1] + z[1] - self.ground[1])
-
-    def _parts(self, z):
-        c, s, wn, we = self._frame(z)
-        hess = ((0, 2, 2, -wn), (0, 0, 2, -s), (0, 2, 0, -s), (0, 1, 2, c), (0, 2, 1, c))
-        return [wn + self.r[0]], [[c, s, we]], hess
-
-    def slide(self, z):
-        """Advance of the rigid rod past the guide point along e: s = l_rod - (B - B1).e."""
-        _, _, _, we = self._frame(z.tolist())
-        return (self.body.A0[1] + self.r[1] - self.ground[1]) - (we + self.r[1])
-
-
-@dataclass
-class SliderSpring:
-    """Linear spring k [N/m] along a sliding clamp, energy (k/2) s^2 + F0 s (F0: preload [N]).
-
-    The preload is a load (scaled with gravity while the load is ramped); k is a stiffness.
-    """
-
-    clamp: SlidingClamp
-    k: float
-    F0: float = 0.0
+    link: Link
+    c: float
     name: str = "spring"
 
     @property
     def dofs(self):
-        return self.clamp.dofs
+        return self.link.dofs
 
     def eval(self, z, lam=1.0):
-        s, ds, Hs = self.clamp.slide(z)
-        f = self.k * s + lam * self.F0
-        return 0.5 * self.k * s * s + lam * self.F0 * s, f * ds, self.k * np.outer(ds, ds) + f * Hs, self.F0 * ds
+        t, d = self.link.rotation(z)
+        return 0.5 * self.c * t * t, self.c * t * d, self.c * np.outer(d, d), np.zeros(d.size)
+
+
+@dataclass
+class SlideSpring:
+    """Linear spring k along a slider or roller: energy (k/2) s^2 - lam F0 s, with s the slide from
+    the reference position; the preload F0 pushes a along +axis and is ramped with the loads."""
+
+    link: Link
+    k: float
+    F0: float = 0.0
+    s0: float = 0.0
+    name: str = "spring"
+
+    @property
+    def dofs(self):
+        return self.link.dofs
+
+    def eval(self, z, lam=1.0):
+        s, ds, Hs = self.link.slide(z)
+        s -= self.s0
+        f = self.k * s - lam * self.F0
+        return (0.5 * self.k * s * s - lam * self.F0 * s, f * ds, self.k * np.outer(ds, ds) + f * Hs,
+                -self.F0 * ds)

@@ -1,78 +1,56 @@
-"""Loads as potential-energy terms, scaled by the load factor lam while the load is ramped.
+"""Loads as potential-energy terms, scaled by the load factor lam while the loads are ramped.
 
-Each term acts on a few model dofs and returns (energy, gradient, Hessian, d gradient / d lam).
-Gravity acts in -y: the potential of a weight W [N] at height y is W y.
+Dead forces and moments on a frame's origin (a rod node, a body's centroid) have a linear
+potential: the model adds them to one constant load vector (no Hessian, no Jacobian entries).  A
+force applied at a body point away from the centroid turns with the body: it is a term with a
+Hessian (:class:`PointForce`).  Distributed loads on rods are turned into nodal loads by
+:func:`distributed_nodal_loads`.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from .body import Body
-from .joints import node_dofs
-
 
 @dataclass
-class BodyWeight:
-    """Weight W [N] at the body point with local offset r."""
+class PointForce:
+    """Dead force F (2,) and moment M on a body point at reference offset r from the body's centroid
+    (model units); dofs = the body's (u, v, theta).  Potential -lam [F . (u + R r - r) + M theta]."""
 
-    body: Body
-    r: np.ndarray
-    W: float
-    name: str = "weight"
-
-    @property
-    def dofs(self):
-        return self.body.dofs
+    dofs: np.ndarray
+    r: tuple
+    F: tuple
+    M: float = 0.0
+    name: str = "force"
 
     def eval(self, z, lam=1.0):
-        _, py, Rx, Ry = self.body.place(z.tolist(), self.r)
-        W = self.W
-        g0 = np.array([0.0, W, W * Rx])
+        t = float(z[2])
+        c, s = math.cos(t), math.sin(t)
+        rx, ry = self.r
+        Rx, Ry = c * rx - s * ry, s * rx + c * ry
+        Fx, Fy = self.F
+        E = -(Fx * (z[0] + Rx - rx) + Fy * (z[1] + Ry - ry) + self.M * t)
+        g0 = np.array([-Fx, -Fy, -(Fx * -Ry + Fy * Rx) - self.M])
         H = np.zeros((3, 3))
-        H[2, 2] = -lam * W * Ry
-        return lam * W * py, lam * g0, H, g0
+        H[2, 2] = lam * (Fx * Rx + Fy * Ry)
+        return lam * E, lam * g0, H, g0
 
 
-@dataclass
-class RigidPieceWeight:
-    """Weight W [N] of a rigid piece attached to rod node ``node`` and turning with the body:
-    its centre sits at the node plus h along the body's guide direction e = R(Theta) (0, 1)."""
-
-    node: int
-    X0: np.ndarray
-    body: Body
-    h: float
-    W: float
-    name: str = "piece weight"
-
-    @property
-    def dofs(self):
-        return np.concatenate([node_dofs(self.node), self.body.dofs])
-
-    def eval(self, z, lam=1.0):
-        th = z[5]
-        y = self.X0[1] + z[1] + self.h * np.cos(th)
-        g0 = np.zeros(6)
-        g0[1], g0[5] = self.W, -self.W * self.h * np.sin(th)
-        H = np.zeros((6, 6))
-        H[5, 5] = -lam * self.W * self.h * np.cos(th)
-        return lam * self.W * y, lam * g0, H, g0
-
-
-@dataclass
-class NodeLoad:
-    """Dead force (Fx, Fy) [N] and moment Mz [N m] (counter-clockwise) on a rod node."""
-
-    node: int
-    F: np.ndarray  # (Fx, Fy, Mz)
-    name: str = "nodal load"
-
-    @property
-    def dofs(self):
-        return node_dofs(self.node)
-
-    def eval(self, z, lam=1.0):
-        g0 = -np.asarray(self.F, float)
-        return lam * (g0 @ z), lam * g0, np.zeros((3, 3)), g0
+def distributed_nodal_loads(X, q):
+    """Nodal loads (n_nodes, 3) = (Fx, Fy, Mz) of a dead load q (2,) per unit reference length on a
+    rod meshed with the nodes X (n_nodes, 2): each element passes q L/2 to each node and the
+    consistent end moments +-q_perp L^2/12 (q_perp: component along the element's reference normal),
+    exact for a linear beam; interior end moments cancel for a uniform load and mesh."""
+    D = np.diff(X, axis=0)
+    L = np.hypot(D[:, 0], D[:, 1])
+    nrm = np.column_stack([-D[:, 1], D[:, 0]]) / L[:, None]
+    qp = nrm @ np.asarray(q, float)
+    out = np.zeros((X.shape[0], 3))
+    half = 0.5 * L[:, None] * np.asarray(q, float)[None, :]
+    out[:-1, :2] += half
+    out[1:, :2] += half
+    out[:-1, 2] += qp * L * L / 12.0
+    out[1:, 2] -= qp * L * L / 12.0
+    return out

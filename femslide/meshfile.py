@@ -14,7 +14,7 @@ A group is either a meshio cell set of that name (Gmsh physical names arrive so)
 data array of that name, nonzero on the group's cells (what ``femslide mesh`` writes: VTU keeps cell
 data, not cell sets).
 
-What a mesh fixes, and what it does not: femslide's scene builders (femslide/statics.py) make straight
+What a mesh fixes, and what it does not: femslide's scene declarations (femslide/paper.py) make straight
 rods with equally spaced nodes, one element count for all flexible rods.  A scene file's mesh is
 *checked* against them (groups present, rods straight with equal elements, end points where the
 scene's parameters a, l, L put them) and its element count sets ``n_elements``; the solver then
@@ -56,15 +56,15 @@ class Geometry:
 
 def geometry(scene: str, values: dict, n: int) -> Geometry:
     """The reference geometry the solver builds for ``scene`` with validated ``values`` and ``n``
-    elements per flexible rod (the builders of femslide.statics, scaled back to SI)."""
+    elements per flexible rod (the declarations of femslide.paper)."""
     import numpy as np
-    from .statics import BUILDERS
-    if scene not in BUILDERS:
+    from .paper import CANTILEVERS, STRUCTURES, declare
+    if scene not in STRUCTURES + CANTILEVERS:
         raise BadInput(f"scene {scene} builds no beams: it has no mesh")
-    bt = BUILDERS[scene]({**values, "n_elements": n}, n)
-    m, Lr = bt.model, bt.Lref
-    rods = {r.name: r.nodes()[0] * Lr for r in m.rods}
-    if bt.kind == "cantilever":
+    t = np.linspace(0.0, 1.0, n + 1)[:, None]
+    rods = {r.name: (1 - t) * np.asarray(r.start) + t * np.asarray(r.end)
+            for r in declare(scene, values).rods.values()}
+    if scene in CANTILEVERS:
         return Geometry(rods, supports={"clamp": rods["cantilever"][0]})
     a, l, b = values["a"], values["l"], values["b"]
     g = Geometry(rods, supports={"A1": np.array([0.0, 0.0]), "B1": np.array([2 * a, 0.0])})
@@ -203,8 +203,8 @@ def check(mf: MeshFile, scene: str, values: dict) -> None:
     """Check a read mesh against the scene's reference geometry for ``values`` (with the mesh's own
     element count).  Raises BadInput naming the group and the parameter that disagree."""
     import numpy as np
-    from .statics import BUILDERS
-    if scene not in BUILDERS:
+    from .paper import CANTILEVERS, STRUCTURES
+    if scene not in STRUCTURES + CANTILEVERS:
         raise BadInput(f"scene {scene} builds no beams: a mesh file does not apply")
     # the rods the scene needs (names only): a cheap build with one element
     rod_names = list(geometry(scene, values, 1).rods)

@@ -1,18 +1,22 @@
-"""Assembly of a planar model: flexible rods, one rigid body, joints and loads.
+"""The discretised model of a frozen structure: meshed rods, frames, joints, loads and assembly.
 
-Unknowns y = [q, mu] (+ lam in displacement control): q holds the nodal dofs (u, v, theta) of every
-rod node, then the body dofs (U, V, Theta); mu the constraint multipliers.  The equations are the
-stationarity of the Lagrangian  U_rods(q) + lam V_loads(q) + sum mu_i g_i(q):
+Every part moves as a frame with three dofs (u, v, theta): the nodes of the rod meshes first, then
+the rigid bodies (displacement of the centroid and rotation); the ground has none.  Unknowns are
+y = [q, mu] (+ lam in displacement control): q the frame dofs, mu the joint multipliers.  The
+equations are the stationarity of the Lagrangian  U_rods(q) + U_springs(q) + lam V_loads(q) +
+sum mu_i g_i(q):
 
     R(q) + lam f(q) + G(q)^T mu = 0,    g(q) = 0,
 
-solved by Newton with the consistent tangent [[K + lam K_V + sum mu_i H_i, G^T], [G, 0]].
-In displacement control the body rotation is prescribed (Theta = Theta_c) and lam is unknown.
+solved by Newton with the consistent tangent [[K + lam K_V + sum mu_i H_i, G^T], [G, 0]].  In
+displacement control one dof is prescribed and lam is the extra unknown.
 
-All quantities are whatever units the caller builds the model in; the statics driver builds it
-nondimensional (lengths by a reference length, forces by a reference force).
+The model is nondimensional: lengths by ``Lref`` [m], forces by ``Fref`` [N] (moments by Fref Lref),
+so that EI/(P a^2) from 1 to 1e12 needs no tuning; :mod:`femslide.results` scales back to SI.
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from scipy.linalg.lapack import dgbsv as _gbsv
@@ -22,8 +26,9 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from . import corotational
-from .body import Body
-from .forms import basic_stiffness
+from .joints import Carrier, Link, RotationalSpring, SlideSpring
+from .loads import PointForce, distributed_nodal_loads
+from .structure import Frozen, Table
 
 _ONE = np.ones(1)
 DENSE_LIMIT = 100  # unknowns; above it a banded LU is faster when the band is narrow
@@ -72,13 +77,11 @@ class BandMatrix:
         return out
 
 
-_TOPOLOGIES: dict = {}  # dof layouts and Jacobian patterns by model topology
-
-
 class _Topology:
-    """Dof layout of a finalized model and the scatter patterns of its Jacobian (static)."""
+    """Dof layout of a finalized model and the scatter patterns of its Jacobian (static; shared by
+    models of the same topology through a :class:`PatternCache`)."""
 
-    def __init__(self, model, con_dofs, term_dofs):
+    def __init__(self, model, con_dofs, term_dofs, lin_dofs):
         n_q = model.n_q
         sizes = [c.size for c in model.constraints]
         self.c_off = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
@@ -105,7 +108,7 @@ class _Topology:
         self.con_mu = [slice(self.c_off[i], self.c_off[i + 1]) for i in range(len(sizes))]
         self.con_rows = [slice(n_q + self.c_off[i], n_q + self.c_off[i + 1]) for i in range(len(sizes))]
         # loads act on few dofs: d r / d lam is sparse with a static pattern
-        self.load_dofs = (np.unique(np.concatenate(term_dofs)) if term_dofs else np.zeros(0, np.intp))
+        self.load_dofs = np.unique(np.concatenate([*term_dofs, lin_dofs])).astype(np.intp)
         self.patterns = {}
 
     def pattern(self, control):
@@ -132,46 +135,214 @@ class _Topology:
         return self.patterns[key]
 
 
-class Model:
-    """Rods are meshed at construction; joints and loads are added, then :meth:`finalize`."""
+class PatternCache:
+    """Dof layouts and Jacobian patterns by model topology, owned by whoever solves several models
+    of one topology (the mesh levels of a solve, the cases of a sweep)."""
 
-    def __init__(self, rods, body_A0=None):
-        self.rods = list(rods)
-        Xs, conn, rod_of = [], [], []
-        self.rod_nodes = []
+    def __init__(self):
+        self._topologies = {}
+
+    def topology(self, model, con_dofs, term_dofs, lin_dofs):
+        key = (model.n_q, model.elements.conn.tobytes() if model.elements is not None else b"",
+               tuple((c.size, d.tobytes()) for c, d in zip(model.constraints, con_dofs)),
+               tuple(d.tobytes() for d in term_dofs), lin_dofs.tobytes())
+        topo = self._topologies.get(key)
+        if topo is None:
+            topo = self._topologies[key] = _Topology(model, con_dofs, term_dofs, lin_dofs)
+        return topo
+
+
+def element_stiffness(L0, s0, EI, EA):
+    """Basic stiffness (n, 3, 3) of beam elements of lengths L0 starting at arc lengths s0: the
+    closed form EA/L, EI/L [[4, 2], [2, 4]] for constant EI and EA, scikit-fem forms otherwise."""
+    if isinstance(EI, Table) or isinstance(EA, Table):
+        from .forms import basic_stiffness
+        return basic_stiffness(L0, s0, EI, EA)
+    kb = np.zeros((L0.size, 3, 3))
+    kb[:, 0, 0] = EA / L0
+    kb[:, 1, 1] = kb[:, 2, 2] = 4.0 * EI / L0
+    kb[:, 1, 2] = kb[:, 2, 1] = 2.0 * EI / L0
+    return kb
+
+
+def _scaled(x, f):
+    return x.scaled(f) if isinstance(x, Table) else x * f
+
+
+class _RodPlan:
+    __slots__ = ("name", "S", "E", "length", "EI", "EA", "q", "loaded")
+
+
+class _JointPlan:
+    __slots__ = ("name", "kind", "ra", "rb", "at", "axis", "k", "preload", "c")
+
+
+class _Plan:
+    """What a frozen structure's models share whatever their meshes, in model units."""
+
+    def __init__(self, fs: Frozen, L: float, F: float):
+        rods = fs.rods
+        body_w, rod_w = fs.weights()
+        dist = {r.name: np.zeros(2) for r in rods}
+        for ld in fs.loads:
+            if ld.type == "distributed":
+                dist[ld.on] += np.asarray(ld.force)
+        self.rods = []
+        self.rod_index = {}
+        for k, rod in enumerate(rods):
+            rp = _RodPlan()
+            rp.name = rod.name
+            rp.S, rp.E = np.asarray(rod.start, float) / L, np.asarray(rod.end, float) / L
+            rp.length = rod.length / L
+            rp.EI, rp.EA = _scaled(rod.EI, 1.0 / (F * L * L)), _scaled(rod.EA, 1.0 / F)
+            rp.q = (dist[rod.name] + np.asarray(rod_w[rod.name])) * (L / F)
+            rp.loaded = bool(rp.q.any())
+            self.rods.append(rp)
+            self.rod_index[rod.name] = k
+        self.body_index = {b.name: i for i, b in enumerate(fs.bodies)}
+        self.body_X0 = np.array([b.centroid for b in fs.bodies], float).reshape(-1, 2) / L
+        bp = np.zeros((len(fs.bodies), 3))
+        for name, (Fx, Fy) in body_w.items():
+            bp[self.body_index[name], :2] -= (Fx / F, Fy / F)
+        self.node_loads, self.point_forces = [], []
+        for ld in fs.loads:
+            if ld.type != "force":
+                continue
+            ref, _ = fs.refs[ld.name]
+            vec = np.array([ld.force[0] / F, ld.force[1] / F, ld.moment / (F * L)])
+            if ref.kind == "rod_end":
+                self.node_loads.append((ref.name, ref.end, -vec))
+                continue
+            i = self.body_index[ref.name]
+            r = np.asarray(ld.at, float) / L - self.body_X0[i]
+            if np.abs(r).max() <= 1e-14:
+                bp[i] -= vec
+            else:
+                self.point_forces.append((ref.name, (float(r[0]), float(r[1])), (float(vec[0]), float(vec[1])),
+                                          float(vec[2]), ld.name))
+        self.body_p = bp.ravel()
+        self.joints = []
+        for j in fs.joints:
+            jp = _JointPlan()
+            jp.name, jp.kind, jp.axis = j.name, j.type, j.axis
+            jp.ra, jp.rb = fs.refs[j.name]
+            jp.at = (j.at[0] / L, j.at[1] / L)
+            jp.k, jp.preload, jp.c = j.k * L / F, j.preload / F, j.c / (F * L)
+            self.joints.append(jp)
+
+
+def _plan(fs: Frozen, L: float, F: float) -> _Plan:
+    """The structure's plan for these model units (kept on the frozen structure)."""
+    key = ("plan", L, F)
+    plan = fs.derived.get(key)
+    if plan is None:
+        plan = fs.derived[key] = _Plan(fs, L, F)
+    return plan
+
+
+class Model:
+    """A frozen structure meshed with ``elements[rod]`` elements per rod, in model units.
+
+    Built complete (joints, springs, loads) and finalized; callers that add constraints or terms
+    of their own (the dynamics) pass ``finalize=False`` and call :meth:`finalize` themselves.
+    """
+
+    def __init__(self, structure: Frozen, elements: dict, Lref: float, Fref: float,
+                 cache: PatternCache | None = None, finalize: bool = True):
+        self.structure, self.Lref, self.Fref = structure, Lref, Fref
+        self.cache = cache or PatternCache()
+        plan = _plan(structure, Lref, Fref)
+        Xs, conn, rod_of, kbs, qel, p_lin = [], [], [], [], [], []
+        self.rod_nodes, self.rod_index = [], plan.rod_index
         off = 0
-        kbs = []
-        for k, rod in enumerate(self.rods):
-            X, s = rod.nodes()
-            n = rod.n
+        for k, rp in enumerate(plan.rods):
+            n = int(elements[rp.name])
+            t = np.arange(n + 1) / n
+            X = np.empty((n + 1, 2))
+            X[:, 0] = rp.S[0] + t * (rp.E[0] - rp.S[0])
+            X[:, 1] = rp.S[1] + t * (rp.E[1] - rp.S[1])
+            s = t * rp.length
             Xs.append(X)
-            c = off + np.stack([np.arange(n), np.arange(1, n + 1)], axis=1)
+            c = np.empty((n, 2), np.intp)
+            c[:, 0] = np.arange(off, off + n)
+            c[:, 1] = c[:, 0] + 1
             conn.append(c)
-            L0 = np.diff(s)
-            kbs.append(basic_stiffness(L0, s[:-1], rod.EI, rod.EA))
+            kbs.append(element_stiffness(np.diff(s), s[:-1], rp.EI, rp.EA))
             rod_of.append(np.full(n, k))
             self.rod_nodes.append(np.arange(off, off + n + 1))
+            qel.append(np.broadcast_to(rp.q, (n, 2)))
+            p_lin.append(-distributed_nodal_loads(X, rp.q) if rp.loaded else np.zeros((n + 1, 3)))
             off += n + 1
-        self.X0 = np.concatenate(Xs) if Xs else np.zeros((0, 2))
         self.n_nodes = off
         if conn:
+            self.X0 = np.concatenate(Xs)
             conn = np.concatenate(conn)
             D0 = self.X0[conn[:, 1]] - self.X0[conn[:, 0]]
             self.elements = corotational.ElementSet(
                 conn, D0, np.hypot(D0[:, 0], D0[:, 1]), np.arctan2(D0[:, 1], D0[:, 0]),
                 np.concatenate(kbs), float(np.abs(self.X0).max()))
             self.elem_rod = np.concatenate(rod_of)
+            self.elem_q = np.concatenate(qel)      # distributed load per element [Fref/Lref], global
         else:
+            self.X0 = np.zeros((0, 2))
             self.elements = None
-        self.body = Body(np.asarray(body_A0, float), 3 * off) if body_A0 is not None else None
-        self.n_q = 3 * off + (3 if self.body is not None else 0)
-        self.constraints = []
-        self.terms = []
+            self.elem_rod = np.zeros(0, np.intp)
+            self.elem_q = np.zeros((0, 2))
+        # bodies: frames after the nodes, at their centroids
+        self.body_index = plan.body_index
+        self.body_X0 = plan.body_X0
+        nb3 = 3 * off
+        self.n_q = nb3 + plan.body_p.size
+        p = np.zeros(self.n_q)
+        if p_lin:
+            p[:nb3] = np.concatenate(p_lin).ravel()
+        p[nb3:] = plan.body_p
+        for rod, end, vec in plan.node_loads:
+            d = 3 * self.node(rod, end)
+            p[d:d + 3] += vec
+        self.p_lin = p
+        self.constraints, self.terms = [], []
+        self.joint, self.spring, self.slide0 = {}, {}, {}
+        for jp in plan.joints:
+            link = Link(jp.name, jp.kind, self._carrier(jp.ra, jp.at), self._carrier(jp.rb, jp.at), jp.axis)
+            self.joint[jp.name] = self.add_constraint(link)
+            if jp.kind in ("slider", "roller"):
+                # reference slide: a's point (a rod end may sit anywhere on the line) past ``at``
+                pa = (link.a.X[0] + link.a.r[0] - jp.at[0], link.a.X[1] + link.a.r[1] - jp.at[1])
+                self.slide0[jp.name] = s0 = pa[0] * jp.axis[0] + pa[1] * jp.axis[1]
+                if jp.k or jp.preload:
+                    self.spring[jp.name] = self.add_term(SlideSpring(link, jp.k, jp.preload, s0, jp.name))
+            elif jp.c:
+                self.spring[jp.name] = self.add_term(RotationalSpring(link, jp.c, jp.name))
+        for body, r, Fv, M, name in plan.point_forces:
+            d = self.body_dof(body)
+            self.add_term(PointForce(np.arange(d, d + 3), r, Fv, M, name))
+        if finalize:
+            self.finalize()
 
-    # -- building -------------------------------------------------------------------------------
-    def node(self, rod: int, i: int) -> int:
-        """Model index of node i (negative counts from the end) of rod number ``rod``."""
-        return int(self.rod_nodes[rod][i])
+    # -- layout -----------------------------------------------------------------------------------
+    def node(self, rod: str, i: int) -> int:
+        """Model index of node i (negative counts from the end) of the named rod."""
+        return int(self.rod_nodes[self.rod_index[rod]][i])
+
+    def body_dof(self, body: str) -> int:
+        """First dof (u) of the named body's frame."""
+        return 3 * (self.n_nodes + self.body_index[body])
+
+    def _carrier(self, ref, at):
+        if ref.kind == "ground":
+            return Carrier(None, (0.0, 0.0), at)
+        if ref.kind == "rod_end":   # the joint point on a rod end is the end node itself
+            nd = self.node(ref.name, ref.end)
+            X = self.X0[nd]
+            return Carrier(3 * nd, (float(X[0]), float(X[1])), (0.0, 0.0))
+        X = self.body_X0[self.body_index[ref.name]]
+        return Carrier(self.body_dof(ref.name), (float(X[0]), float(X[1])),
+                       (at[0] - float(X[0]), at[1] - float(X[1])))
+
+    def frame_X0(self, f: int):
+        """Reference origin of frame f (a node or a body) in model units."""
+        return self.X0[f] if f < self.n_nodes else self.body_X0[f - self.n_nodes]
 
     def add_constraint(self, c):
         self.constraints.append(c)
@@ -182,45 +353,36 @@ class Model:
         return t
 
     def finalize(self):
-        """Fix the dof layout and the scatter pattern of the Jacobian (static; shared by every model
-        of the same topology: the levels of a mesh refinement and the cases of a sweep)."""
+        """Fix the dof layout and the scatter pattern of the Jacobian."""
         con_dofs = [c.dofs for c in self.constraints]
         term_dofs = [t.dofs for t in self.terms]
-        key = (self.n_q, self.elements.conn.tobytes() if self.elements is not None else b"",
-               tuple((c.size, d.tobytes()) for c, d in zip(self.constraints, con_dofs)),
-               tuple(d.tobytes() for d in term_dofs))
-        topo = _TOPOLOGIES.get(key)
-        if topo is None:
-            topo = _Topology(self, con_dofs, term_dofs)
-            if len(_TOPOLOGIES) > 64:
-                _TOPOLOGIES.clear()
-            _TOPOLOGIES[key] = topo
+        lin_dofs = np.nonzero(self.p_lin)[0].astype(np.intp)
+        topo = self.cache.topology(self, con_dofs, term_dofs, lin_dofs)
         self._topo = topo
         self.c_off, self.n_c, self.n = topo.c_off, topo.n_c, topo.n
         self.edofs, self._ebinT, self._load_dofs = topo.edofs, topo.ebinT, topo.load_dofs
-        self._term_dofs, self._con_dofs = term_dofs, con_dofs
+        self._term_dofs, self._con_dofs, self._lin_dofs = term_dofs, con_dofs, lin_dofs
         self._con_mu, self._con_rows = topo.con_mu, topo.con_rows
+        rot = np.arange(2, self.n_q, 3)
+        self._rot = rot.astype(np.intp)
         return self
 
     def _pattern(self, control):
-        """Static index arrays (rows, cols), size, banded pattern or None, sparse flag, and the dense
-        scatter index (cached per topology)."""
         return self._topo.pattern(control)
 
     def rotation_dofs(self):
-        """Indices of the rotational dofs (node and body rotations) among the unknowns (cached)."""
-        if getattr(self, "_rot", None) is None:
-            rot = list(range(2, 3 * self.n_nodes, 3))
-            if self.body is not None:
-                rot.append(self.body.dof0 + 2)
-            self._rot = np.array(rot, dtype=np.intp)
+        """Indices of the rotational dofs (node and body rotations) among the unknowns."""
         return self._rot
+
+    def multipliers(self, y, link):
+        i = self.constraints.index(link)
+        return y[self.n_q + self.c_off[i]:self.n_q + self.c_off[i + 1]]
 
     def zero_state(self):
         ne = self.elements.size if self.elements is not None else 0
         return np.zeros(self.n), np.zeros(ne)
 
-    # -- evaluation ------------------------------------------------------------------------------
+    # -- evaluation ---------------------------------------------------------------------------------
     def nodal(self, q):
         return q[: 3 * self.n_nodes].reshape(-1, 3)
 
@@ -230,6 +392,15 @@ class Model:
             return np.zeros((0, 3)), np.zeros(0)
         _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False)
         return qb, alpha
+
+    def energy(self, y, alpha_ref, lam=1.0):
+        """Total potential energy (model units) of the state: strain + springs + lam loads."""
+        q = y[:self.n_q]
+        E = corotational.strain_energy(self.elements, self.nodal(q), alpha_ref) if self.elements is not None else 0.0
+        E += lam * float(self.p_lin @ q)
+        for t, d in zip(self.terms, self._term_dofs):
+            E += float(t.eval(q[d], lam)[0])
+        return E
 
     def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
         """Residual and Jacobian of the equations at y.
@@ -258,6 +429,10 @@ class Model:
             if jacobian:
                 vals.append(K.ravel())
                 noise = 4.0 * float(out[4].max())
+        if self._lin_dofs.size:
+            p = self.p_lin[self._lin_dofs]
+            r[self._lin_dofs] += lam * p
+            fl[self._lin_dofs] += p
         for t, d in zip(self.terms, self._term_dofs):
             _, gt, Ht, g0 = t.eval(q[d], lam)
             r[d] += gt

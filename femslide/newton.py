@@ -65,6 +65,8 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
             floor = info["noise"] / (1.0 + info["fmax"])
         res = max(res_f, res_g)
         hist.append(res)
+        if A is not None and control is None and isinstance(A, np.ndarray):
+            model.last_tangent = A.copy()
         if not np.isfinite(res):
             return y, NewtonInfo(False, it, hist, "residual is not finite")
         # converged: below tol, or below the (worst-case) round-off bound, under which the residual
@@ -82,6 +84,8 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
         best = min(best, res)
         if stalled >= 4 and best <= 1e-7:
             return y, NewtonInfo(True, it - 1, hist, "stagnated at round-off level", alpha=info["alpha"])
+        if control is None and isinstance(A, np.ndarray):
+            model.last_tangent = A.copy()  # for a stability check of the solution (LU overwrites A)
         try:
             dy = -solve_linear(A, r)
         except (np.linalg.LinAlgError, RuntimeError, ValueError) as exc:
@@ -115,11 +119,15 @@ class Branch:
     history: list
 
 
-def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alpha0=None,
+def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, alpha0=None,
                      phi_max=math.pi, tol=1e-11):
-    """Principal equilibrium at lam = 1 by control of the body rotation phi = -Theta.
+    """Principal equilibrium at lam = 1 by control of one dof: its value is ``sign * phi`` and phi
+    grows from 0 (for the paper's structures the body rotation, sign = -1: phi = -Theta).
 
-    ``phi_guess`` (magnitude, rad) is a first estimate (the equivalent spring-hinge model); ``y0``,
+    A maximum of the load factor before lam = 1 (d lam / d phi <= 0 at 0 < lam < 1) is a limit
+    point: the path of ramped loads ends there, and SolverFailure says so and at which load factor.
+
+    ``phi_guess`` (magnitude) is a first estimate (e.g. the equivalent spring-hinge model); ``y0``,
     ``alpha0`` a state to start from (the deformed spring-hinge mechanism at phi_guess, or the
     interpolated solution of a coarser mesh), used only if the load factor that holds its rotation
     is between 0.25 and 2 and the path from it succeeds: otherwise the path starts from the
@@ -131,7 +139,7 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
 
     def controlled(phi, z0, a0, maxit=40):
         nonlocal total_it
-        z, info = newton(model, z0, a0, control=(theta_dof, -phi_dir * phi), tol=tol, maxit=maxit)
+        z, info = newton(model, z0, a0, control=(theta_dof, sign * phi), tol=tol, maxit=maxit)
         total_it += info.iterations
         hist_all.extend(info.history)
         if not info.converged:
@@ -142,7 +150,7 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
         """d z / d phi along the controlled path (its last entry is d lam / d phi)."""
         _, A, _ = model.system(z, a, control=(theta_dof, 0.0))
         rhs = np.zeros(z.size)
-        rhs[-1] = -phi_dir
+        rhs[-1] = sign
         return solve_linear(A, rhs)
 
     def follow(y, a, phi, lam, trial):
@@ -153,7 +161,7 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
         pred = z_c.copy()
         # start with the body already at the prescribed rotation: at the undeformed state the load
         # factor can be undetermined (a + d = 0: the weight has no moment about A1, a singular Jacobian)
-        pred[theta_dof] = -phi_dir * phi
+        pred[theta_dof] = sign * phi
         phi_lo, phi_hi = 0.0, None
         for _ in range(200):
             # a good start converges in a few iterations: do not spend long on a poor one
@@ -164,7 +172,7 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
                     raise SolverFailure("poor start: load factor far from 1", hist_all)
             if out is None:
                 if phi - phi_lo <= 1e-12 * max(phi, 1e-300):
-                    raise SolverFailure(f"path following stalled at phi = {phi_dir * phi:.6g} rad", hist_all)
+                    raise SolverFailure(f"path following stalled at {phi:.6g} of the controlled dof", hist_all)
                 phi = phi_lo + 0.5 * (phi - phi_lo)
                 pred = z_c
                 continue
@@ -178,7 +186,7 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
                 y_f, info_f = newton(model, z[:model.n], a, lam=1.0, tol=tol)
                 total_it += info_f.iterations
                 if info_f.converged and abs(abs(y_f[theta_dof]) - phi) <= 0.05 * phi \
-                        and np.sign(y_f[theta_dof]) == -phi_dir:
+                        and np.sign(y_f[theta_dof]) == sign:
                     return Branch(y_f, info_f.alpha, total_it, info_f.history)
             dz = tangent(z, a)
             slope = dz[-1]
@@ -193,12 +201,17 @@ def principal_branch(model, theta_dof, phi_dir=1.0, phi_guess=None, y0=None, alp
                     # Newton in log-log: lam ~ phi^p near the rigid limit (p = 3 for a quartic potential)
                     p = max(slope * phi / lam, 0.5)
                     new = min(phi * lam ** (-1.0 / p), 2.0 * phi, phi + 0.35)
+                elif lam > 0.05 and slope <= 0:
+                    raise SolverFailure(f"limit point: the load factor reaches its maximum {lam:.6g} < 1 at "
+                                        f"{phi:.6g} of the controlled dof; the loads cannot be ramped to full "
+                                        f"value on the principal branch", hist_all)
                 else:
-                    new = phi + min(0.1, phi)  # before/past a limit point: keep marching
+                    new = phi + min(0.1, phi)  # not yet loaded (lam <= 0): keep marching
                 if phi_hi is not None and not new < phi_hi:
                     new = 0.5 * (phi + phi_hi)
                 if new >= phi_max:
-                    raise SolverFailure(f"no equilibrium on the principal branch up to |phi| = {phi_max:g} rad",
+                    raise SolverFailure(f"no equilibrium on the principal branch up to {phi_max:g} of the "
+                                        f"controlled dof (rad or model lengths)",
                                         hist_all)
             if abs(new - phi) <= 1e-15 * phi:
                 break

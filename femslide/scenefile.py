@@ -37,8 +37,8 @@ def is_scene_file(name: str) -> bool:
 
 
 def is_fe(scene: Scene) -> bool:
-    """Scenes whose mesh a file can fix: the FE statics scenes (runners in femslide.statics)."""
-    return scene.runner.startswith(".statics:")
+    """Scenes whose mesh a file can fix: the FE statics scenes (runners in femslide.paper)."""
+    return scene.runner.startswith(".paper:")
 
 
 def no_mesh_reason(scene: Scene) -> str:

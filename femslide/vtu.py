@@ -1,43 +1,35 @@
-"""VTU output of FE states (ParaView, pyvista): one file per static state, VTU + PVD for series.
+"""VTU output of static states (ParaView, pyvista): one file per state, VTU + PVD for series.
 
-Everything written is in SI units (m, N, N m, rad): the model's nondimensional values are multiplied
-back by the reference scales of :class:`~femslide.statics.Built` (lengths by ``Lref``, forces by
-``Fref``, moments by ``Fref * Lref``).  This module only reads the model and the state; it imports
-meshio, never pyvista.
+Everything written is in SI units (m, N, N m, rad), for any declared structure; this module only
+reads the model and the state, and imports meshio, never pyvista.
 
 Mesh of a static state (deformed configuration, z = 0):
 
-- flexible rods: one line cell per element (``part`` 0, ``rod`` = the rod's index in the model);
-- the rigid body ABCD (structure scenes): one polygon cell with its own four corner points (``part``
-  1, ``rod`` -1);
-- rigid rods that are part of the mechanism but not meshed (the left rod AA1 of beam-slider, the right
-  rod of beam-fixed, the telescopic piece of beam-extra-mass): one line cell each (``part`` 2,
-  ``rod`` -1), drawn for the picture only.
+- rods: one line cell per element (``part`` 0, ``rod`` = the rod's index in the declaration, in the
+  order of the ``rods`` list of the sidecar);
+- bodies with an outline of 3 or more points: one polygon cell through the outline's points, moved
+  rigidly with the body (``part`` 1, ``body`` = the body's index);
+- bodies with a 2-point outline (rigid rods, links): one line cell (``part`` 2);
+- a body's links to its joint points that lie off its outline (e.g. a rigid rod that is part of the
+  body and ends in a ground pin): one line cell from the nearest outline point (``part`` 2).
 
 Point data (defined on every point):
 
 - ``displacement`` (u, v, 0) [m]: displacement from the undeformed position;
-- ``rotation`` [rad]: counter-clockwise; on body and rigid-rod points the body rotation Theta
-  (the paper's phi is -Theta);
-- ``bending_moment`` [N m]: the internal bending moment M = EI dtheta/ds, s the arc length from the
-  rod's first node (the ground end for the built-in scenes): M > 0 when the rod turns
-  counter-clockwise as s increases.  From an element's basic end moments (M1, M2), counter-clockwise
-  on the element ends, M = -M1 at its start node and M = M2 at its end node; at an interior node the
-  two neighbours' values (equal at equilibrium) are averaged.  Zero on body and rigid-rod points
-  (not computed there).
+- ``rotation`` [rad]: counter-clockwise; on body points the body's rotation;
+- ``bending_moment`` [N m]: M = EI dtheta/ds at the rod nodes, s the arc length from the rod's
+  ``start`` (M > 0 where the rod turns counter-clockwise as s grows), averaged over the two elements
+  at an interior node; zero on body points;
+- ``axial_force`` N [N] (tension > 0) and ``shear_force`` V [N] at the rod nodes: the part beyond a
+  cut exerts on the part before it the force N t - V n and the moment M (t the rod's tangent, n = t
+  turned by +90 degrees), so that dM/ds = V; zero on body points.
 
-Cell data (defined on every cell; NaN where not computed: body and rigid rods):
+Cell data (one value per cell): ``axial_force`` and ``shear_force`` at the element's middle [N]
+(NaN on bodies), ``part`` (0 rod element, 1 body polygon, 2 rigid link), ``rod`` (rod index or -1),
+``body`` (body index or -1).
 
-- ``axial_force`` N [N]: tension positive;
-- ``shear_force`` V [N] = (M1 + M2)/Ln (Ln the current chord length) = dM/ds.  With t the unit chord
-  vector (start to end node) and n = t turned by +90 degrees, the material before a cut (smaller s)
-  exerts on the material after it the force -N t + V n and the moment -M; the material after the
-  cut exerts N t - V n and +M on the material before;
-- ``part`` (int): 0 rod element, 1 body, 2 rigid rod; ``rod`` (int): rod index or -1.
-
-Field data (also in the sidecar ``<scene>.json``): ``phi`` [rad] (structures), ``M_max`` [N m]
-(largest |bending moment| of *this* mesh: the adaptive solver reports a Richardson-extrapolated
-value, the file shows its finest mesh), the reactions and, for cantilevers, the tip values.
+Field data (and the sidecar ``<name>.json``): the named results of this mesh (no extrapolation),
+flattened as ``rods_NAME_M_max``, ``joints_NAME_Fx``, ..., the units and the conventions.
 """
 from __future__ import annotations
 
@@ -49,149 +41,130 @@ import xml.sax.saxutils as _sx
 import numpy as np
 
 PART_ROD, PART_BODY, PART_RIGID = 0, 1, 2
-POINT_FIELDS = ("displacement", "rotation", "bending_moment")
-CELL_FIELDS = ("axial_force", "shear_force", "part", "rod")
+POINT_FIELDS = ("displacement", "rotation", "bending_moment", "axial_force", "shear_force")
+CELL_FIELDS = ("axial_force", "shear_force", "part", "rod", "body")
+CONVENTIONS = {
+    "units": "SI (m, N, N m, rad)",
+    "rotation": "counter-clockwise positive",
+    "bending_moment": "M = EI dtheta/ds at the nodes, s from the rod's start",
+    "forces": "at a cut the part beyond exerts N t - V n and the moment M on the part before; dM/ds = V",
+    "axial_force": "N, tension positive",
+    "part": "0 rod element, 1 body polygon, 2 rigid link (2-point outline)",
+    "reactions": "forces and moments of the ground on the structure",
+}
 
 
-# -- static state -> mesh arrays ----------------------------------------------------------------------
-
-def nodal_moments(qb, conn, n_nodes):
-    """Bending moment at every node from the elements' basic forces (N, M1, M2): -M1 at the start node,
-    M2 at the end node, averaged over the elements meeting at a node (0 at nodes without elements)."""
-    acc = np.zeros(n_nodes)
-    cnt = np.zeros(n_nodes)
-    np.add.at(acc, conn[:, 0], -qb[:, 1])
-    np.add.at(acc, conn[:, 1], qb[:, 2])
-    np.add.at(cnt, conn.ravel(), 1.0)
-    return np.divide(acc, cnt, out=np.zeros(n_nodes), where=cnt > 0)
-
-
-def _body_height(bt):
-    """Full height AD/a of the body (nondimensional), from the build or from its weight term."""
-    h = getattr(bt, "body_height", None)
-    if h is not None:
-        return float(h)
-    from .loads import BodyWeight
-    for t in bt.model.terms:
-        if isinstance(t, BodyWeight):
-            return 2.0 * float(t.r[1])  # G = A0 + (a + d, b): the body's half height is b
-    return 1.0
-
-
-def mesh_data(bt, y, alpha):
+def mesh_data(model, y, alpha, arrays=None):
     """Deformed mesh of a static state in SI units.
 
-    Returns (points (n, 3), cells [(type, connectivity)], point_data, cell_data, field_data) in
-    meshio's layout (cell data: one array per cell block).
-    """
-    from .body import rot
-    m = bt.model
-    Lr, Fr = bt.Lref, bt.Fref
-    q = y[:m.n_q]
-    U = m.nodal(q)
-    pts, disp, rotn, mom = [], [], [], []
-    blocks = []  # (type, conn, axial, shear, part, rod)
-
-    if m.elements is not None:
-        es = m.elements
-        qb, _ = m.element_forces(q, alpha)
-        X = m.X0 + U[:, :2]
-        D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
-        Ln = np.hypot(D[:, 0], D[:, 1])
+    Returns (points (n, 3), cells [(type, connectivity)], point_data, cell_data) in meshio's layout
+    (cell data: one array per cell block)."""
+    from .results import rod_arrays
+    L, F = model.Lref, model.Fref
+    q = y[:model.n_q]
+    arrays = rod_arrays(model, y, alpha) if arrays is None else arrays
+    pts, disp, rotn, mom, Np, Vp = [], [], [], [], [], []
+    blocks = []  # (type, conn, N, V, part, rod, body)
+    n_pts = 0
+    if model.elements is not None:
+        es = model.elements
+        qb, _ = model.element_forces(q, alpha)
+        U = model.nodal(q)
+        X = (model.X0 + U[:, :2]) * L
         pts.append(X)
-        disp.append(U[:, :2])
+        disp.append(U[:, :2] * L)
         rotn.append(U[:, 2])
-        mom.append(nodal_moments(qb, es.conn, m.n_nodes) * Fr * Lr)
+        for rod in model.structure.rods:
+            a = arrays[rod.name]
+            mom.append(a["M"])
+            Np.append(a["N"])
+            Vp.append(a["V"])
+        D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
+        Ln = np.hypot(D[:, 0], D[:, 1]) / L
         ne = es.size
-        blocks.append(("line", es.conn, qb[:, 0] * Fr, (qb[:, 1] + qb[:, 2]) / Ln * Fr,
-                       np.full(ne, PART_ROD), m.elem_rod.astype(int)))
-        n_pts = m.n_nodes
-    else:
-        n_pts = 0
-
-    def add_points(P, P0, theta):
-        nonlocal n_pts
-        P, P0 = np.atleast_2d(P), np.atleast_2d(P0)
+        blocks.append(("line", es.conn, qb[:, 0] * F, (qb[:, 1] + qb[:, 2]) / Ln * F,
+                       np.full(ne, PART_ROD), model.elem_rod.astype(int), np.full(ne, -1)))
+        n_pts = model.n_nodes
+    for i, b in enumerate(model.structure.bodies):
+        if not b.outline:
+            continue
+        d = model.body_dof(b.name)
+        u, v, th = (float(x) for x in q[d:d + 3])
+        c, s = math.cos(th), math.sin(th)
+        P0 = np.asarray(b.outline, float)
+        r = P0 - np.asarray(b.centroid, float)
+        P = np.asarray(b.centroid) + np.array([u, v]) * L + np.column_stack([c * r[:, 0] - s * r[:, 1],
+                                                                            s * r[:, 0] + c * r[:, 1]])
+        k = len(P)
         pts.append(P)
         disp.append(P - P0)
-        rotn.append(np.full(len(P), theta))
-        mom.append(np.zeros(len(P)))
-        idx = np.arange(n_pts, n_pts + len(P))
-        n_pts += len(P)
-        return idx
-
-    def add_rigid(P, P0, theta):
-        idx = add_points(P, P0, theta)
-        blocks.append(("line", idx[None, :], np.full(1, np.nan), np.full(1, np.nan),
-                       np.full(1, PART_RIGID), np.full(1, -1)))
-
-    body = m.body
-    field = {"Lref": Lr, "Fref": Fr}
-    if body is not None:
-        zb = q[body.dof0:body.dof0 + 3]
-        th = float(zb[2])
-        R = rot(th)
-        e = R @ np.array([0.0, 1.0])
-
-        def bpoint(r):
-            return body.A0 + zb[:2] + R @ np.asarray(r, float)
-
-        h = _body_height(bt)
-        corners = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, h], [0.0, h]])
-        P = np.array([bpoint(r) for r in corners])
-        idx = add_points(P, body.A0 + corners, th)
-        blocks.append(("polygon", idx[None, :], np.full(1, np.nan), np.full(1, np.nan),
-                       np.full(1, PART_BODY), np.full(1, -1)))
-        # rigid rods (not meshed), for the picture
-        from .joints import BodyPin, GuideLine
-        from .loads import RigidPieceWeight
-        for c in m.constraints:
-            if isinstance(c, BodyPin):       # rigid rod from the pinned body point to A
-                r = np.asarray(c.r, float)
-                add_rigid(np.array([bpoint(r), bpoint((0.0, 0.0))]),
-                          np.array([body.A0 + r, body.A0]), th)
-            elif isinstance(c, GuideLine):   # rigid rod from its ground pin along the guide
-                g = np.asarray(c.ground, float)
-                Lrod = float((body.A0 + c.r - g)[1])
-                add_rigid(np.array([g, g + Lrod * e]), np.array([g, g + (0.0, Lrod)]), th)
-        for t in m.terms:
-            if isinstance(t, RigidPieceWeight):  # telescopic piece above a rod node, along the guide
-                p = t.X0 + U[t.node, :2]
-                add_rigid(np.array([p, p + 2.0 * t.h * e]), np.array([t.X0, t.X0 + (0.0, 2.0 * t.h)]), th)
-        field["phi"] = -th
-
-    P = np.concatenate(pts) * Lr
+        rotn.append(np.full(k, th))
+        for lst in (mom, Np, Vp):
+            lst.append(np.zeros(k))
+        idx = np.arange(n_pts, n_pts + k)
+        n_pts += k
+        kind, part = ("polygon", PART_BODY) if k >= 3 else ("line", PART_RIGID)
+        blocks.append((kind, idx[None, :], np.full(1, np.nan), np.full(1, np.nan), np.full(1, part),
+                       np.full(1, -1), np.full(1, i)))
+        for at in _off_outline_points(model.structure, b):
+            j = int(np.argmin(np.hypot(*(P0 - at).T)))
+            ra = np.asarray(at) - np.asarray(b.centroid, float)
+            pa = np.asarray(b.centroid) + np.array([u, v]) * L + np.array([c * ra[0] - s * ra[1], s * ra[0] + c * ra[1]])
+            pts.append(pa[None, :])
+            disp.append((pa - at)[None, :])
+            rotn.append(np.full(1, th))
+            for lst in (mom, Np, Vp):
+                lst.append(np.zeros(1))
+            blocks.append(("line", np.array([[idx[j], n_pts]]), np.full(1, np.nan), np.full(1, np.nan),
+                           np.full(1, PART_RIGID), np.full(1, -1), np.full(1, i)))
+            n_pts += 1
+    if not pts:
+        pts, disp, rotn = [np.zeros((0, 2))], [np.zeros((0, 2))], [np.zeros(0)]
+        mom = Np = Vp = [np.zeros(0)]
+    P = np.concatenate(pts)
     points = np.column_stack([P, np.zeros(len(P))])
-    d = np.concatenate(disp) * Lr
-    point_data = {"displacement": np.column_stack([d, np.zeros(len(d))]),
-                  "rotation": np.concatenate(rotn),
-                  "bending_moment": np.concatenate(mom)}
-    cells = [(b[0], np.asarray(b[1], dtype=np.int64)) for b in blocks]
-    cell_data = {"axial_force": [b[2] for b in blocks], "shear_force": [b[3] for b in blocks],
-                 "part": [b[4].astype(np.int32) for b in blocks], "rod": [b[5].astype(np.int32) for b in blocks]}
-    rm = point_data["bending_moment"]
-    field["M_max"] = float(np.abs(rm).max()) if rm.size else 0.0
-    return points, cells, point_data, cell_data, field
+    dd = np.concatenate(disp)
+    point_data = {"displacement": np.column_stack([dd, np.zeros(len(dd))]), "rotation": np.concatenate(rotn),
+                  "bending_moment": np.concatenate(mom), "axial_force": np.concatenate(Np),
+                  "shear_force": np.concatenate(Vp)}
+    cells = [(bl[0], np.asarray(bl[1], dtype=np.int64)) for bl in blocks]
+    cell_data = {"axial_force": [bl[2] for bl in blocks], "shear_force": [bl[3] for bl in blocks],
+                 "part": [bl[4].astype(np.int32) for bl in blocks], "rod": [bl[5].astype(np.int32) for bl in blocks],
+                 "body": [bl[6].astype(np.int32) for bl in blocks]}
+    return points, cells, point_data, cell_data
 
 
-def _summary(bt, y, alpha, scene, field):
-    """Sidecar values: the contract's result values for this state (its own mesh, no extrapolation)."""
-    from .statics import extract
-    res = extract(bt, y, alpha)
-    m = bt.model
-    out = {"scene": scene, "units": "SI (m, N, N m, rad)", "Lref": bt.Lref, "Fref": bt.Fref,
-           "n_elements": int(m.elements.size) if m.elements is not None else 0,
-           "rods": [r.name for r in m.rods],
-           "M_max": field["M_max"], "M_max_elements": res["M_max"]}
-    for k in ("phi", "slide", "reactions", "tip"):
-        if k in res:
-            out[k] = res[k]
-    out["conventions"] = {
-        "bending_moment": "M = EI dtheta/ds at the nodes (-M1 at an element's start, M2 at its end)",
-        "shear_force": "V = (M1 + M2)/Ln = dM/ds; material before a cut exerts -N t + V n on the material after",
-        "axial_force": "N, tension positive",
-        "part": "0 rod element, 1 rigid body, 2 rigid rod (not meshed)"}
+def _off_outline_points(fs, body):
+    """Joint points of the body that are neither an outline vertex nor inside its outline polygon."""
+    P = np.asarray(body.outline, float)
+    out = []
+    for j in fs.joints:
+        ra, rb = fs.refs[j.name]
+        if body.name not in (ra.name if ra.kind == "body" else None, rb.name if rb.kind == "body" else None):
+            continue
+        at = np.asarray(j.at, float)
+        scale = max(1.0, float(np.abs(P).max()))
+        if np.hypot(*(P - at).T).min() <= 1e-9 * scale or (len(P) >= 3 and _inside(P, at)):
+            continue
+        if not any(np.allclose(at, o) for o in out):
+            out.append(at)
     return out
+
+
+def _inside(P, p):
+    """Point in polygon (even-odd rule; points on an edge count as inside)."""
+    x, y = p
+    inside = False
+    n = len(P)
+    for i in range(n):
+        (x0, y0), (x1, y1) = P[i], P[(i + 1) % n]
+        cross = (x1 - x0) * (y - y0) - (y1 - y0) * (x - x0)
+        if abs(cross) <= 1e-12 * (1 + abs(x) + abs(y)) and min(x0, x1) - 1e-12 <= x <= max(x0, x1) + 1e-12 \
+                and min(y0, y1) - 1e-12 <= y <= max(y0, y1) + 1e-12:
+            return True
+        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
+            inside = not inside
+    return inside
 
 
 def _flat_numbers(obj, prefix=""):
@@ -205,19 +178,29 @@ def _flat_numbers(obj, prefix=""):
     return out
 
 
-def write_static(bt, y, alpha, out_dir, scene) -> list[str]:
-    """Write ``out_dir/<scene>.vtu`` (deformed mesh, SI units) and the sidecar ``out_dir/<scene>.json``;
-    return the two paths."""
-    points, cells, point_data, cell_data, field = mesh_data(bt, y, alpha)
-    summary = _summary(bt, y, alpha, scene, field)
-    fd = {"M_max": field["M_max"], "Lref": bt.Lref, "Fref": bt.Fref}
-    for k in ("phi", "slide", "reactions", "tip"):
-        if k in summary:
-            fd.update(_flat_numbers({k: summary[k]}))
+def write_static(sol, out_dir, name, extra=None) -> list[str]:
+    """Write ``out_dir/<name>.vtu`` (the finest mesh's deformed state, SI units) and the sidecar
+    ``out_dir/<name>.json`` (that mesh's named results, conventions, ``extra`` values such as a
+    scene's section 7 results); return the two paths."""
+    lv = sol.level
+    model = lv.model
+    points, cells, point_data, cell_data = mesh_data(model, lv.y, lv.alpha, lv.arrays)
+    res = lv.res
+    summary = {"name": name, "units": CONVENTIONS["units"], "Lref": model.Lref, "Fref": model.Fref,
+               "n_elements": int(model.elements.size) if model.elements is not None else 0,
+               "rod_elements": {r.name: int(n.size - 1) for r, n in zip(model.structure.rods, model.rod_nodes)},
+               "rods": [r.name for r in model.structure.rods], "bodies": [b.name for b in model.structure.bodies],
+               "results_of_this_mesh": res, "conventions": CONVENTIONS}
+    if extra:
+        summary.update(extra)
+    fd = {"Lref": model.Lref, "Fref": model.Fref}
+    fd.update(_flat_numbers({k: res[k] for k in ("M_max", "rods", "bodies", "joints", "reactions")}))
+    if extra:
+        fd.update(_flat_numbers(extra))
     os.makedirs(out_dir, exist_ok=True)
-    path = os.path.join(out_dir, f"{scene}.vtu")
+    path = os.path.join(out_dir, f"{name}.vtu")
     _write_vtu(path, points, cells, point_data, cell_data, fd)
-    side = os.path.join(out_dir, f"{scene}.json")
+    side = os.path.join(out_dir, f"{name}.json")
     with open(side, "w") as fh:
         json.dump(_json_safe(summary), fh, indent=1)
     return [path, side]

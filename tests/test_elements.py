@@ -7,22 +7,24 @@
 - corotational element: internal force = gradient of the strain energy and tangent = Jacobian of the
   internal force, by central differences (step 1e-6; tolerance 1e-6 of the largest entry), at large
   deformed states, chords turned past pi included; zero force under a rigid motion of 3.5 rad;
-- joints and loads: gradients and Hessians by central differences (tolerance 1e-7);
-- the assembled Jacobian of every structure scene, in load and in phi control, by central differences
-  of the assembled residual (tolerance 1e-6 of its largest entry).
+- joints (every type between every pair of carriers: rod node, body point, ground; inclined axes),
+  springs and loads: gradients and Hessians by central differences (tolerance 1e-7);
+- the assembled Jacobian of every structure scene and of a general frame with every joint type, in
+  load and in displacement control, by central differences of the assembled residual (tolerance 1e-6
+  of its largest entry).
 """
 import math
 
 import numpy as np
 import pytest
 
-from femslide import corotational
-from femslide.body import Body
+from femslide import corotational, paper
 from femslide.forms import basic_stiffness
-from femslide.joints import BodyPin, GuideLine, NodePin, SliderSpring, SlidingClamp, Weld
-from femslide.loads import BodyWeight, NodeLoad, RigidPieceWeight
+from femslide.joints import Carrier, Link, RotationalSpring, SlideSpring
+from femslide.loads import PointForce
+from femslide.model import Model
 from femslide.scenes import SCENES
-import femslide.statics as st
+from femslide.structure import Structure
 
 RNG = np.random.default_rng(20261121)
 
@@ -116,21 +118,31 @@ def _assemble_K(es, K, nd):
     return A
 
 
+NODE = Carrier(0, (0.2, 1.9), (0.0, 0.0))
+BODY = Carrier(3, (0.3, 2.0), (0.4, -0.3))
+GROUND = Carrier(None, (0.0, 0.0), (0.25, 1.7))
+
+
 def _joint_cases():
-    body = Body(np.array([0.3, 2.0]), 6)
-    return [
-        (NodePin(0), 2), (NodePin(0, clamp=True), 3),
-        (BodyPin(body, np.array([0.1, -2.0]), np.array([0.0, 0.0])), 3),
-        (Weld(0, np.array([0.2, 1.9]), body, np.array([-0.1, -0.1])), 6),
-        (SlidingClamp(0, np.array([2.0, 1.5]), body, np.array([1.7, -0.5])), 6),
-        (GuideLine(body, np.array([1.7, 0.0]), np.array([2.0, 0.0])), 3),
-    ]
+    cases = []
+    for kind in ("pin", "weld", "slider", "roller"):
+        for a, b in ((NODE, GROUND), (BODY, GROUND), (NODE, BODY), (BODY, NODE),
+                     (Carrier(0, (0.1, 0.2), (-0.3, 0.5)), Carrier(3, (1.0, 0.4), (0.2, 0.1)))):
+            link = Link(kind, kind, a, b, axis=(0.6, 0.8))
+            cases.append((link, link.k))
+    return cases
 
 
-@pytest.mark.parametrize("joint,k", _joint_cases(), ids=lambda x: type(x).__name__ if not isinstance(x, int) else "")
+def _id(x):
+    return f"{x.kind}-{x.ia}-{x.ib}" if isinstance(x, Link) else (type(x).__name__ if not isinstance(x, int) else "")
+
+
+@pytest.mark.parametrize("joint,k", _joint_cases(), ids=_id)
 def test_joint_gradient_and_hessian(joint, k):
     z = RNG.normal(0, 0.4, k)
     g, G, H = joint.eval(z)
+    mu = RNG.normal(0, 1.0, g.size)
+    assert np.allclose(joint.eval(z, mu)[2], np.einsum("i,ijk->jk", mu, H), atol=1e-14)
     h = 1e-6
     for j in range(k):
         zp, zm = z.copy(), z.copy()
@@ -142,18 +154,32 @@ def test_joint_gradient_and_hessian(joint, k):
         assert np.allclose(H[:, :, j], (Gp - Gm) / (2 * h), atol=1e-7, rtol=0)
 
 
+@pytest.mark.parametrize("joint,k", [c for c in _joint_cases() if c[0].kind in ("slider", "roller")], ids=_id)
+def test_slide_gradient_and_hessian(joint, k):
+    z = RNG.normal(0, 0.4, k)
+    s, ds, H = joint.slide(z)
+    h = 1e-6
+    for j in range(k):
+        zp, zm = z.copy(), z.copy()
+        zp[j] += h
+        zm[j] -= h
+        sp, dsp, _ = joint.slide(zp)
+        sm, dsm, _ = joint.slide(zm)
+        assert abs(ds[j] - (sp - sm) / (2 * h)) <= 1e-7
+        assert np.allclose(H[:, j], (dsp - dsm) / (2 * h), atol=1e-7, rtol=0)
+
+
 def _term_cases():
-    body = Body(np.array([0.3, 2.0]), 6)
-    clamp = SlidingClamp(0, np.array([2.0, 1.5]), body, np.array([1.7, -0.5]))
+    slider = Link("s", "slider", NODE, BODY, axis=(0.6, 0.8))
+    pin = Link("p", "pin", BODY, NODE)
     return [
-        (BodyWeight(body, np.array([1.2, 0.4]), 1.3), 3),
-        (RigidPieceWeight(0, np.array([2.0, 1.5]), body, 0.7, 0.4), 6),
-        (NodeLoad(0, np.array([0.3, -1.0, 0.2])), 3),
-        (SliderSpring(clamp, 3.0, 0.8), 6),
+        (PointForce(np.arange(3), (1.2, 0.4), (0.3, -1.3), 0.2), 3),
+        (SlideSpring(slider, 3.0, 0.8, 0.1), 6),
+        (RotationalSpring(pin, 2.5), 6),
     ]
 
 
-@pytest.mark.parametrize("term,k", _term_cases(), ids=lambda x: type(x).__name__ if not isinstance(x, int) else "")
+@pytest.mark.parametrize("term,k", _term_cases(), ids=_id)
 @pytest.mark.parametrize("lam", [0.3, 1.0])
 def test_load_gradient_and_hessian(term, k, lam):
     z = RNG.normal(0, 0.4, k)
@@ -181,19 +207,42 @@ def _dense(A):
     raise TypeError(type(A))
 
 
-@pytest.mark.parametrize("scene", ["beam-slider", "beam-fixed", "beam-both", "beam-spring", "beam-extra-mass"])
+def _frame():
+    """A frame with every joint type, springs, an inclined guide, point, end and distributed loads."""
+    s = Structure(gravity=(0.3, -9.81))
+    s.rod("c1", (0, 0), (0, 3), EI=30.0, EA=3e3, rhoA=0.4)
+    s.rod("c2", (4, 0), (4, 3), EI={"s": [0, 3], "value": [40.0, 20.0]}, EA=5e3)
+    s.rod("beam", (0, 3), (4, 3), EI=50.0, EA=4e3)
+    s.body("deck", mass=2.0, centroid=(2, 4), outline=[(0, 3.5), (4, 3.5), (4, 4.5), (0, 4.5)])
+    s.pin("base1", "c1.start", "ground", c=5.0)
+    s.roller("base2", "c2.start", "ground", axis=(1.0, 0.2), k=7.0, preload=0.5)
+    s.weld("k1", "c1.end", "beam.start")
+    s.pin("k2", "c2.end", "beam.end")
+    s.slider("guide", "deck", "beam.end", axis=(0.0, 1.0), at=(4, 3), k=3.0)
+    s.pin("tie", "deck", "c1.end", at=(0, 3))
+    s.force("wind", "deck", force=(1.0, 0.5), moment=0.3, at=(0, 4.5))
+    s.force("tip", "c2.end", force=(0.2, 0.0))
+    s.distributed("snow", "beam", force=(0.0, -0.7))
+    return s.freeze()
+
+
+def _scene_model(scene):
+    v = SCENES[scene].resolve({"EI": 30.0, "EA": 3e3, "n_elements": 3})
+    fs = paper.declare(scene, v).freeze()
+    return Model(fs, {r.name: 3 for r in fs.rods}, *paper.units(scene, v))
+
+
+@pytest.mark.parametrize("scene", ["beam-slider", "beam-fixed", "beam-both", "beam-spring", "beam-extra-mass", "frame"])
 @pytest.mark.parametrize("control", [False, True])
 def test_assembled_jacobian(scene, control):
-    v = SCENES[scene].resolve({"EI": 30.0, "EA": 3e3, "n_elements": 3})
-    bt = st.BUILDERS[scene](v, 3)
-    m = bt.model
+    m = Model(_frame(), {"c1": 3, "c2": 2, "beam": 3}, 4.0, 10.0) if scene == "frame" else _scene_model(scene)
     y = RNG.normal(0, 0.02, m.n)
     y[m.n_q:] = RNG.normal(0, 1.0, m.n_c)
     alpha_ref = np.zeros(m.elements.size)
     ctl = None
     if control:
         y = np.concatenate([y, [0.8]])
-        ctl = (m.body.dof0 + 2, -0.01)
+        ctl = (m.body_dof("deck") + 2, -0.01)
     r, A, _ = m.system(y, alpha_ref, 0.8, ctl)
     A = _dense(A)
     h = 1e-6

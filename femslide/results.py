@@ -1,0 +1,208 @@
+"""Named results of a static state, in SI units: rods, bodies, joints and support reactions.
+
+Conventions (counter-clockwise rotations and moments; forces in global x, y):
+
+- rod arrays along the arc length s from the rod's ``start``: displacements (u, v), rotation theta,
+  axial force N (tension > 0), shear force V and bending moment M = EI dtheta/ds (M > 0 where the rod
+  turns counter-clockwise as s grows).  At a cut at s the part beyond the cut exerts on the part
+  before it the force N t - V n and the moment +M (t the rod's tangent, n = t turned by +90 degrees);
+  so dM/ds = V and, under a distributed load q per unit length, dN/ds = -q . t, dV/ds = -q . n;
+- nodal values: M from the elements' end moments corrected by the fixed-end moments of a
+  distributed load (exact for a linear beam), N and V from each element's force resultant (constant
+  along an unloaded element, linear under a distributed load) projected on the nodal tangent;
+  ``M_max`` includes the interior extremum of the parabola a distributed load adds in an element;
+- bodies: centroid position (x, y) now and rotation;
+- joints: the force (Fx, Fy) and moment M that part b exerts on part a at the joint point (springs
+  included), the slide (sliders, rollers: displacement of a's point along the axis from the
+  reference) and the rotation of a relative to b (pins);
+- reactions: the joints with the ground, as forces of the ground on the structure.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+def rod_arrays(model, y, alpha):
+    """Per rod (by name): node arrays s, x, y, u, v, theta, N, V, M (SI) and the largest |M| along
+    the rod including interior extrema (``M_max``)."""
+    L, F = model.Lref, model.Fref
+    q = y[:model.n_q]
+    U = model.nodal(q)
+    out = {}
+    if model.elements is None:
+        return out
+    es = model.elements
+    qb, _ = model.element_forces(q, alpha)
+    X = model.X0 + U[:, :2]
+    D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
+    Ln = np.hypot(D[:, 0], D[:, 1])
+    t = D / Ln[:, None]
+    nrm = np.column_stack([-t[:, 1], t[:, 0]])
+    L0 = es.L0
+    qe = model.elem_q
+    qp = np.einsum("ij,ij->i", qe, nrm)
+    fem = qp * L0 * L0 / 12.0
+    Ms = -qb[:, 1] + fem
+    Me = qb[:, 2] + fem
+    Vm = (Me - Ms) / L0
+    G = qb[:, :1] * t - Vm[:, None] * nrm           # resultant at mid-element
+    Gs = G + 0.5 * L0[:, None] * qe
+    Ge = G - 0.5 * L0[:, None] * qe
+    # interior extremum of M(xi) = (1 - xi) Ms + xi Me - qp L0^2 xi (1 - xi) / 2
+    loaded = qp != 0
+    xi = np.full(qp.size, -1.0)
+    xi[loaded] = 0.5 - (Me[loaded] - Ms[loaded]) / (qp[loaded] * L0[loaded] ** 2)
+    xi = np.where((xi > 0) & (xi < 1), xi, 0.0)
+    Mi = (1 - xi) * Ms + xi * Me - qp * L0 * L0 * xi * (1 - xi) / 2
+    for k, rod in enumerate(model.structure.rods):
+        nodes = model.rod_nodes[k]
+        el = np.nonzero(model.elem_rod == k)[0]
+        beta0 = rod.angle
+        th = U[nodes, 2]
+        ang = beta0 + th
+        tn = np.column_stack([np.cos(ang), np.sin(ang)])
+        nn = np.column_stack([-tn[:, 1], tn[:, 0]])
+        # node values: average of the two elements meeting at an interior node
+        M = np.zeros(nodes.size)
+        Gn = np.zeros((nodes.size, 2))
+        M[:-1] += Ms[el]
+        M[1:] += Me[el]
+        Gn[:-1] += Gs[el]
+        Gn[1:] += Ge[el]
+        cnt = np.full(nodes.size, 2.0)
+        cnt[0] = cnt[-1] = 1.0
+        M /= cnt
+        Gn /= cnt[:, None]
+        N = np.einsum("ij,ij->i", Gn, tn)
+        V = -np.einsum("ij,ij->i", Gn, nn)
+        # extremes over both sides of every node (they differ where a point load or a joint acts)
+        Nside = np.concatenate([np.einsum("ij,ij->i", Gs[el], tn[:-1]), np.einsum("ij,ij->i", Ge[el], tn[1:])])
+        Vside = np.concatenate([np.einsum("ij,ij->i", Gs[el], nn[:-1]), np.einsum("ij,ij->i", Ge[el], nn[1:])])
+        Mside = np.concatenate([Ms[el], Me[el], Mi[el]])
+        s = np.concatenate([[0.0], np.cumsum(L0[el])])
+        out[rod.name] = {
+            "s": s * L, "x": X[nodes, 0] * L, "y": X[nodes, 1] * L,
+            "u": U[nodes, 0] * L, "v": U[nodes, 1] * L, "theta": th.copy(),
+            "N": N * F, "V": V * F, "M": M * F * L,
+            "M_max": float(np.abs(Mside).max()) * F * L,
+            "N_max": float(np.abs(Nside).max()) * F,
+            "V_max": float(np.abs(Vside).max()) * F,
+        }
+    return out
+
+
+def largest_moment(model, y, alpha) -> float:
+    """Largest |bending moment| [N m] over all rods (cheap when no rod carries a distributed load)."""
+    if model.elements is None:
+        return 0.0
+    if model.elem_q.any():
+        return max(a["M_max"] for a in rod_arrays(model, y, alpha).values())
+    qb, _ = model.element_forces(y[:model.n_q], alpha)
+    return float(np.abs(qb[:, 1:]).max()) * model.Fref * model.Lref
+
+
+def joint_forces(model, y, name):
+    """(Fx, Fy, M) [model units] that b exerts on a at the joint point, springs included."""
+    link = model.joint[name]
+    q = y[:model.n_q]
+    z = q[link.dofs]
+    mu = model.multipliers(y, link)
+    _, Gc, _ = link.eval(z, mu)
+    gen = -(mu @ Gc)
+    spring = model.spring.get(name)
+    if spring is not None:
+        gen = gen - spring.eval(z, 1.0)[1]
+    if link.ia is None:   # a is the ground: not allowed by the declaration layer
+        raise ValueError(f"joint {name}: part a has no dofs")
+    f = gen[link.ia:link.ia + 3]
+    _, lever = link.point_a(z)
+    # the frame moment about a's origin includes the moment of the force about it
+    M = f[2] - (lever[0] * f[1] - lever[1] * f[0])
+    return float(f[0]), float(f[1]), float(M)
+
+
+def extract(model, y, alpha, arrays=None) -> dict:
+    """The named results of SPEC section 8 (SI units) of a converged state."""
+    L, F = model.Lref, model.Fref
+    q = y[:model.n_q]
+    U = model.nodal(q)
+    arrays = rod_arrays(model, y, alpha) if arrays is None else arrays
+    rods = {}
+    for rod in model.structure.rods:
+        a = arrays[rod.name]
+        rods[rod.name] = {"M_max": a["M_max"], "N_max": a["N_max"], "V_max": a["V_max"],
+                          "start": {"u": float(a["u"][0]), "v": float(a["v"][0]), "theta": float(a["theta"][0])},
+                          "end": {"u": float(a["u"][-1]), "v": float(a["v"][-1]), "theta": float(a["theta"][-1])}}
+    bodies = {}
+    for b in model.structure.bodies:
+        d = model.body_dof(b.name)
+        bodies[b.name] = {"x": float(b.centroid[0] + q[d] * L), "y": float(b.centroid[1] + q[d + 1] * L),
+                          "rotation": float(q[d + 2])}
+    joints, reactions = {}, {}
+    for j in model.structure.joints:
+        fx, fy, m = joint_forces(model, y, j.name)
+        out = {"Fx": fx * F, "Fy": fy * F, "M": m * F * L}
+        link = model.joint[j.name]
+        if j.type in ("slider", "roller"):
+            out["slide"] = (float(link.slide(q[link.dofs])[0]) - model.slide0[j.name]) * L
+        if j.type == "pin":
+            out["rotation"] = float(link.rotation(q[link.dofs])[0])
+        joints[j.name] = out
+        if j.b == "ground":
+            reactions[j.name] = {"Fx": out["Fx"], "Fy": out["Fy"], "M": out["M"]}
+    M_all = max((r["M_max"] for r in rods.values()), default=0.0)
+    del U
+    return {"M_max": M_all, "bodies": bodies, "rods": rods, "joints": joints, "reactions": reactions}
+
+
+# -- flat views for the adaptive refinement ------------------------------------------------------------
+KIND_OF = {"M_max": "moment", "M": "moment", "N_max": "force", "V_max": "force", "Fx": "force", "Fy": "force",
+           "u": "length", "v": "length", "slide": "length", "x": "length", "y": "length",
+           "theta": "angle", "rotation": "angle"}
+
+
+def flatten(res: dict, structure):
+    """(values, kinds) of every named number of a section-8 result in a fixed order; body positions
+    enter as displacements (x - x0), so that relative changes measure the motion."""
+    vals, kinds = [res["M_max"]], ["moment"]
+    for r in structure.rods:
+        d = res["rods"][r.name]
+        for key in ("M_max", "N_max", "V_max"):
+            vals.append(d[key])
+            kinds.append(KIND_OF[key])
+        for end in ("start", "end"):
+            for key in ("u", "v", "theta"):
+                vals.append(d[end][key])
+                kinds.append(KIND_OF[key])
+    for b in structure.bodies:
+        d = res["bodies"][b.name]
+        vals += [d["x"] - b.centroid[0], d["y"] - b.centroid[1], d["rotation"]]
+        kinds += ["length", "length", "angle"]
+    for j in structure.joints:
+        d = res["joints"][j.name]
+        for key in ("Fx", "Fy", "M", "slide", "rotation"):
+            if key in d:
+                vals.append(d[key])
+                kinds.append(KIND_OF[key])
+    return np.array(vals, float), kinds
+
+
+def unflatten(template: dict, vals, structure) -> dict:
+    """The inverse of :func:`flatten` on a result of the same structure."""
+    it = iter(np.asarray(vals, float).tolist())
+    out = {"M_max": next(it), "bodies": {}, "rods": {}, "joints": {}, "reactions": {}}
+    for r in structure.rods:
+        d = {k: next(it) for k in ("M_max", "N_max", "V_max")}
+        for end in ("start", "end"):
+            d[end] = {k: next(it) for k in ("u", "v", "theta")}
+        out["rods"][r.name] = d
+    for b in structure.bodies:
+        dx, dy, rot = next(it), next(it), next(it)
+        out["bodies"][b.name] = {"x": b.centroid[0] + dx, "y": b.centroid[1] + dy, "rotation": rot}
+    for j in structure.joints:
+        tj = template["joints"][j.name]
+        d = {k: next(it) for k in ("Fx", "Fy", "M", "slide", "rotation") if k in tj}
+        out["joints"][j.name] = d
+        if j.b == "ground":
+            out["reactions"][j.name] = {k: d[k] for k in ("Fx", "Fy", "M")}
+    return out
