@@ -8,7 +8,9 @@
     femslide mesh SCENE [--set NAME=VALUE]... [--out FILE]
     femslide show RESULT.vtu|RESULT.pvd [--frame K] [--screenshot FILE.png]
 
-SCENE is a built-in scene name or a scene file (``*.toml``, see femslide/scenefile.py).
+SCENE is a built-in scene name, a scene file (``*.toml`` with a ``scene`` key, see
+femslide/scenefile.py) or a structure file (``*.toml`` declaring rods, bodies, joints and loads, see
+femslide/structfile.py).
 
 Exit status: 0 converged, 1 failed to converge (reason on stderr), 2 bad input (the message names
 the parameter and its allowed range).  This module imports nothing heavy: the scene's runner pulls in
@@ -25,8 +27,8 @@ import time
 
 from .errors import BadInput, SolverFailure
 from .params import parse_assignments
+from .run import clean as _clean, fmt as _fmt, load_target as _target, run_case
 from .scenes import SCENES
-from .scenefile import target as _target
 
 
 class _Parser(argparse.ArgumentParser):
@@ -66,14 +68,6 @@ def _build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _fmt(v):
-    if isinstance(v, float):
-        return f"{v:.10g}"
-    if v is None:
-        return "-"
-    return str(v)
-
-
 def _print_scenes(as_json: bool):
     if as_json:
         out = []
@@ -94,48 +88,29 @@ def _print_scenes(as_json: bool):
 
 
 def _print_result(res: dict):
+    """One line per value; named objects (rods, joints, ...) one line each with their values."""
+    def flat(d, prefix=""):
+        out = []
+        for k, x in d.items():
+            if isinstance(x, dict):
+                out += flat(x, f"{prefix}{k}.")
+            else:
+                out.append(f"{prefix}{k}={_fmt(x)}")
+        return out
+
     for key, val in res.items():
-        if isinstance(val, dict):
-            inner = ", ".join(f"{k}={_fmt(x) if not isinstance(x, dict) else x}" for k, x in val.items())
-            print(f"{key:>16}: {inner}")
+        if isinstance(val, dict) and val and all(isinstance(x, dict) for x in val.values()):
+            if not val:
+                continue
+            for name, obj in val.items():
+                print(f"{key + '.' + name:>24}: {', '.join(flat(obj))}")
+        elif isinstance(val, dict):
+            if val:
+                print(f"{key:>24}: {', '.join(flat(val))}")
         elif isinstance(val, list):
-            print(f"{key:>16}: [{len(val)} entries]")
+            print(f"{key:>24}: [{len(val)} entries]")
         else:
-            print(f"{key:>16}: {_fmt(val)}")
-
-
-def _clean(obj):
-    """JSON-safe copy: numpy scalars to float, non-finite floats to null."""
-    if isinstance(obj, dict):
-        return {k: _clean(v) for k, v in obj.items() if not str(k).startswith("_")}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, bool) or obj is None or isinstance(obj, str):
-        return obj
-    if isinstance(obj, int):
-        return obj
-    try:
-        x = float(obj)
-    except (TypeError, ValueError):
-        return str(obj)
-    return x if math.isfinite(x) else None
-
-
-def run_one(scene, values, out=None, quiet=False):
-    """Run a scene; return its result dict, with ``wall_time_s``; with ``out``, write its files and
-    result.json there.  ``quiet`` switches off progress bars."""
-    t0 = time.perf_counter()
-    res = dict(scene.run({**values, "_quiet": True} if quiet else values))
-    res["wall_time_s"] = time.perf_counter() - t0
-    if out:
-        os.makedirs(out, exist_ok=True)
-        writer = res.pop("_write", None)
-        if writer is not None:
-            res["files"] = writer(out)
-        with open(os.path.join(out, "result.json"), "w") as fh:
-            json.dump(_clean(res), fh, indent=1)
-    res.pop("_write", None)
-    return res
+            print(f"{key:>24}: {_fmt(val)}")
 
 
 def _solve(args, command):
@@ -145,7 +120,7 @@ def _solve(args, command):
         raise BadInput(f"scene {scene.name} is a '{scene.command}' scene; run: femslide {scene.command} {args.scene}")
     values = tgt.resolve(parse_assignments(args.set))
     try:
-        res = run_one(scene, values, out=args.out, quiet=args.quiet)
+        res = run_case(scene, values, out=args.out, quiet=args.quiet)
     except SolverFailure as exc:
         if args.json:
             print(json.dumps({"converged": False, "reason": exc.reason,

@@ -28,6 +28,7 @@ import scipy.sparse.linalg as spla
 from . import corotational
 from .joints import Carrier, Link, RotationalSpring, SlideSpring
 from .loads import PointForce, distributed_nodal_loads
+from .patterns import PatternCache
 from .structure import Frozen, Table
 
 _ONE = np.ones(1)
@@ -133,23 +134,6 @@ class _Topology:
         flat = rows * size + cols if band is None and not sparse else None
         self.patterns[key] = (rows, cols, size, band, sparse, flat)
         return self.patterns[key]
-
-
-class PatternCache:
-    """Dof layouts and Jacobian patterns by model topology, owned by whoever solves several models
-    of one topology (the mesh levels of a solve, the cases of a sweep)."""
-
-    def __init__(self):
-        self._topologies = {}
-
-    def topology(self, model, con_dofs, term_dofs, lin_dofs):
-        key = (model.n_q, model.elements.conn.tobytes() if model.elements is not None else b"",
-               tuple((c.size, d.tobytes()) for c, d in zip(model.constraints, con_dofs)),
-               tuple(d.tobytes() for d in term_dofs), lin_dofs.tobytes())
-        topo = self._topologies.get(key)
-        if topo is None:
-            topo = self._topologies[key] = _Topology(model, con_dofs, term_dofs, lin_dofs)
-        return topo
 
 
 def element_stiffness(L0, s0, EI, EA):

@@ -87,8 +87,9 @@ def _as_int(x):
         return x
 
 
-def load(path: str) -> SceneFile:
-    """Read and check a scene file (and its mesh)."""
+def load(path: str):
+    """Read and check a scene file (and its mesh), or a structure file (no ``scene`` key:
+    :mod:`femslide.structfile`)."""
     if not os.path.isfile(path):
         raise BadInput(f"scene file {path} not found")
     try:
@@ -98,12 +99,16 @@ def load(path: str) -> SceneFile:
         raise BadInput(f"scene file {path}: malformed TOML: {exc}") from None
     except UnicodeDecodeError as exc:
         raise BadInput(f"scene file {path}: not UTF-8 text: {exc}") from None
+    if "scene" not in data and any(k in data for k in ("rod", "body", "joint", "load")):
+        from . import structfile
+        return structfile.load(path, data)
     unknown = [k for k in data if k not in KEYS]
     if unknown:
         raise BadInput(f"scene file {path}: unknown key {unknown[0]!r}; allowed: {', '.join(KEYS)} "
                        f"(scene parameters go in the [parameters] table)")
     if "scene" not in data:
-        raise BadInput(f"scene file {path}: missing key 'scene' (a built-in scene name)")
+        raise BadInput(f"scene file {path}: missing key 'scene' (a built-in scene name), and no "
+                       f"[[rod]], [[body]], [[joint]] or [[load]] tables of a structure file")
     if not isinstance(data["scene"], str):
         raise BadInput(f"scene file {path}: 'scene' must be a string (a built-in scene name)")
     try:

@@ -27,25 +27,26 @@ JSONL = "sweep.jsonl"
 EXTRA = ("case", "scene", "params", "status")  # jsonl-only keys (not in `sweep --json` rows)
 
 
-def solve_case(scene_name: str, values: dict, out_dir: str | None = None):
+def solve_case(scene_name: str, values: dict, out_dir: str | None = None, cache=None):
     """Solve one case cold; return (row without the varied parameter, status).
 
     Status: "converged", "failed" (did not converge), "bad-input" (the run rejected the values) or
     "error" (an internal error).  Runs in worker processes: imports are local, results are plain
-    JSON-safe data.
+    JSON-safe data.  ``scene_name``: a built-in scene or a scene or structure file's path; ``cache``:
+    Jacobian patterns shared by the cases solved in this process.
     """
-    from .cli import _clean, run_one
-    from .scenes import get
-    scene = get(scene_name)
+    from .run import clean, load_target, run_case
+    scene = load_target(scene_name).scene
     try:
-        res = run_one(scene, values, out=out_dir, quiet=True)  # the sweep has its own bar
+        res = run_case(scene, {**values, "_cache": cache} if cache is not None else values, out=out_dir,
+                       quiet=True)  # the sweep has its own bar
     except SolverFailure as exc:
         return {"converged": False, "reason": exc.reason}, "failed"
     except BadInput as exc:
         return {"converged": False, "reason": f"bad input: {exc}"}, "bad-input"
     except Exception as exc:  # keep the sweep going; the row says what happened
         return {"converged": False, "reason": f"internal error: {type(exc).__name__}: {exc}"}, "error"
-    res = _clean(res)
+    res = clean(res)
     return res, "converged" if res.get("converged", True) else "failed"
 
 
@@ -89,8 +90,10 @@ def _open_stream(path):
 # -- executors: each yields (case index, row, status) as cases finish ------------------------------------
 
 def _run_serial(scene_name, cases, todo, out_dirs):
+    from .patterns import PatternCache
+    cache = PatternCache()
     for i in todo:
-        row, status = solve_case(scene_name, cases[i], out_dirs[i])
+        row, status = solve_case(scene_name, cases[i], out_dirs[i], cache)
         yield i, row, status
 
 
@@ -162,6 +165,7 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, das
     """Run a sweep from the command line; returns the exit status (0 all converged, 1 a case failed,
     2 a case was rejected as bad input)."""
     scene = target.scene
+    spec = getattr(scene, "spec", scene.name)  # what a worker process loads the case from
     if name in base:
         raise BadInput(f"parameter {name} is both set and varied")
     if jobs < 1:
@@ -206,11 +210,11 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, das
         if not todo:
             runs = iter(())
         elif dask:
-            runs = _run_dask(scene.name, cases, todo, out_dirs, dask, jobs if jobs > 1 else None)
+            runs = _run_dask(spec, cases, todo, out_dirs, dask, jobs if jobs > 1 else None)
         elif jobs > 1 and len(todo) > 1:
-            runs = _run_pool(scene.name, cases, todo, out_dirs, min(jobs, len(todo)))
+            runs = _run_pool(spec, cases, todo, out_dirs, min(jobs, len(todo)))
         else:
-            runs = _run_serial(scene.name, cases, todo, out_dirs)
+            runs = _run_serial(spec, cases, todo, out_dirs)
         for i, row, status in runs:
             values = cases[i]
             row = {name: values[name], **row}
@@ -241,7 +245,7 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, das
 
 
 def _row_text(name, res):
-    from .cli import _fmt
+    from .run import fmt as _fmt
     keys = [k for k in ("phi", "M_max", "slide", "iterations", "error_estimate", "wall_time_s") if k in res]
     return (f"{name}={_fmt(res[name]):>12}  converged={res.get('converged')}  "
             + "  ".join(f"{k}={_fmt(res[k])}" for k in keys))

@@ -28,8 +28,9 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
 from femslide.model import solve_linear  # noqa: E402
+from femslide.patterns import PatternCache  # noqa: E402
+from femslide.paper import solve_scene  # noqa: E402
 from femslide.scenes import SCENES  # noqa: E402
-from femslide.statics import solve_scene  # noqa: E402
 from opensees_models import opensees_slider  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -42,11 +43,14 @@ def sweep(scene, repeats=5):
     cases = {}
     for _ in range(repeats):
         total, its, worst = 0.0, 0, 0.0
+        cache = PatternCache()  # one sweep in one process shares its Jacobian patterns, as `sweep` does
         for k in range(2, 11):
             v = SCENES[scene].resolve({"EI": 10.0 ** k})
             t0 = time.perf_counter()
-            res = solve_scene(scene, v)
+            sol = solve_scene(scene, v, cache=cache)
             dt = time.perf_counter() - t0
+            res = {"M_max": float(sol.watched[0]), "phi": float(sol.watched[1]),
+                   "iterations": sol.iterations, "error_estimate": sol.error_estimate}
             total += dt
             its += res["iterations"]
             worst = max(worst, res["error_estimate"])
@@ -60,23 +64,9 @@ def sweep(scene, repeats=5):
 def per_iteration(n, repeats=5):
     """Seconds per Newton iteration (residual, tangent, linear solve) of an n-element cantilever,
     measured at its converged state (reached by climbing from coarse meshes, as solve_scene does)."""
-    import femslide.statics as st
     v = SCENES["cantilever-load"].resolve({"n_elements": n})
-    cache = {}
-
-    def level(k):
-        if k not in cache:
-            bt = st.build_cantilever_load(v, k)
-            start = None
-            if k > st.N_DIRECT:
-                c = level((k + 1) // 2)
-                start = st.prolong(c[0], c[1], c[2], bt)
-            y, a, _, _ = st._solve_structure(bt, start)
-            cache[k] = (bt, y, a)
-        return cache[k]
-
-    bt, y, alpha = level(n)
-    m = bt.model
+    lv = solve_scene("cantilever-load", v).level
+    m, y, alpha = lv.model, lv.y, lv.alpha
     best = np.inf
     for _ in range(repeats):
         t0 = time.perf_counter()

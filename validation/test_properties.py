@@ -4,11 +4,11 @@ Properties and their references (exact identities, no external code):
 1. Global equilibrium of the FE structures (beam-slider, beam-fixed, beam-both): the support
    reactions and the weight sum to zero force and zero moment about A1.  Tolerance 1e-9 P (forces)
    and 1e-9 P a (moment).  The moment uses the deformed position of G from the body dofs.
-2. The sliding clamp's multipliers equal the rod's end forces: the force and moment the top element
-   exerts at the clamped node S, computed from its basic forces (N, M1, M2) by the corotational
+2. The sliding clamp's force on the rod equals the rod's end forces: the force and moment the top
+   element exerts at the clamped node S, computed from its basic forces (N, M1, M2) by the corotational
    statics f2 = N t + (M1 + M2)/L_n (t_y, -t_x), m2 = M2 (t: unit deformed chord, L_n its length),
-   must equal the clamp's force on the rod -mu_1 n and moment -mu_2 (femslide/joints.py sign
-   convention).  Tolerance 1e-9 (units P, P a) plus femslide's own round-off bound of the element
+   must equal the joint force and moment that the deck exerts on the rod end (femslide.results
+   joint_forces, from the clamp's multipliers).  Tolerance 1e-9 (units P, P a) plus femslide's own round-off bound of the element
    forces (info["noise"] of Model.system: EA eps |x| / L amplified; ~1e-6 P at EA/EI = 1e6, where the
    Newton residual at S stops at ~1e-8 P) - a sign or frame error would show as O(1).
 3. Zero drift while stuck (one-mass oscillator, SPEC section 5): between a stop and the next
@@ -22,13 +22,14 @@ Properties and their references (exact identities, no external code):
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from femslide import dynamics, sdof, statics
+from femslide import dynamics, paper, sdof, static
+from femslide.model import Model
+from femslide.results import extract, joint_forces
 from femslide.scenes import get
 
 SET = settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow],
@@ -42,33 +43,28 @@ geometry = st.fixed_dictionaries({
     "scene": st.sampled_from(["beam-slider", "beam-fixed", "beam-both"]),
 })
 
-BUILD = {"beam-slider": statics.build_slider, "beam-fixed": statics.build_fixed,
-         "beam-both": statics.build_both}
-
-
 def _solved(gm):
     P = gm["m"] * gm["g"]
     a = gm["a"]
-    v = get(gm["scene"]).resolve({"a": a, "b": gm["b"], "d": gm["d_frac"] * a, "l": gm["l"] * a,
-                                  "m": gm["m"], "g": gm["g"], "EI": 10 ** gm["ratio"] * P * a * a,
-                                  "n_elements": gm["n"]})
-    bt = BUILD[gm["scene"]](v, gm["n"])
-    y, alpha, _, _ = statics._solve_structure(bt)
-    return v, bt, y, alpha
+    scene = gm["scene"]
+    v = get(scene).resolve({"a": a, "b": gm["b"], "d": gm["d_frac"] * a, "l": gm["l"] * a,
+                            "m": gm["m"], "g": gm["g"], "EI": 10 ** gm["ratio"] * P * a * a,
+                            "n_elements": gm["n"]})
+    fs = paper.declare(scene, v).freeze()
+    m = Model(fs, {r.name: gm["n"] for r in fs.rods}, *paper.units(scene, v))
+    y, alpha, _ = static.solve_level(m, paper.path(scene, v))
+    return v, m, y, alpha
 
 
 @SET
 @given(geometry)
 def test_global_equilibrium(gm):
     """Forces and the moment about A1 of the reactions and the weight vanish (1e-9 P, 1e-9 P a)."""
-    v, bt, y, alpha = _solved(gm)
-    res = statics.extract(bt, y, alpha)
+    v, m, y, alpha = _solved(gm)
+    res = extract(m, y, alpha)
     P, a = v["m"] * v["g"], v["a"]
     R = res["reactions"]
-    m = bt.model
-    zb = y[m.body.dof0:m.body.dof0 + 3]
-    G, _, _ = m.body.point(zb, np.array([1.0 + v["d"] / a, v["b"] / a]))   # model units (a)
-    xG = G[0] * a
+    xG = res["bodies"]["deck"]["x"]
     fx = R["A1"]["Fx"] + R["B1"]["Fx"]
     fy = R["A1"]["Fy"] + R["B1"]["Fy"] - P
     # A1 = (0, 0), B1 = (2a, 0): moment about A1 = 2a N2 - P x_G
@@ -80,19 +76,15 @@ def test_global_equilibrium(gm):
 @SET
 @given(geometry.filter(lambda g: g["scene"] != "beam-fixed"))
 def test_clamp_multipliers_equal_rod_end_forces(gm):
-    """Clamp multipliers (-mu_1 n, -mu_2) = force and moment of the top element at node S, from its
+    """The clamp's force and moment on the rod = force and moment of the top element at node S, from its
     basic forces (1e-9 P, 1e-9 P a - model units are P and a - plus the round-off bound)."""
-    v, bt, y, alpha = _solved(gm)
-    m = bt.model
+    v, m, y, alpha = _solved(gm)
     q = y[:m.n_q]
     qb, _ = m.element_forces(q, alpha)
-    c = bt.clamp
-    i = m.constraints.index(c)
-    mu = y[m.n_q + m.c_off[i]:m.n_q + m.c_off[i] + 2]
-    th = q[m.body.dof0 + 2]
-    n = np.array([math.cos(th), math.sin(th)])
+    Fx, Fy, Mj = joint_forces(m, y, "clamp")
+    mu = m.multipliers(y, m.joint["clamp"])
     # the top element of the sliding rod ends at the clamped node
-    e = int(np.nonzero(m.elements.conn[:, 1] == c.node)[0][0])
+    e = int(np.nonzero(m.elements.conn[:, 1] == m.node("right", -1))[0][0])
     i1, i2 = m.elements.conn[e]
     U = m.nodal(q)
     D = (m.X0[i2] + U[i2, :2]) - (m.X0[i1] + U[i1, :2])
@@ -102,8 +94,8 @@ def test_clamp_multipliers_equal_rod_end_forces(gm):
     f2 = N * t + (M1 + M2) / Ln * np.array([t[1], -t[0]])
     _, _, info = m.system(y, alpha)
     tol = 1e-9 * max(1.0, abs(mu[0]), abs(mu[1])) + info["noise"]
-    assert np.abs(f2 - (-mu[0] * n)).max() <= tol, (f2, -mu[0] * n, tol)
-    assert abs(M2 - (-mu[1])) <= tol, (M2, -mu[1], tol)
+    assert np.abs(f2 - (Fx, Fy)).max() <= tol, (f2, (Fx, Fy), tol)
+    assert abs(M2 - Mj) <= tol, (M2, Mj, tol)
 
 
 oscillator = st.fixed_dictionaries({
