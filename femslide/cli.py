@@ -20,10 +20,8 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import os
 import sys
-import time
 
 from .errors import BadInput, SolverFailure
 from .params import parse_assignments

@@ -16,7 +16,6 @@ so that EI/(P a^2) from 1 to 1e12 needs no tuning; :mod:`femslide.results` scale
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from scipy.linalg.lapack import dgbsv as _gbsv

@@ -104,7 +104,7 @@ PARAMS: dict[str, Param] = {p.name: p for p in [
     Param("EA", None, "N", "axial stiffness of the flexible rods", 0, _INF, lo_open=True,
           derived="1e6 m^-2 * EI"),
     Param("n_elements", None, "-", "elements per flexible rod (default: chosen adaptively to reach 1e-7)",
-          1, 100000, kind="int", derived="adaptive"),
+          1, 16384, kind="int", derived="adaptive"),
     Param("mu", 0.0, "-", "kinetic Coulomb friction coefficient", 0, _INF),
     Param("mu0", None, "-", "static Coulomb friction coefficient, mu0 >= mu", 0, _INF, derived="mu"),
     Param("c_v", 0.0, "N s/m", "viscous damping coefficient", 0, _INF),

@@ -8,8 +8,10 @@ Conventions (counter-clockwise rotations and moments; forces in global x, y):
   before it the force N t - V n and the moment +M (t the rod's tangent, n = t turned by +90 degrees);
   so dM/ds = V and, under a distributed load q per unit length, dN/ds = -q . t, dV/ds = -q . n;
 - nodal values: M from the elements' end moments corrected by the fixed-end moments of a
-  distributed load (exact for a linear beam), N and V from each element's force resultant (constant
-  along an unloaded element, linear under a distributed load) projected on the nodal tangent;
+  distributed load (exact for a linear beam); N and V from equilibrium of the rod piece before the
+  node: the force resultant G(s) = -(F_start + q s) (F_start: the joint forces and point loads on the
+  rod's start node, q the distributed load), projected on the nodal tangent.  This keeps N exact to
+  the Newton residual where the element's own stretch, times a huge EA, would carry round-off;
   ``M_max`` includes the interior extremum of the parabola a distributed load adds in an element;
 - bodies: centroid position (x, y) now and rotation;
 - joints: the force (Fx, Fy) and moment M that part b exerts on part a at the joint point (springs
@@ -44,51 +46,54 @@ def rod_arrays(model, y, alpha):
     fem = qp * L0 * L0 / 12.0
     Ms = -qb[:, 1] + fem
     Me = qb[:, 2] + fem
-    Vm = (Me - Ms) / L0
-    G = qb[:, :1] * t - Vm[:, None] * nrm           # resultant at mid-element
-    Gs = G + 0.5 * L0[:, None] * qe
-    Ge = G - 0.5 * L0[:, None] * qe
     # interior extremum of M(xi) = (1 - xi) Ms + xi Me - qp L0^2 xi (1 - xi) / 2
     loaded = qp != 0
     xi = np.full(qp.size, -1.0)
     xi[loaded] = 0.5 - (Me[loaded] - Ms[loaded]) / (qp[loaded] * L0[loaded] ** 2)
     xi = np.where((xi > 0) & (xi < 1), xi, 0.0)
     Mi = (1 - xi) * Ms + xi * Me - qp * L0 * L0 * xi * (1 - xi) / 2
-    for k, rod in enumerate(model.structure.rods):
+    fs = model.structure
+    for k, rod in enumerate(fs.rods):
         nodes = model.rod_nodes[k]
         el = np.nonzero(model.elem_rod == k)[0]
-        beta0 = rod.angle
-        th = U[nodes, 2]
-        ang = beta0 + th
+        ang = rod.angle + U[nodes, 2]
         tn = np.column_stack([np.cos(ang), np.sin(ang)])
         nn = np.column_stack([-tn[:, 1], tn[:, 0]])
-        # node values: average of the two elements meeting at an interior node
         M = np.zeros(nodes.size)
-        Gn = np.zeros((nodes.size, 2))
         M[:-1] += Ms[el]
         M[1:] += Me[el]
-        Gn[:-1] += Gs[el]
-        Gn[1:] += Ge[el]
-        cnt = np.full(nodes.size, 2.0)
-        cnt[0] = cnt[-1] = 1.0
-        M /= cnt
-        Gn /= cnt[:, None]
-        N = np.einsum("ij,ij->i", Gn, tn)
-        V = -np.einsum("ij,ij->i", Gn, nn)
-        # extremes over both sides of every node (they differ where a point load or a joint acts)
-        Nside = np.concatenate([np.einsum("ij,ij->i", Gs[el], tn[:-1]), np.einsum("ij,ij->i", Ge[el], tn[1:])])
-        Vside = np.concatenate([np.einsum("ij,ij->i", Gs[el], nn[:-1]), np.einsum("ij,ij->i", Ge[el], nn[1:])])
-        Mside = np.concatenate([Ms[el], Me[el], Mi[el]])
+        M[1:-1] *= 0.5      # an interior node: the mean of its two elements (equal at equilibrium)
         s = np.concatenate([[0.0], np.cumsum(L0[el])])
+        G = -(_start_force(model, y, rod.name)[None, :] + s[:, None] * qe[el[0]][None, :])
+        N = np.einsum("ij,ij->i", G, tn)
+        V = -np.einsum("ij,ij->i", G, nn)
+        Mside = np.concatenate([Ms[el], Me[el], Mi[el]])
         out[rod.name] = {
             "s": s * L, "x": X[nodes, 0] * L, "y": X[nodes, 1] * L,
-            "u": U[nodes, 0] * L, "v": U[nodes, 1] * L, "theta": th.copy(),
+            "u": U[nodes, 0] * L, "v": U[nodes, 1] * L, "theta": U[nodes, 2].copy(),
             "N": N * F, "V": V * F, "M": M * F * L,
             "M_max": float(np.abs(Mside).max()) * F * L,
-            "N_max": float(np.abs(Nside).max()) * F,
-            "V_max": float(np.abs(Vside).max()) * F,
+            "N_max": float(np.abs(N).max()) * F,
+            "V_max": float(np.abs(V).max()) * F,
         }
     return out
+
+
+def _start_force(model, y, rod):
+    """Sum of the joint forces and point loads on the start node of a rod [model units]."""
+    fs = model.structure
+    F = np.zeros(2)
+    for j in fs.joints:
+        ra, rb = fs.refs[j.name]
+        for ref, sign in ((ra, 1.0), (rb, -1.0)):
+            if ref.kind == "rod_end" and ref.name == rod and ref.end == 0:
+                fx, fy, _ = joint_forces(model, y, j.name)
+                F += sign * np.array([fx, fy])
+    for ld in fs.loads:
+        ref, _ = fs.refs[ld.name]
+        if ld.type == "force" and ref.kind == "rod_end" and ref.name == rod and ref.end == 0:
+            F += np.asarray(ld.force) / model.Fref
+    return F
 
 
 def largest_moment(model, y, alpha) -> float:

@@ -50,6 +50,7 @@ TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (1
 N_START = 2       # elements per (shortest) rod on the coarsest adaptive level
 N_MAX = 4096
 N_DIRECT = 16     # meshes finer than this start from the interpolated solution of the coarser one
+ROUNDOFF_LIMIT = 1e-3  # relative round-off scatter of the largest moment above which a result is refused
 DENSE_CHECK = 600  # unknowns: the path choice and the stability check run on meshes up to this size
 
 
@@ -357,7 +358,7 @@ class Level:
 
     def __init__(self, n, model, y, alpha):
         self.n, self.model, self.y, self.alpha = n, model, y, alpha
-        self._arrays = self._res = self._watched = None
+        self._arrays = self._res = self._watched = self._noise = None
 
     @property
     def arrays(self):
@@ -395,6 +396,17 @@ def _scales(vals, kinds):
         if m:
             sc[m] = np.maximum(a[m], 1e-3 * a[m].max())
     return np.maximum(sc, 1e-10)
+
+
+def _force_like(kinds):
+    return np.array([k in ("force", "moment") for k in kinds])
+
+
+def _force_noise(lv: Level) -> float:
+    """Round-off level of the element forces of a level (model units), from the model's estimate."""
+    if lv._noise is None:
+        lv._noise = float(lv.model.system(lv.y, lv.alpha, 1.0)[2]["noise"]) if lv.model.elements is not None else 0.0
+    return lv._noise
 
 
 def _roundoff_scatter(lv: Level) -> float:
@@ -540,7 +552,7 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
         p0 = path.first_n if path is not None else N_START
         n = p0
         ext = []
-        prev_worst = prev_raw0 = math.inf
+        prev_raw = None
         fine = level(n)
         while True:
             coarse, fine = fine, level(2 * n)
@@ -549,31 +561,41 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
             units = _units(kinds, Lref, Fref)
             ext.append((4.0 * f2 - f1) / 3.0)
             scale = _scales(ext[-1] / units, kinds)
-            raw = np.abs(f2 - f1) / units / scale
+            change = np.abs(f2 - f1) / units
+            raw = change / scale
             if len(ext) >= 2:
                 errs = np.abs(ext[-1] - ext[-2]) / units / 15.0 / scale
                 err = float(min(errs[0], raw[0] / 3.0))
             else:
                 errs = raw / 3.0 * 10.0  # one level only: no estimate of the extrapolated error yet
                 err = float(raw[0] / 3.0)
-            if (len(ext) >= 2 and np.all((errs <= target) | (raw <= 1e-13))) or np.all(raw <= 1e-13):
+            # an output is settled when its estimate meets the target, when it does not change, or
+            # (forces and moments that are zero but for round-off, e.g. the shear of a rod in pure
+            # bending) when its change is within the round-off level of the element forces
+            settled = (errs <= target) | (raw <= 1e-13)
+            if not settled.all():
+                zero = 10.0 * _force_noise(fine)
+                settled |= _force_like(kinds) & (np.abs(f2) / units <= zero) & (change <= zero)
+            if (len(ext) >= 2 or np.all(raw <= 1e-13)) and settled.all():
                 break
             # the first two meshes already agree to 3e-8: the finer one is accurate to its O(h^2)
             # estimate raw / 3 <= target / 10; reported as it is (not extrapolated)
-            if len(ext) == 1 and np.all(raw / 3.0 <= 0.1 * target):
+            if len(ext) == 1 and np.all((raw / 3.0 <= 0.1 * target) | settled):
                 raw_values = True
                 break
-            # the changes must shrink like h^2 (x 1/4); when they stop shrinking *at the round-off
-            # level* of the stiff model, refining only adds noise: stop and report that level.  (On
-            # coarse meshes changes can stall far above round-off: then keep refining.)
-            worst = float(np.max(raw))
-            if len(ext) >= 2 and worst > 0.6 * prev_worst:
-                scatter = _roundoff_scatter(fine)
-                if float(raw[0]) <= 1e3 * max(scatter, 1e-13):
-                    err = float(max(raw[0], prev_raw0))
-                    raw_values = True
-                    break
-            prev_worst, prev_raw0 = worst, float(raw[0])
+            # the changes must shrink like h^2 (x 1/4); outputs whose changes stop shrinking *at the
+            # round-off level* of the stiff model only gain noise from refining: when all unsettled
+            # outputs are such, stop and report the finest level's raw values.  (On coarse meshes
+            # changes can stall far above round-off: then keep refining.)
+            if prev_raw is not None:
+                stalled = raw > 0.6 * prev_raw
+                if np.all(settled | stalled):
+                    noise = 1e3 * max(_roundoff_scatter(fine), 1e-13)
+                    if np.all(settled | (raw <= noise)):
+                        err = float(max(raw[0], prev_raw[0]))
+                        raw_values = True
+                        break
+            prev_raw = raw
             if 2 * n >= N_MAX:
                 raise SolverFailure(f"the mesh refinement reached {2 * n} elements per rod without meeting "
                                     f"the error target {target:g} (estimate {err:.3g}); fix a mesh with "
@@ -582,7 +604,13 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
         if raw_values:
             coarse = None
     if err is not None:
-        err = max(err, _roundoff_scatter(fine))
+        scatter = _roundoff_scatter(fine)
+        err = max(err, scatter)
+        if scatter > ROUNDOFF_LIMIT:
+            n_el = fine.model.elements.size if fine.model.elements is not None else 0
+            raise SolverFailure(f"round-off dominates the answer: the largest rod moment of the {n_el}-element "
+                                f"mesh is determined only to {scatter:.2g} (relative) by the stiff axial terms "
+                                f"(EA/EI of the rods, element length); use fewer elements (or the adaptive default)")
     watched = values(fine)[0] if coarse is None else (4.0 * values(fine)[0] - values(coarse)[0]) / 3.0
     return Solution(err, its[0], fine, coarse, state["path"], watched, raw_values)
 

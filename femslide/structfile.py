@@ -26,7 +26,7 @@ import os
 from dataclasses import dataclass, field, fields
 
 from .errors import BadInput
-from .structure import Body, Joint, Load, Rod, Structure
+from .structure import MAX_ELEMENTS, Body, Joint, Load, Rod, Structure
 
 try:
     import tomllib
@@ -159,8 +159,9 @@ def apply(structure: Structure, overrides: dict) -> tuple[Structure, int | None]
     for name, value in overrides.items():
         value = parse_value(value)
         if name == "elements":
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value) or not 1 <= value <= 100000:
-                raise BadInput(f"elements = {value!r}: allowed: an integer in [1, 100000] (every rod's mesh)")
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or value != int(value) \
+                    or not 1 <= value <= MAX_ELEMENTS:
+                raise BadInput(f"elements = {value!r}: allowed: an integer in [1, {MAX_ELEMENTS}] (every rod's mesh)")
             elements = int(value)
             continue
         if name == "gravity" or "." in name:
@@ -213,6 +214,41 @@ class StructureFile:
         from .run import solve_structure
         s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
         return solve_structure(s.freeze(), elements=elements, name=self.name, cache=values.get("_cache"))
+
+
+def _toml_value(x):
+    from .structure import Table
+    if isinstance(x, Table):
+        return f"{{s = {_toml_value(list(x.s))}, value = {_toml_value(list(x.value))}}}"
+    if isinstance(x, bool):
+        return "true" if x else "false"
+    if isinstance(x, str):
+        return json.dumps(x)
+    if isinstance(x, int):
+        return str(x)
+    if isinstance(x, float):
+        return repr(x) if math.isfinite(x) else ("inf" if x > 0 else "-inf" if x < 0 else "nan")
+    if isinstance(x, dict):
+        return "{" + ", ".join(f"{k} = {_toml_value(v)}" for k, v in x.items()) + "}"
+    return "[" + ", ".join(_toml_value(v) for v in x) + "]"
+
+
+def dumps(structure: Structure, header: str = "") -> str:
+    """A structure file (TOML) declaring ``structure``; fields at their defaults are left out."""
+    lines = [f"# {h}" if h else "#" for h in header.splitlines()] if header else []
+    lines.append(f"gravity = {_toml_value([float(g) for g in structure.gravity])}")
+    for kind, objs in (("rod", structure.rods), ("body", structure.bodies), ("joint", structure.joints),
+                       ("load", structure.loads)):
+        cls = TABLES[kind]
+        defaults = {f.name: f.default for f in fields(cls)}
+        for obj in objs.values():
+            lines += ["", f"[[{kind}]]"]
+            for f in fields(cls):
+                v = getattr(obj, f.name)
+                if v is None or (f.name not in ("name", "type") and v == defaults.get(f.name)):
+                    continue
+                lines.append(f"{f.name} = {_toml_value(v)}")
+    return "\n".join(lines) + "\n"
 
 
 def load(path: str, data: dict | None = None) -> StructureFile:

@@ -45,6 +45,7 @@ GROUND = "ground"
 JOINT_TYPES = ("pin", "weld", "slider", "roller")
 LOAD_TYPES = ("force", "distributed")
 EA_PER_EI = 1e6  # m^-2: default EA/EI, a nearly inextensible rod (SPEC section 3)
+MAX_ELEMENTS = 16384  # per rod: beyond it round-off of the stiff axial terms outgrows the discretisation error
 
 
 # -- declarations ---------------------------------------------------------------------------------
@@ -377,8 +378,8 @@ class Frozen:
             rhoA = _num(f"{w}: rhoA", r.rhoA, 0.0)
             n = r.elements
             if n is not None:
-                if isinstance(n, bool) or not isinstance(n, (int, float)) or n != int(n) or not 1 <= n <= 100000:
-                    raise BadInput(f"{w}: elements = {n!r}; allowed: an integer in [1, 100000] (or absent: adaptive)")
+                if isinstance(n, bool) or not isinstance(n, (int, float)) or n != int(n) or not 1 <= n <= MAX_ELEMENTS:
+                    raise BadInput(f"{w}: elements = {n!r}; allowed: an integer in [1, {MAX_ELEMENTS}] (or absent: adaptive)")
                 n = int(n)
             rods.append(Rod(r.name, start, end, EI, EA, rhoA, n))
         rodnames = {r.name for r in rods}

@@ -1,5 +1,7 @@
-"""Regenerate meshes/<scene>.toml (every built-in scene with its defaults) and meshes/<scene>.vtu (the
-reference mesh of every FE statics scene, ``femslide mesh`` with its default n_elements).
+"""Regenerate meshes/<scene>.toml (every built-in scene with its defaults), meshes/<scene>.vtu (the
+reference mesh of every FE statics scene, ``femslide mesh`` with its default n_elements) and
+meshes/structures/<scene>.toml (every FE statics scene at its defaults as a structure file: the
+declaration that femslide.paper makes of it, to copy and edit).
 
     python meshes/make_scene_files.py          # from the repository root
 
@@ -10,7 +12,8 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
-from femslide import meshfile  # noqa: E402
+from femslide import meshfile, paper  # noqa: E402
+from femslide.structfile import dumps  # noqa: E402
 from femslide.scenefile import is_fe  # noqa: E402
 from femslide.scenes import SCENES  # noqa: E402
 
@@ -51,6 +54,12 @@ def main():
             fh.write("\n".join(lines) + "\n")
         if is_fe(s):
             meshfile.write(s.name, s.resolve({}), os.path.join(HERE, f"{s.name}.vtu"))
+            header = (f"{s.name}: {s.model}\nThe built-in scene's declaration at its default parameters, as a "
+                      f"structure file:\n  femslide solve meshes/structures/{s.name}.toml [--set NAME.FIELD=VALUE]...\n"
+                      "SI units; rotations and moments counter-clockwise (the scene's phi is -(deck rotation)).")
+            os.makedirs(os.path.join(HERE, "structures"), exist_ok=True)
+            with open(os.path.join(HERE, "structures", f"{s.name}.toml"), "w") as fh:
+                fh.write(dumps(paper.declare(s.name, s.resolve({})), header))
 
 
 if __name__ == "__main__":
