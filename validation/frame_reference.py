@@ -40,7 +40,9 @@ Supports, pins and the solution
 -------------------------------
 Supports are kinematic constraints built into a basis Z of the admissible displacements (u = Z w),
 no penalty and no Lagrange multiplier: a fixed dof is dropped, a roller's translation is u = w d
-(d its rolling direction).  K_red = Z^T K Z is solved by numpy.linalg.solve.  Reactions are the
+(d its rolling direction).  K_red = Z^T K Z is scaled by its diagonal and solved by numpy.linalg.solve; a condition number above
+``COND_MAX`` is reported as a mechanism (so model a "rigid" member with EA or EI at most ~1e10 times
+the others' scale, not 1e20).  Reactions are the
 residual R = K u - f at the supported nodes (force and moment of the support on the structure),
 projected on the constrained directions.  An internal pin (``hinge``) gives the member end its own
 rotation dof; a node whose rotation is connected to no member (all member ends at it pinned) has no
@@ -54,6 +56,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 __all__ = ["Frame", "FrameResult", "portal_pinned_lateral"]
+
+COND_MAX = 1e15   # condition number (after diagonal scaling) above which solve() reports a mechanism
 
 
 # -- exact integrals of s^k / (linear function) --------------------------------------------------------
@@ -242,25 +246,32 @@ class Frame:
         names = list(self.nodes)
         index = {n: i for i, n in enumerate(names)}
         coords = [self.nodes[n] for n in names]
-        ndof = 3 * len(names)
         rot_used = np.zeros(len(names), bool)
 
+        # pass 1: interior nodes of subdivided members (3 dofs each, numbered after the named nodes)
+        member_nodes = {}
+        for mname, m in self.members.items():
+            p1, p2 = self.nodes[m.n1], self.nodes[m.n2]
+            if float(np.hypot(*(p2 - p1))) == 0.0:
+                raise ValueError(f"member {mname!r} has zero length")
+            ids = [index[m.n1]]
+            for k in range(1, m.n_sub):
+                coords.append(p1 + (p2 - p1) * k / m.n_sub)
+                rot_used = np.append(rot_used, True)
+                ids.append(len(coords) - 1)
+            ids.append(index[m.n2])
+            member_nodes[mname] = ids
+        ndof = 3 * len(coords)
+
+        # pass 2: pinned member ends (one rotation dof each, after all node dofs) and the elements
         elements, stations = [], {}
         for mname, m in self.members.items():
             p1, p2 = self.nodes[m.n1], self.nodes[m.n2]
             Lm = float(np.hypot(*(p2 - p1)))
-            if Lm == 0.0:
-                raise ValueError(f"member {mname!r} has zero length")
             c, s = (p2 - p1) / Lm
-            node_ids = [index[m.n1]]
-            for k in range(1, m.n_sub):   # interior nodes of the member
-                coords.append(p1 + (p2 - p1) * k / m.n_sub)
-                rot_used = np.append(rot_used, True)
-                node_ids.append(len(coords) - 1)
-                ndof += 3
-            node_ids.append(index[m.n2])
+            node_ids = member_nodes[mname]
             extra = {}
-            for end in m.hinged:   # own rotation dof for a pinned member end
+            for end in sorted(m.hinged, key=lambda n: n != m.n1):   # own rotation dof for a pinned end
                 extra[end] = ndof
                 ndof += 1
             qt = m.q[0] * c + m.q[1] * s
@@ -333,9 +344,14 @@ class Frame:
         Z = np.array(cols).T if cols else np.zeros((ndof, 0))
         Kr = Z.T @ K @ Z
         if Kr.size:
-            if np.linalg.cond(Kr) > 1e14:
+            # symmetric diagonal scaling (translations and rotations have different units)
+            dg = np.sqrt(np.abs(np.diag(Kr)))
+            if np.any(dg == 0.0):
+                raise np.linalg.LinAlgError("the frame is a mechanism (a free dof has no stiffness)")
+            Ks = Kr / np.outer(dg, dg)
+            if np.linalg.cond(Ks) > COND_MAX:
                 raise np.linalg.LinAlgError("the frame is a mechanism (singular stiffness)")
-            w = np.linalg.solve(Kr, Z.T @ f)
+            w = np.linalg.solve(Ks, (Z.T @ f) / dg) / dg
         else:
             w = np.zeros(0)
         u = Z @ w
