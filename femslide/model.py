@@ -148,8 +148,9 @@ def element_stiffness(L0, s0, EI, EA):
     return kb
 
 
-def _scaled(x, f):
-    return x.scaled(f) if isinstance(x, Table) else x * f
+def _scaled(x, f, L):
+    """A stiffness in model units: values times f; a table's arc lengths divided by L."""
+    return Table(tuple(v / L for v in x.s), tuple(v * f for v in x.value)) if isinstance(x, Table) else x * f
 
 
 class _RodPlan:
@@ -177,7 +178,7 @@ class _Plan:
             rp.name = rod.name
             rp.S, rp.E = np.asarray(rod.start, float) / L, np.asarray(rod.end, float) / L
             rp.length = rod.length / L
-            rp.EI, rp.EA = _scaled(rod.EI, 1.0 / (F * L * L)), _scaled(rod.EA, 1.0 / F)
+            rp.EI, rp.EA = _scaled(rod.EI, 1.0 / (F * L * L), L), _scaled(rod.EA, 1.0 / F, L)
             rp.q = (dist[rod.name] + np.asarray(rod_w[rod.name])) * (L / F)
             rp.loaded = bool(rp.q.any())
             self.rods.append(rp)
