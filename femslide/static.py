@@ -50,6 +50,8 @@ TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (1
 N_START = 2       # elements per (shortest) rod on the coarsest adaptive level
 N_MAX = 4096
 N_DIRECT = 16     # meshes finer than this start from the interpolated solution of the coarser one
+MAX_STEP_ROTATION = 0.8      # rad: largest predicted rotation increment of a load step
+MAX_STEP_TRANSLATION = 0.2   # model lengths: largest predicted translation increment of a load step
 ROUNDOFF_LIMIT = 1e-3  # relative round-off scatter of the largest moment above which a result is refused
 DENSE_CHECK = 600  # unknowns: the path choice and the stability check run on meshes up to this size
 
@@ -254,26 +256,84 @@ def check_stable(model: Model, y, alpha):
 # -- one mesh level ----------------------------------------------------------------------------------
 
 def _load_steps(model: Model, path: Path, start=None):
-    """Load stepping from the undeformed state, or one Newton solve at full load from ``start``."""
+    """Load stepping from the undeformed state, or one Newton solve at full load from ``start``.
+
+    Each step is checked against the path: its increment must stay within its own size of the tangent
+    prediction (a Newton solve that jumps past a limit point onto another branch lands far from it),
+    and on dense models the equilibrium must stay stable (the sign of the tangent's determinant,
+    (-1)^m for m joint equations, must not change).  A step that fails either check is halved; when
+    the step cannot be halved further the loads have reached a limit point or a bifurcation: exit 1
+    with the load factor."""
     if start is not None:
         y, info = newton(model, start[0], start[1], lam=1.0)
         if info.converged:
             return y, info.alpha, info.iterations
-    y, alpha = _initial_stress(model, 1.0 / path.load_steps) if model.n <= DENSE_CHECK else model.zero_state()
-    lam, step, its = 0.0, 1.0 / path.load_steps, 0
+    dense = model.n <= DENSE_CHECK
+    y, alpha = _initial_stress(model, 1.0 / path.load_steps) if dense else model.zero_state()
+    step0 = 1.0 / path.load_steps
+    lam, step, its = 0.0, step0, 0
+    stable = (-1.0) ** model.n_c
+    tangent = _load_tangent(model, model.zero_state()[0], alpha, 0.0)
+    if tangent is None:
+        tangent = np.zeros(model.n_q)
+    fl = model.system(y, alpha, 0.0, jacobian=False)[2]["fl"]
+    compliance0 = -float(fl @ tangent)   # work rate of the loads per load factor: 1 / stiffness
+    bound = np.full(model.n_q, MAX_STEP_TRANSLATION)
+    bound[model.rotation_dofs()] = MAX_STEP_ROTATION
+    reason, hist = "", []
     while lam < 1.0:
-        target = min(1.0, lam + step)
+        # the predicted increment stays within the bounds: near a limit point the tangent grows
+        # without bound and the steps shrink towards it
+        grow = float(np.max(np.abs(tangent) / bound))
+        dlam = min(step, 1.0 - lam, 1.0 / grow if grow > 0 else math.inf)
+        if dlam < 1e-6:
+            why = "the response to the loads grows without bound" if dlam < step else reason
+            raise SolverFailure(f"load stepping stalled at load factor {lam:.6g}: a limit point or a "
+                                f"bifurcation of the loaded structure ({why})", hist)
+        target = lam + dlam
         y_new, info = newton(model, y, alpha, lam=target)
         its += info.iterations
-        if not info.converged:
-            step *= 0.5
-            if step < 1e-6:
-                raise SolverFailure(f"load stepping stalled at load factor {lam:.6g} (a limit point or an "
-                                    f"unstable state): {info.reason}", info.history)
+        ok, reason, hist = info.converged, info.reason, info.history
+        if ok:
+            # the increment against the tangent prediction (translations and rotations, model units)
+            pred = tangent * dlam
+            size = float(np.abs(pred).max())
+            if float(np.abs(y_new[:model.n_q] - y[:model.n_q] - pred).max()) > max(size, 1e-12):
+                ok, reason = False, "the step left the tangent's neighbourhood: it jumped past a limit point"
+            elif dense:
+                _, A, _ = model.system(y_new, info.alpha, target, dense=True)
+                if np.linalg.slogdet(A)[0] != stable:
+                    ok, reason = False, "the equilibrium lost its stability"
+        if not ok:
+            step = 0.5 * dlam
             continue
         alpha = info.alpha
         y, lam = y_new, target
+        step = min(step0, 2.0 * step)
+        if lam < 1.0:
+            tangent = _load_tangent(model, y, alpha, lam)
+            # the structure's stiffness against its loads (1 / compliance) falls to zero at a limit
+            # point and turns negative past it
+            compliance = -float(model.system(y, alpha, lam, jacobian=False)[2]["fl"] @ tangent) \
+                if tangent is not None else math.inf
+            if not (0.0 < compliance <= 1e4 * max(compliance0, 1e-300)) and compliance0 > 0:
+                raise SolverFailure(f"load stepping stalled at load factor {lam:.6g}: a limit point of the "
+                                    f"loaded structure (its stiffness against the loads fell to "
+                                    f"{compliance0 / compliance if math.isfinite(compliance) else 0.0:.2g} of "
+                                    f"the initial)", hist)
     return y, alpha, its
+
+
+def _load_tangent(model: Model, y, alpha, lam):
+    """d q / d lam at a converged state (the first-order response to the loads)."""
+    r, A, info = model.system(y, alpha, lam, dense=model.n <= DENSE_CHECK)
+    rhs = np.zeros(model.n)
+    rhs[:model.n_q] = -info["fl"]
+    try:
+        dy = solve_linear(A, rhs)
+    except np.linalg.LinAlgError:
+        return None
+    return dy[:model.n_q] if np.all(np.isfinite(dy)) else None
 
 
 def _controlled(model: Model, path: Path, start=None, within=0.1, maxit=40):
@@ -434,7 +494,9 @@ def _roundoff_scatter(lv: Level) -> float:
     q0, _ = m.element_forces(lv.y[:m.n_q], lv.alpha)
     q1, _ = m.element_forces(y[:m.n_q], lv.alpha)
     M0 = np.abs(q0[:, 1:]).max()
-    return float(abs(np.abs(q1[:, 1:]).max() - M0) / M0) if M0 > 0 else 0.0
+    # relative to the moment, or to 1e-6 of the loads' moment scale (model unit) when the rods carry
+    # (almost) none: the noise of a zero moment is no relative error of anything
+    return float(abs(np.abs(q1[:, 1:]).max() - M0) / max(M0, 1e-6))
 
 
 @dataclass
