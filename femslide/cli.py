@@ -136,7 +136,17 @@ def _parse_vary(text):
     if "=" not in text:
         raise BadInput(f"--vary expects NAME=V1,V2,..., got {text!r}")
     name, vals = text.split("=", 1)
-    items = [v.strip() for v in vals.split(",") if v.strip()]
+    # commas inside brackets belong to a value: --vary wind.force=[0,0],[500,0]
+    items, depth, cur = [], 0, ""
+    for ch in vals:
+        depth += ch in "[{"
+        depth -= ch in "]}"
+        if ch == "," and depth == 0:
+            items.append(cur)
+            cur = ""
+        else:
+            cur += ch
+    items = [v.strip() for v in items + [cur] if v.strip()]
     if not items:
         raise BadInput(f"--vary {name}: no values given")
     return name.strip(), items

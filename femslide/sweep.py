@@ -224,7 +224,8 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, das
                 stream.write(json.dumps(rec) + "\n")
                 stream.flush()
             if status != "converged":
-                print(f"femslide: {scene.name} {name}={values[name]:g} failed: {row.get('reason')}",
+                from .run import fmt
+                print(f"femslide: {scene.name} {name}={fmt(values[name])} failed: {row.get('reason')}",
                       file=sys.stderr)
             if not as_json:
                 bar.write(_row_text(name, row))
