@@ -104,10 +104,12 @@ class SlideLock:
 
 @dataclass
 class InertiaLoads:
-    """Dead forces FG and moment MB on the body (at its centroid) and FC on the piece's centroid:
-    d'Alembert loads for the recovery of reactions.  Zero during the run."""
+    """Dead forces FG (at the body's centroid, offset rG from its frame origin) and moment MB on the
+    body and FC on the piece's frame origin (its centroid): d'Alembert loads for the recovery of
+    reactions.  Zero during the run."""
     body_dofs: np.ndarray
     piece_dofs: np.ndarray | None
+    rG: tuple
     FG: np.ndarray
     MB: float = 0.0
     FC: np.ndarray = None
@@ -118,12 +120,21 @@ class InertiaLoads:
         return self.body_dofs if self.piece_dofs is None else np.concatenate([self.body_dofs, self.piece_dofs])
 
     def eval(self, z, lam=1.0):
+        t = float(z[2])
+        c, s = math.cos(t), math.sin(t)
+        rx, ry = self.rG
+        Rx, Ry = c * rx - s * ry, s * rx + c * ry
+        FG = self.FG
         g = np.zeros(z.size)
-        g[:2] = -self.FG
-        g[2] = -self.MB
+        H = np.zeros((z.size, z.size))
+        E = -(FG[0] * (z[0] + Rx - rx) + FG[1] * (z[1] + Ry - ry)) - self.MB * t
+        g[:2] = -FG
+        g[2] = -(FG[0] * -Ry + FG[1] * Rx) - self.MB
+        H[2, 2] = lam * (FG[0] * Rx + FG[1] * Ry)
         if self.FC is not None and self.piece_dofs is not None:
             g[3:5] = -self.FC
-        return lam * float(g @ z), lam * g, np.zeros((z.size, z.size)), g
+            E -= float(self.FC @ z[3:5])
+        return lam * E, lam * g, H, g
 
 
 # -- the reduced structure ------------------------------------------------------------------------------
@@ -171,7 +182,8 @@ class Structure:
         self.slock = m.add_constraint(SlideLock(clamp)) if friction else None
         self.h = 0.5 * vv["l2"] / a
         piece = np.arange(m.body_dof("piece"), m.body_dof("piece") + 3) if "piece" in m.body_index else None
-        self.inertia = m.add_term(InertiaLoads(np.arange(th_dof - 2, th_dof + 1), piece, np.zeros(2)))
+        rG = np.array([v["a"] + v["d"], v["l"] + v["b"]]) / a - m.body_X0[m.body_index["deck"]]
+        self.inertia = m.add_term(InertiaLoads(np.arange(th_dof - 2, th_dof + 1), piece, tuple(rG), np.zeros(2)))
         m.finalize()
         idx = m.constraints.index(self.rot)
         self.row_rot = m.n_q + int(m.c_off[idx])

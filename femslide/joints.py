@@ -70,6 +70,14 @@ class Link:
         self.lever_b = b.r != (0.0, 0.0)
         self.e0 = tuple(axis) if axis is not None else (0.0, 1.0)
         self.n0 = (-self.e0[1], self.e0[0])
+        # a pin or weld between rod nodes and the ground is linear: constant gradient, no Hessian
+        self.linear = kind in ("pin", "weld") and not self.lever_a and not self.lever_b
+        if self.linear:
+            _, G, _ = self._parts([0.0] * self.k)
+            self._G = np.array(G)
+            self._H0 = np.zeros((self.k, self.k))
+            g0, _, _ = self._parts([0.0] * self.k)
+            self._g0 = np.array(g0)
 
     # -- kinematics ----------------------------------------------------------------------------------
     def _w(self, z):
@@ -139,6 +147,9 @@ class Link:
 
     def eval(self, z, mu=None):
         """g, G and the Hessians (m, k, k), or with ``mu`` the weighted Hessian (k, k)."""
+        if self.linear and mu is not None:
+            # g = (p_a - p_b, theta_a - theta_b) with constant p - z parts
+            return self._G @ z + self._g0, self._G, self._H0
         g, G, hess = self._parts(z.tolist())
         k = self.k
         if mu is None:

@@ -177,7 +177,7 @@ def read(path: str) -> MeshFile:
     return MeshFile(path, np.asarray(mesh.points, float), groups)
 
 
-def _rod_nodes(mf: MeshFile, name: str):
+def rod_nodes(mf: MeshFile, name: str):
     """Node coordinates (k+1, 2) of a rod group ordered along the rod; BadInput if not a simple chain."""
     import numpy as np
     conn = mf.lines(name)
@@ -223,7 +223,7 @@ def check(mf: MeshFile, scene: str, values: dict) -> None:
     tol = REL_TOL * geo.size
     params = "L" if scene.startswith("cantilever") else "a, l, L" if "L" in values else "a, l"
     for r, X in geo.rods.items():
-        got = _rod_nodes(mf, f"rod:{r}")
+        got = rod_nodes(mf, f"rod:{r}")
         if np.linalg.norm(got[0] - X[0]) > np.linalg.norm(got[-1] - X[0]):
             got = got[::-1]
         end_err = max(np.linalg.norm(got[0] - X[0]), np.linalg.norm(got[-1] - X[-1]))

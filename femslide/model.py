@@ -1,7 +1,8 @@
 """The discretised model of a frozen structure: meshed rods, frames, joints, loads and assembly.
 
 Every part moves as a frame with three dofs (u, v, theta): the nodes of the rod meshes first, then
-the rigid bodies (displacement of the centroid and rotation); the ground has none.  Unknowns are
+the rigid bodies (displacement of the body's origin - its pin to the ground if it has one, else
+its centroid - and rotation); the ground has none.  Unknowns are
 y = [q, mu] (+ lam in displacement control): q the frame dofs, mu the joint multipliers.  The
 equations are the stationarity of the Lagrangian  U_rods(q) + U_springs(q) + lam V_loads(q) +
 sum mu_i g_i(q):
@@ -184,11 +185,17 @@ class _Plan:
             self.rods.append(rp)
             self.rod_index[rod.name] = k
         self.body_index = {b.name: i for i, b in enumerate(fs.bodies)}
-        self.body_X0 = np.array([b.centroid for b in fs.bodies], float).reshape(-1, 2) / L
+        self.body_X0 = np.array([body_origin(fs, b) for b in fs.bodies], float).reshape(-1, 2) / L
         bp = np.zeros((len(fs.bodies), 3))
-        for name, (Fx, Fy) in body_w.items():
-            bp[self.body_index[name], :2] -= (Fx / F, Fy / F)
         self.node_loads, self.point_forces = [], []
+        for b in fs.bodies:
+            Fx, Fy = body_w[b.name]
+            i = self.body_index[b.name]
+            r = np.asarray(b.centroid, float) / L - self.body_X0[i]
+            if np.abs(r).max() <= 1e-14:
+                bp[i, :2] -= (Fx / F, Fy / F)
+            elif Fx or Fy:
+                self.point_forces.append((b.name, (float(r[0]), float(r[1])), (Fx / F, Fy / F), 0.0, "weight"))
         for ld in fs.loads:
             if ld.type != "force":
                 continue
@@ -213,6 +220,16 @@ class _Plan:
             jp.at = (j.at[0] / L, j.at[1] / L)
             jp.k, jp.preload, jp.c = j.k * L / F, j.preload / F, j.c / (F * L)
             self.joints.append(jp)
+
+
+def body_origin(fs: Frozen, body) -> tuple:
+    """Reference point [m] of a body's frame: the point of its first pin to the ground (the body then
+    turns about its frame origin and that pin is a linear constraint), else its centroid."""
+    for j in fs.joints:
+        ra, rb = fs.refs[j.name]
+        if j.type == "pin" and rb.kind == "ground" and ra.kind == "body" and ra.name == body.name:
+            return tuple(j.at)
+    return tuple(body.centroid)
 
 
 def _plan(fs: Frozen, L: float, F: float) -> _Plan:
@@ -272,7 +289,7 @@ class Model:
             self.elements = None
             self.elem_rod = np.zeros(0, np.intp)
             self.elem_q = np.zeros((0, 2))
-        # bodies: frames after the nodes, at their centroids
+        # bodies: frames after the nodes, at their origins (a ground pin, else the centroid)
         self.body_index = plan.body_index
         self.body_X0 = plan.body_X0
         nb3 = 3 * off
@@ -323,6 +340,16 @@ class Model:
         X = self.body_X0[self.body_index[ref.name]]
         return Carrier(self.body_dof(ref.name), (float(X[0]), float(X[1])),
                        (at[0] - float(X[0]), at[1] - float(X[1])))
+
+    def body_point(self, name: str, q, p):
+        """Current position [m] of the body point whose reference position is p [m]."""
+        d = self.body_dof(name)
+        X = self.body_X0[self.body_index[name]] * self.Lref
+        u, v, th = q[d] * self.Lref, q[d + 1] * self.Lref, q[d + 2]
+        c, s = np.cos(th), np.sin(th)
+        r = np.asarray(p, float) - X
+        return np.column_stack([X[0] + u + c * r[..., 0] - s * r[..., 1], X[1] + v + s * r[..., 0] + c * r[..., 1]]) \
+            if r.ndim == 2 else np.array([X[0] + u + c * r[0] - s * r[1], X[1] + v + s * r[0] + c * r[1]])
 
     def frame_X0(self, f: int):
         """Reference origin of frame f (a node or a body) in model units."""

@@ -141,8 +141,8 @@ def extract(model, y, alpha, arrays=None) -> dict:
     bodies = {}
     for b in model.structure.bodies:
         d = model.body_dof(b.name)
-        bodies[b.name] = {"x": float(b.centroid[0] + q[d] * L), "y": float(b.centroid[1] + q[d + 1] * L),
-                          "rotation": float(q[d + 2])}
+        x, y_ = model.body_point(b.name, q, b.centroid)
+        bodies[b.name] = {"x": float(x), "y": float(y_), "rotation": float(q[d + 2])}
     joints, reactions = {}, {}
     for j in model.structure.joints:
         fx, fy, m = joint_forces(model, y, j.name)

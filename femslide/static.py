@@ -635,9 +635,10 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
             # (forces and moments that are zero but for round-off, e.g. the shear of a rod in pure
             # bending) when its change is within the round-off level of the element forces
             settled = (errs <= target) | (raw <= 1e-13)
-            if not settled.all():
+            small = ~settled & _force_like(kinds) & (np.abs(f2) / units < scale)  # below their group's floor
+            if small.any():
                 zero = 10.0 * _force_noise(fine)
-                settled |= _force_like(kinds) & (np.abs(f2) / units <= zero) & (change <= zero)
+                settled |= small & (np.abs(f2) / units <= zero) & (change <= zero)
             if (len(ext) >= 2 or np.all(raw <= 1e-13)) and settled.all():
                 break
             # the first two meshes already agree to 3e-8: the finer one is accurate to its O(h^2)

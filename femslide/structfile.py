@@ -115,7 +115,7 @@ def parse(data: dict, path: str = "<structure>") -> Structure:
 
 def _rod_from_mesh(e, base, where):
     """start, end and elements of a rod from a line group of a meshio mesh (straight, equally spaced)."""
-    from .meshfile import _rod_nodes, read
+    from .meshfile import read, rod_nodes
     import numpy as np
     mesh = e.pop("mesh")
     group = e.pop("group", f"rod:{e['name']}")
@@ -126,7 +126,7 @@ def _rod_from_mesh(e, base, where):
     mf = read(path)
     if group not in mf.groups:
         raise BadInput(f"mesh {path} has no group {group!r}; groups: {', '.join(sorted(mf.groups)) or 'none'}")
-    X = _rod_nodes(mf, group)
+    X = rod_nodes(mf, group)
     n = len(X) - 1
     t = np.linspace(0.0, 1.0, n + 1)[:, None]
     off = float(np.abs((1 - t) * X[0] + t * X[-1] - X).max())

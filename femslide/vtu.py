@@ -88,13 +88,9 @@ def mesh_data(model, y, alpha, arrays=None):
     for i, b in enumerate(model.structure.bodies):
         if not b.outline:
             continue
-        d = model.body_dof(b.name)
-        u, v, th = (float(x) for x in q[d:d + 3])
-        c, s = math.cos(th), math.sin(th)
+        th = float(q[model.body_dof(b.name) + 2])
         P0 = np.asarray(b.outline, float)
-        r = P0 - np.asarray(b.centroid, float)
-        P = np.asarray(b.centroid) + np.array([u, v]) * L + np.column_stack([c * r[:, 0] - s * r[:, 1],
-                                                                            s * r[:, 0] + c * r[:, 1]])
+        P = model.body_point(b.name, q, P0)
         k = len(P)
         pts.append(P)
         disp.append(P - P0)
@@ -108,8 +104,7 @@ def mesh_data(model, y, alpha, arrays=None):
                        np.full(1, -1), np.full(1, i)))
         for at in _off_outline_points(model.structure, b):
             j = int(np.argmin(np.hypot(*(P0 - at).T)))
-            ra = np.asarray(at) - np.asarray(b.centroid, float)
-            pa = np.asarray(b.centroid) + np.array([u, v]) * L + np.array([c * ra[0] - s * ra[1], s * ra[0] + c * ra[1]])
+            pa = model.body_point(b.name, q, at)
             pts.append(pa[None, :])
             disp.append((pa - at)[None, :])
             rotn.append(np.full(1, th))
