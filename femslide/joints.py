@@ -72,12 +72,7 @@ class Link:
         self.n0 = (-self.e0[1], self.e0[0])
         # a pin or weld between rod nodes and the ground is linear: constant gradient, no Hessian
         self.linear = kind in ("pin", "weld") and not self.lever_a and not self.lever_b
-        if self.linear:
-            _, G, _ = self._parts([0.0] * self.k)
-            self._G = np.array(G)
-            self._H0 = np.zeros((self.k, self.k))
-            g0, _, _ = self._parts([0.0] * self.k)
-            self._g0 = np.array(g0)
+        self._G = None
 
     # -- kinematics ----------------------------------------------------------------------------------
     def _w(self, z):
@@ -148,7 +143,10 @@ class Link:
     def eval(self, z, mu=None):
         """g, G and the Hessians (m, k, k), or with ``mu`` the weighted Hessian (k, k)."""
         if self.linear and mu is not None:
-            # g = (p_a - p_b, theta_a - theta_b) with constant p - z parts
+            # g = (p_a - p_b, theta_a - theta_b) = G z + g(0)
+            if self._G is None:
+                g0, G, _ = self._parts([0.0] * self.k)
+                self._G, self._g0, self._H0 = np.array(G), np.array(g0), np.zeros((self.k, self.k))
             return self._G @ z + self._g0, self._G, self._H0
         g, G, hess = self._parts(z.tolist())
         k = self.k
@@ -162,6 +160,12 @@ class Link:
         for i, a, b, v in hess:
             Hmu[a * k + b] += mu[i] * v
         return np.array(g), np.array(G), np.array(Hmu).reshape(k, k)
+
+    def gradient(self, z):
+        """G (m, k) alone."""
+        if self.linear and self._G is not None:
+            return self._G
+        return np.array(self._parts(z.tolist())[1])
 
     # -- joint quantities ------------------------------------------------------------------------------
     def slide(self, z):

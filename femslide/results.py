@@ -112,8 +112,7 @@ def joint_forces(model, y, name):
     q = y[:model.n_q]
     z = q[link.dofs]
     mu = model.multipliers(y, link)
-    _, Gc, _ = link.eval(z, mu)
-    gen = -(mu @ Gc)
+    gen = -(mu @ link.gradient(z))
     spring = model.spring.get(name)
     if spring is not None:
         gen = gen - spring.eval(z, 1.0)[1]

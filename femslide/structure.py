@@ -128,10 +128,17 @@ class Load:
     at: tuple | None = None
 
 
+_JOINT_FIELDS = frozenset(f.name for f in fields(Joint))
+
+
 # -- checking helpers -----------------------------------------------------------------------------
 
 def _num(what, x, lo=-math.inf, hi=math.inf, lo_open=False, allowed=None):
     """A finite float in the range, else BadInput naming ``what``."""
+    if type(x) is float or type(x) is int:   # the common case, checked without the general path
+        v = float(x)
+        if math.isfinite(v) and (lo < v or (v == lo and not lo_open)) and v <= hi:
+            return v
     if isinstance(x, bool):
         x = "bool"
     try:
@@ -241,7 +248,7 @@ class Structure:
         return b
 
     def joint(self, name, type, a, b, **options) -> Joint:
-        unknown = set(options) - {f.name for f in fields(Joint)}
+        unknown = set(options) - _JOINT_FIELDS
         if unknown:
             raise BadInput(f"joint {name}: unknown option(s) {', '.join(sorted(unknown))}")
         j = Joint(self._name(name), type, a, b, **{k: (tuple(v) if isinstance(v, (list, tuple)) else v)
