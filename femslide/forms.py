@@ -17,30 +17,13 @@ from __future__ import annotations
 import numpy as np
 
 
-_UNIT_CACHE: dict = {}
-
-
 def basic_stiffness(L0, s0, EI, EA):
-    """Basic stiffness matrices, shape (n_elements, 3, 3).
-
-    For constant EI and EA (numbers) the matrices of unit stiffness are assembled once per mesh and
-    scaled, so that sweeps over EI do not re-assemble.
+    """Basic stiffness matrices, shape (n_elements, 3, 3), by scikit-fem quadrature.
 
     ``L0``: element lengths [m]; ``s0``: arc length of each element's first node [m];
     ``EI``, ``EA``: callables of the arc length s [m] returning N m^2 and N (vectorised), or numbers.
+    (The model uses the closed form for constant EI and EA, femslide.model.element_stiffness.)
     """
-    if not callable(EI) and not callable(EA):
-        key = (np.asarray(L0, float).tobytes(),)
-        unit = _UNIT_CACHE.get(key)
-        if unit is None:
-            unit = _assemble(np.asarray(L0, float), np.asarray(s0, float), 1.0, 1.0)
-            if len(_UNIT_CACHE) > 64:
-                _UNIT_CACHE.clear()
-            _UNIT_CACHE[key] = unit
-        kb = unit.copy()
-        kb[:, 0, 0] *= float(EA)
-        kb[:, 1:, 1:] *= float(EI)
-        return kb
     return _assemble(np.asarray(L0, float), np.asarray(s0, float), EI, EA)
 
 
