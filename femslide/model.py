@@ -158,6 +158,42 @@ class _RodPlan:
     __slots__ = ("name", "S", "E", "length", "EI", "EA", "q", "loaded")
 
 
+class _Mesh:
+    """The meshes of a structure's rods for given element counts (geometry only, model units): shared
+    through the PatternCache by the models of one geometry (the cases of a sweep over stiffnesses)."""
+
+    def __init__(self, plan, counts):
+        Xs, conn, rod_of, self.rod_nodes, self.rod_elements, s0 = [], [], [], [], [], []
+        off = eoff = 0
+        for k, (rp, n) in enumerate(zip(plan.rods, counts)):
+            t = np.arange(n + 1) / n
+            X = np.empty((n + 1, 2))
+            X[:, 0] = rp.S[0] + t * (rp.E[0] - rp.S[0])
+            X[:, 1] = rp.S[1] + t * (rp.E[1] - rp.S[1])
+            Xs.append(X)
+            c = np.empty((n, 2), np.intp)
+            c[:, 0] = np.arange(off, off + n)
+            c[:, 1] = c[:, 0] + 1
+            conn.append(c)
+            rod_of.append(np.full(n, k))
+            s0.append(t[:-1] * rp.length)
+            self.rod_nodes.append(np.arange(off, off + n + 1))
+            self.rod_elements.append(np.arange(eoff, eoff + n))
+            off += n + 1
+            eoff += n
+        self.n_nodes = off
+        self.X0 = np.concatenate(Xs) if Xs else np.zeros((0, 2))
+        self.conn = None
+        if conn:
+            self.conn = np.concatenate(conn)
+            self.D0 = self.X0[self.conn[:, 1]] - self.X0[self.conn[:, 0]]
+            self.L0 = np.hypot(self.D0[:, 0], self.D0[:, 1])
+            self.beta0 = np.arctan2(self.D0[:, 1], self.D0[:, 0])
+            self.elem_rod = np.concatenate(rod_of)
+            self.s0 = np.concatenate(s0)
+            self.xmax = float(np.abs(self.X0).max())
+
+
 class _JointPlan:
     __slots__ = ("name", "kind", "ra", "rb", "at", "axis", "k", "preload", "c")
 
@@ -174,6 +210,7 @@ class _Plan:
                 dist[ld.on] += np.asarray(ld.force)
         self.rods = []
         self.rod_index = {}
+        self.geometry = tuple((r.start, r.end) for r in rods) + (L,)
         for k, rod in enumerate(rods):
             rp = _RodPlan()
             rp.name = rod.name
@@ -253,50 +290,33 @@ class Model:
         self.structure, self.Lref, self.Fref = structure, Lref, Fref
         self.cache = cache or PatternCache()
         plan = _plan(structure, Lref, Fref)
-        Xs, conn, rod_of, kbs, qel, p_lin = [], [], [], [], [], []
-        self.rod_nodes, self.rod_index = [], plan.rod_index
-        off = 0
-        for k, rp in enumerate(plan.rods):
-            n = int(elements[rp.name])
-            t = np.arange(n + 1) / n
-            X = np.empty((n + 1, 2))
-            X[:, 0] = rp.S[0] + t * (rp.E[0] - rp.S[0])
-            X[:, 1] = rp.S[1] + t * (rp.E[1] - rp.S[1])
-            s = t * rp.length
-            Xs.append(X)
-            c = np.empty((n, 2), np.intp)
-            c[:, 0] = np.arange(off, off + n)
-            c[:, 1] = c[:, 0] + 1
-            conn.append(c)
-            kbs.append(element_stiffness(np.diff(s), s[:-1], rp.EI, rp.EA))
-            rod_of.append(np.full(n, k))
-            self.rod_nodes.append(np.arange(off, off + n + 1))
-            qel.append(np.broadcast_to(rp.q, (n, 2)))
-            p_lin.append(-distributed_nodal_loads(X, rp.q) if rp.loaded else np.zeros((n + 1, 3)))
-            off += n + 1
-        self.n_nodes = off
-        if conn:
-            self.X0 = np.concatenate(Xs)
-            conn = np.concatenate(conn)
-            D0 = self.X0[conn[:, 1]] - self.X0[conn[:, 0]]
-            self.elements = corotational.ElementSet(
-                conn, D0, np.hypot(D0[:, 0], D0[:, 1]), np.arctan2(D0[:, 1], D0[:, 0]),
-                np.concatenate(kbs), float(np.abs(self.X0).max()))
-            self.elem_rod = np.concatenate(rod_of)
-            self.elem_q = np.concatenate(qel)      # distributed load per element [Fref/Lref], global
+        self.rod_index = plan.rod_index
+        counts = tuple(int(elements[rp.name]) for rp in plan.rods)
+        mesh = self.cache.mesh((plan.geometry, counts), lambda: _Mesh(plan, counts))
+        self.X0, self.rod_nodes, self.n_nodes = mesh.X0, mesh.rod_nodes, mesh.n_nodes
+        off = mesh.n_nodes
+        if mesh.conn is not None:
+            kbs = [element_stiffness(mesh.L0[e], mesh.s0[e], rp.EI, rp.EA)
+                   for rp, e in zip(plan.rods, mesh.rod_elements)]
+            self.elements = corotational.ElementSet(mesh.conn, mesh.D0, mesh.L0, mesh.beta0,
+                                                    np.concatenate(kbs), mesh.xmax)
+            self.elem_rod = mesh.elem_rod
+            self.elem_q = np.concatenate([np.broadcast_to(rp.q, (n, 2)) for rp, n in zip(plan.rods, counts)])
         else:
-            self.X0 = np.zeros((0, 2))
             self.elements = None
             self.elem_rod = np.zeros(0, np.intp)
             self.elem_q = np.zeros((0, 2))
+        p_lin = [-distributed_nodal_loads(self.X0[nodes], rp.q) if rp.loaded else None
+                 for rp, nodes in zip(plan.rods, self.rod_nodes)]
         # bodies: frames after the nodes, at their origins (a ground pin, else the centroid)
         self.body_index = plan.body_index
         self.body_X0 = plan.body_X0
         nb3 = 3 * off
         self.n_q = nb3 + plan.body_p.size
         p = np.zeros(self.n_q)
-        if p_lin:
-            p[:nb3] = np.concatenate(p_lin).ravel()
+        for pl, nodes in zip(p_lin, self.rod_nodes):
+            if pl is not None:
+                p[3 * nodes[0]:3 * nodes[-1] + 3] = pl.ravel()
         p[nb3:] = plan.body_p
         for rod, end, vec in plan.node_loads:
             d = 3 * self.node(rod, end)

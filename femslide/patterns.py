@@ -5,10 +5,19 @@ from __future__ import annotations
 
 
 class PatternCache:
-    """Dof layouts and Jacobian scatter patterns (femslide.model._Topology) by model topology."""
+    """Dof layouts and Jacobian scatter patterns (femslide.model._Topology) by model topology,
+    and rod meshes by geometry."""
 
     def __init__(self):
         self._topologies = {}
+        self._meshes = {}
+
+    def mesh(self, key, build):
+        """The rod meshes of a geometry and element counts (femslide.model._Mesh), built once."""
+        m = self._meshes.get(key)
+        if m is None:
+            m = self._meshes[key] = build()
+        return m
 
     def topology(self, model, con_dofs, term_dofs, lin_dofs):
         key = (model.n_q, model.elements.conn.tobytes() if model.elements is not None else b"",
