@@ -66,8 +66,9 @@ class Link:
         self.ib = (3 if a.dof0 is not None else 0) if b.dof0 is not None else None
         self.dofs = np.concatenate([a.dofs, b.dofs]).astype(np.intp)
         self.k = self.dofs.size
-        self.lever_a = a.r != (0.0, 0.0)
-        self.lever_b = b.r != (0.0, 0.0)
+        # a lever: the joint point is off the frame's origin of a part that turns (not the ground)
+        self.lever_a = a.dof0 is not None and a.r != (0.0, 0.0)
+        self.lever_b = b.dof0 is not None and b.r != (0.0, 0.0)
         self.e0 = tuple(axis) if axis is not None else (0.0, 1.0)
         self.n0 = (-self.e0[1], self.e0[0])
         # a pin or weld between rod nodes and the ground is linear: constant gradient, no Hessian
