@@ -94,7 +94,7 @@ def run_case(scene, values, out=None, quiet=False) -> Result:
     if isinstance(raw, Result):
         res = raw
     else:
-        res = Result({k: v for k, v in raw.items() if k not in ("_write", "_solution")})
+        res = Result({k: v for k, v in raw.items() if not k.startswith("_")})
         res._writer = raw.get("_write")
         res.solution = raw.get("_solution")
     res["wall_time_s"] = wall
