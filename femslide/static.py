@@ -4,10 +4,11 @@ The answer is the equilibrium reached by ramping all loads together from zero (t
 branch).  How the path is followed is chosen from the undeformed structure under full load, on the
 coarsest mesh (:func:`choose_path`):
 
-- stable there (the reduced tangent, with the initial stresses of the loads, is positive definite):
-  load control, in as many load steps as the linear response's rotations need (Newton from the
-  undeformed state, step halving when a step fails; a step that cannot be halved further is a limit
-  point, exit 1);
+- stable there (the reduced tangent, with the initial stresses of the loads, is positive definite on
+  the unloaded structure's first-order mechanisms, or there are none): load control, in load steps
+  whose predicted increments stay bounded, each checked against its tangent prediction and for
+  stability; the steps shrink towards a limit point, where the run exits 1 with its load factor
+  (see :func:`_load_steps`);
 - not stable (a near-mechanism such as the paper's structure, whose undeformed tangent is singular
   in the rigid limit, or a structure that must deform to carry its loads): displacement control of
   the dof that moves most in the softest mode (a body rotation when one takes part), marching in the
