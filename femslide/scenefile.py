@@ -38,10 +38,13 @@ def is_scene_file(name: str) -> bool:
 
 def is_fe(scene: Scene) -> bool:
     """Scenes whose mesh a file can fix: the FE statics scenes (runners in femslide.paper)."""
-    return scene.runner.startswith(".paper:")
+    return getattr(scene, "runner", "").startswith(".paper:")
 
 
-def no_mesh_reason(scene: Scene) -> str:
+def no_mesh_reason(scene) -> str:
+    if getattr(scene, "spec", None):   # a structure file: its rods may name meshes themselves
+        return (f"{scene.name} is a structure file: its rods declare their meshes (elements, or mesh and "
+                f"group); `femslide mesh` writes the reference meshes of the built-in FE scenes")
     if "n_elements" in scene.params.names:  # FE dynamics: built by femslide/dynamics.py
         return (f"scene {scene.name}: mesh files are read for the FE statics scenes only; "
                 f"set n_elements instead")
