@@ -182,3 +182,20 @@ def test_python_api_result_arrays_and_overrides():
 def test_shipped_structure_files_load(name):
     s = femslide.load(str(STRUCTURES / f"{name}.toml"))
     assert s.freeze().rods
+
+
+def test_rod_from_a_mesh_group(tmp_path):
+    """A rod's geometry and element count from a meshio line group (femslide mesh writes one)."""
+    r = cli("mesh", "beam-slider", "--set", "n_elements=16", "--out", tmp_path / "bs.vtu")
+    assert r.returncode == 0, r.stderr
+    text = (STRUCTURES / "beam-slider.toml").read_text()
+    text = text.replace("start = [2.0, 0.0]\nend = [2.0, 3.0]\n", 'mesh = "bs.vtu"\ngroup = "rod:right"\n')
+    (tmp_path / "s.toml").write_text(text)
+    res = femslide.solve(str(tmp_path / "s.toml"))
+    assert res.solution.model.elements.size == 16
+    ref = femslide.solve("beam-slider", n_elements=16)
+    assert res["M_max"] == pytest.approx(ref["M_max"], rel=1e-10)
+    bad = text.replace('group = "rod:right"', 'group = "rod:nope"')
+    (tmp_path / "bad.toml").write_text(bad)
+    r = cli("solve", tmp_path / "bad.toml")
+    assert r.returncode == 2 and "rod:nope" in r.stderr
