@@ -26,6 +26,21 @@ elastica = pytest.importorskip("elastica_reference")
 TOL = 1e-6
 
 
+def test_the_reference_on_known_solutions():
+    """The oracle itself: the tip-loaded cantilever at P L^2/EI = 1 against the elliptic-integral
+    solution (Bisshopp-Drucker; v/L = 0.30172, u/L = -0.05643, rotation 0.4611 rad, Mattiasson
+    1981) and the end-moment circle (exact), 1e-9."""
+    r = elastica.inclined_cantilever(1.0, 1.0, 0.0, 0.0, 1.0)
+    e = elastica.tip_load_elliptic(1.0, 1.0, 1.0)
+    assert r["disp"][0] == pytest.approx(e["disp"][0], rel=1e-9)
+    assert r["disp"][1] == pytest.approx(e["disp"][1], rel=1e-9)
+    assert r["rotation"] == pytest.approx(e["rotation"], rel=1e-9)
+    assert (round(e["disp"][1], 5), round(e["disp"][0], 5), round(e["rotation"], 4)) == (0.30172, -0.05643, 0.4614)
+    c = elastica.inclined_cantilever(1.0, 1.0, 0.0, 0.0, 0.0, M=2 * math.pi)
+    assert abs(c["disp"][0] + 1.0) < 1e-9 and abs(c["disp"][1]) < 1e-9
+    assert c["rotation"] == pytest.approx(2 * math.pi, rel=1e-12)
+
+
 def close(got, ref, scale, what=""):
     assert abs(got - ref) <= TOL * abs(scale), (what, got, ref, scale)
 
