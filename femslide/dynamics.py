@@ -40,7 +40,8 @@ beam-friction (m1 = 0: the rod and the piece are massless; see :func:`run_fricti
   of the slide.  Stuck: s is held fixed (s' = 0 exactly), the system is 1-DOF in phi with the rod
   clamped in the guide (stiff: the rod must stretch); breakaway when |F_ax| > mu0 N.  Slipping in
   the direction sigma: the massless slide obeys F_ax = sigma mu N (an algebraic equation solved
-  together with the statics at each phi); slip ends when s' = (ds/dphi) phi' returns to zero.  With
+  together with the statics at each phi); slip ends when s' = (ds/dphi) phi' returns to zero, and the
+  slide sticks there only if static friction can hold it (see :func:`run_friction`).  With
   mu0 > mu the massless slide jumps at breakaway (at fixed phi, phi') to the slip state; the elastic
   energy released by the jump is dissipated (reported as ``jump_loss``).  The forcing is a
   horizontal ground acceleration a_g(t) = ag sin(theta t) (+ an optional record), theta =
@@ -659,8 +660,11 @@ def _check_coulomb(rows, modes, mu0, mu, P):
 
 
 def _check_energy(bal):
-    if not bal <= ENERGY_TOL:
-        raise SolverFailure(f"energy balance {bal:.3g} is worse than the tolerance {ENERGY_TOL:g} "
+    """ENERGY_TOL at the default RTOL; a coarser integrator tolerance set on purpose (the
+    work-precision study sets RTOL up to 1e-4) is allowed 100 RTOL."""
+    tol = max(ENERGY_TOL, 100.0 * RTOL)
+    if not bal <= tol:
+        raise SolverFailure(f"energy balance {bal:.3g} is worse than the tolerance {tol:g} "
                             f"(relative to the largest energy): the integration cannot be trusted")
 
 
@@ -760,9 +764,18 @@ def run_friction(v):
     The run is a sequence of segments, each integrated by DOP853 with event location:
     stuck (slide locked at s_c; event: |F_ax| = mu0 N crossing upwards -> slip in the direction of
     F_ax, after the jump of the massless slide to F_ax = sigma mu N) and slipping (F_ax = sigma mu N;
-    event: s' = (ds/dphi) phi' reaching zero -> stuck at the current slide).  m1 = 0 here: the rod
-    and the telescopic piece are massless, T = J_A1 phi'^2 / 2 exactly.  Initial state: at rest at
-    phi0 with the slide of the frictionless statics, stuck.
+    event: s' = (ds/dphi) phi' reaching zero -> stick at the current slide if static friction can
+    hold it there, see below).  m1 = 0 here: the rod and the telescopic piece are massless,
+    T = J_A1 phi'^2 / 2 exactly.  Initial state: at rest at phi0 with the slide of the frictionless
+    statics.
+
+    Entry into stick (t = 0 and every end of a slip): the slide is locked only if |F_ax| <= mu0 N
+    there; on the boundary (within round-off: F_ax = N = 0 in the vertical state, or |F_ax| = mu N =
+    mu0 N when a slip ends with mu = mu0) only if |F_ax| - mu0 N does not grow for the coming motion
+    (one-sided rates from dF_ax/dphi and dN/dphi with the slide locked; the motion's direction from
+    phi', phi'' and the change of the forcing).  Otherwise it slips at once; mu0 = 0 never sticks.
+    After the run every history sample is checked against Coulomb's law and the energy balance
+    against ENERGY_TOL: a violation fails the run (exit 1).
 
     Scene defaults EI = 1e4 N m^2, EA = 1e6 N (EA/EI = 100 m^-2, not the inextensible 1e6): while
     stuck, phi can change only by stretching the rod, K_stuck ~ EA (2a)^2 / L, and with the default
