@@ -184,9 +184,16 @@ def _show(args):
     return 0 if info else 1
 
 
+def _check_outputs(args):
+    """Output paths (--out, --plot, --screenshot) writable, before any work (femslide/outputs.py)."""
+    from .outputs import check
+    check(args)
+
+
 def main(argv=None) -> int:
     try:
         args = _build_parser().parse_args(argv)
+        _check_outputs(args)
         if args.cmd == "scenes":
             _print_scenes(args.json)
             return 0

@@ -40,7 +40,8 @@ beam-friction (m1 = 0: the rod and the piece are massless; see :func:`run_fricti
   of the slide.  Stuck: s is held fixed (s' = 0 exactly), the system is 1-DOF in phi with the rod
   clamped in the guide (stiff: the rod must stretch); breakaway when |F_ax| > mu0 N.  Slipping in
   the direction sigma: the massless slide obeys F_ax = sigma mu N (an algebraic equation solved
-  together with the statics at each phi); slip ends when s' = (ds/dphi) phi' returns to zero.  With
+  together with the statics at each phi); slip ends when s' = (ds/dphi) phi' returns to zero, and the
+  slide sticks there only if static friction can hold it (see :func:`run_friction`).  With
   mu0 > mu the massless slide jumps at breakaway (at fixed phi, phi') to the slip state; the elastic
   energy released by the jump is dissipated (reported as ``jump_loss``).  The forcing is a
   horizontal ground acceleration a_g(t) = ag sin(theta t) (+ an optional record), theta =
@@ -54,15 +55,67 @@ import os
 import time
 from dataclasses import dataclass
 
-import numpy as np
-import scipy.linalg as sla
+# The dynamics factorises small dense Jacobians (4 n + 10 unknowns) a thousand times per period of
+# the motion.  Multithreaded OpenBLAS is slower there, and on a busy 2-core machine up to 11 times
+# slower (n_elements = 64: 15 ms per LU instead of 1.4 ms), which the time bounds below cannot
+# absorb.  One BLAS thread, unless the user chose otherwise; effective when numpy is first imported
+# here (the command line imports no numpy before a scene runs).
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from .corotational import strain_energy
-from .errors import BadInput, SolverFailure
+import numpy as np  # noqa: E402
+import scipy.linalg as sla  # noqa: E402
+
+from .corotational import strain_energy  # noqa: E402
+from .errors import BadInput, SolverFailure  # noqa: E402
 
 N_DEFAULT = 8          # elements of the flexible rod when n_elements is not given
 N_MAX_DYN = 150        # dense Jacobians (size < 600)
 NEWTON_TOL = 1e-12
+
+# Bounded work (issue 12).  Every right-hand side of the reduced equation is a Newton solve of the
+# statics; DOP853 at RTOL needs about 1050 of them per period of the motion (beam-oscillation,
+# measured: 833 right-hand sides and 1050 solves for one linear period, any n_elements), and the
+# history 64 samples per period of 2-3 solves each: SOLVES_PER_PERIOD in all.  A solve costs
+# solve_seconds(n) (measured with one BLAS thread on the 2-core development machine under load:
+# 3.2 ms at n = 8, 4.2 ms at 32, 7.6 ms at 64, 36 ms at 150).  A run may take WORK_BUDGET_S by
+# this estimate (t_end is capped a priori, exit 2), and at most RUNTIME_FACTOR times that many
+# solves in fact (stuck phases of beam-friction are stiffer than the frictionless period the
+# estimate uses; exceeding the count is exit 1 with the reason).
+SOLVES_PER_PERIOD = 1300
+WORK_BUDGET_S = 60.0
+RUNTIME_FACTOR = 1.5
+WALL_LIMIT_S = 100.0   # last resort: wall time of a run (exit 1), for machines slower or busier
+                       # than the cost model's (the contract: every run ends within 2 minutes)
+ENERGY_TOL = 1e-6      # energy balance worse than this fails the run (exit 1)
+COULOMB_TOL = 1e-6     # relative: |F_ax| <= mu0 N (1 + tol) while stuck, else the run fails
+
+
+def solve_seconds(n):
+    """Measured cost of one statics solve of the dynamics [s] with n elements (see above)."""
+    return 3.0e-3 + 1.5e-6 * n * n
+
+
+def check_work(v, omega, n, scene, extra_solves=0):
+    """BadInput (naming t_end and its usable range) when the run would take more than
+    WORK_BUDGET_S by the measured cost model; returns the number of statics solves allowed.
+    ``extra_solves``: solves beyond the periodic estimate (e.g. 20 per record node: the integrator
+    restarts its step at every kink of the interpolated record)."""
+    T = 2 * math.pi / omega
+    per_period = SOLVES_PER_PERIOD * solve_seconds(n)
+    periods = v["t_end"] / T
+    if periods * per_period + extra_solves * solve_seconds(n) > WORK_BUDGET_S:
+        if extra_solves * solve_seconds(n) > 0.5 * WORK_BUDGET_S:
+            raise BadInput(f"parameter record: {extra_solves // 20} record nodes before t_end = {v['t_end']:g} s "
+                           f"cost about 20 statics solves each ({extra_solves * solve_seconds(n):.3g} s); "
+                           f"allowed: at most {int(0.5 * WORK_BUDGET_S / solve_seconds(n) / 20)} nodes before "
+                           f"t_end (resample the record or shorten t_end)")
+        t_max = (WORK_BUDGET_S - extra_solves * solve_seconds(n)) / per_period * T
+        raise BadInput(f"parameter t_end = {v['t_end']:g} s: {scene} with n_elements = {n} takes about "
+                       f"{per_period:.2g} s of computing per period of the motion ({T:.4g} s; "
+                       f"{SOLVES_PER_PERIOD} statics solves of ~{solve_seconds(n) * 1e3:.2g} ms), "
+                       f"so {periods:.3g} periods would take ~{periods * per_period:.3g} s; allowed: "
+                       f"t_end <= {t_max:.4g} s ({WORK_BUDGET_S:g} s of work; fewer n_elements allow more)")
+    return int(RUNTIME_FACTOR * WORK_BUDGET_S / solve_seconds(n)) + 2000
 
 
 # -- extra constraints and loads ----------------------------------------------------------------------
@@ -152,6 +205,9 @@ class Point:
     lam_s: float = 0.0  # guide axial force (slide-lock multiplier) [P]
     N: float = 0.0      # |transverse clamp force| [P]
     dQ: float = 0.0     # dQ/dphi along the current mode's path
+    lam_s1: float = 0.0  # d lam_s / dphi along the current mode's path [P/rad]
+    Nc: float = 0.0      # transverse clamp force, signed (N = |Nc|) [P]
+    Nc1: float = 0.0     # d Nc / dphi [P/rad]
 
 
 class Structure:
@@ -203,6 +259,8 @@ class Structure:
         self.alpha_ref = self.alpha.copy()
         self.n_solves = 0
         self.n_newton = 0
+        self.max_solves = None   # work budget (check_work); None: unbounded
+        self.deadline = None     # wall-clock limit (perf_counter); None: unbounded
         # mode: "free" (slide free; friction model only: slide-lock row replaced by lam_s = 0),
         # "stuck" (slide locked at s_c), "slip" (lam_s = sigma mu N)
         self.mode = "free"
@@ -268,6 +326,17 @@ class Structure:
                     raise SolverFailure(f"a rod chord turned by more than 2.5 rad at phi = {phi:.6g} rad "
                                         f"(outside the dynamic model's fixed chord reference)", hist)
                 self.n_solves += 1
+                if self.deadline is not None and time.perf_counter() > self.deadline:
+                    raise SolverFailure(
+                        f"time limit: {WALL_LIMIT_S:g} s of wall time used before the run could finish "
+                        f"({self.n_solves} statics solves; the machine is slower or busier than the "
+                        f"cost model assumes, or stuck phases are stiff); shorten t_end")
+                if self.max_solves is not None and self.n_solves > self.max_solves:
+                    raise SolverFailure(
+                        f"work budget exhausted: {self.max_solves} statics solves (about "
+                        f"{RUNTIME_FACTOR * WORK_BUDGET_S:g} s) used before t_end (stiff stuck phases "
+                        f"need far more steps than the frictionless period suggests); shorten t_end, "
+                        f"or lower EA or n_elements")
                 self.y, self.alpha = y, alpha
                 return y, alpha, lu
             big = np.abs(dy[:n_q]).max()
@@ -312,9 +381,10 @@ class Structure:
         Q = -float(y[self.row_rot])
         dQ = -float(y1[self.row_rot])
         p = Point(phi, y, alpha, Q, s, s1, s2, dQ=dQ)
-        p.N = abs(float(y[self.row_clamp]))
+        p.Nc, p.Nc1 = float(y[self.row_clamp]), float(y1[self.row_clamp])
+        p.N = abs(p.Nc)
         if self.row_s is not None:
-            p.lam_s = float(y[self.row_s])
+            p.lam_s, p.lam_s1 = float(y[self.row_s]), float(y1[self.row_s])
         return p
 
     # -- kinematics (SI) ------------------------------------------------------------------------------
@@ -507,6 +577,8 @@ def run_oscillation(v):
     if not K > 0:
         raise SolverFailure(f"the vertical state is not stable in the FE model (K = {K:.6g} N m/rad)")
     omega = math.sqrt(K / M0)
+    st.max_solves = check_work(v, omega, st.n_el, "beam-oscillation")
+    st.deadline = t0 + WALL_LIMIT_S
     V0 = st.potential(p0.y, p0.alpha)
     # walk to phi0 (held), warm-starting each step
     phi0 = v["phi0"]
@@ -537,12 +609,14 @@ def run_oscillation(v):
     D, W = float(sol.y[2, -1]), float(sol.y[3, -1])
     Eref = abs(E0) if E0 != 0 else 1.0
     bal = abs(E_end + D - W - E0) / Eref
+    bal_abs = E_end + D - W - E0
     drift = 0.0
     for t, z in zip(sol.t_events[0], sol.y_events[0]):
         zz = sol.sol(t)
         pe = st.point(float(z[0]), second=False)
         drift = max(drift, abs(run.energy(pe, 0.0) + zz[2] - zz[3] - E0) / Eref)
     hist = _history(run, sol, v, omega, tps)
+    _check_energy(bal, bal_abs, st)
     res = {
         "converged": True,
         "turning_points": [{"t": t, "w": w} for t, w in tps],
@@ -568,6 +642,39 @@ def run_oscillation(v):
         "_write": lambda d: _write(d, "beam-oscillation", hist, st),
     }
     return res
+
+
+def _check_coulomb(rows, modes, mu0, mu, P):
+    """Coulomb's law on the history samples (columns F_ax, N in N): stuck, |F_ax| <= mu0 N; slipping,
+    |F_ax| = mu N.  A violation fails the run (exit 1).  Returns max |F_ax| / (mu0 N) while stuck
+    (None without stuck samples)."""
+    worst = None
+    for r in rows:
+        md, _, _ = modes(r[0])
+        F, N = abs(r[9]), r[10]
+        tol = COULOMB_TOL * max(F, mu0 * N) + 1e-9 * P
+        if md == "stuck":
+            ratio = F / (mu0 * N) if mu0 * N > 0 else (0.0 if F <= tol else math.inf)
+            worst = ratio if worst is None else max(worst, ratio)
+            if F > mu0 * N + tol:
+                raise SolverFailure(f"Coulomb's law violated while stuck at t = {r[0]:.6g} s: guide force "
+                                    f"|F_ax| = {F:.6g} N > mu0 N = {mu0 * N:.6g} N")
+        elif md == "slip" and abs(F - mu * N) > tol:
+            raise SolverFailure(f"Coulomb's law violated while slipping at t = {r[0]:.6g} s: guide force "
+                                f"|F_ax| = {F:.6g} N, mu N = {mu * N:.6g} N")
+    return worst
+
+
+def _check_energy(bal, err_abs, st):
+    """ENERGY_TOL at the default RTOL; a coarser integrator tolerance set on purpose (the
+    work-precision study sets RTOL up to 1e-4) is allowed 100 RTOL.  An absolute error below the
+    round-off level of the potential energy (~1e-12 P a: strain energy and weights of order P a are
+    summed) passes: a run so short or so small that all its energies are at that level (t_end = 1e-6
+    s: 1e-22 J) has no meaningful relative balance."""
+    tol = max(ENERGY_TOL, 100.0 * RTOL)
+    if not (bal <= tol or abs(err_abs) <= 1e-12 * st.Pa):
+        raise SolverFailure(f"energy balance {bal:.3g} is worse than the tolerance {tol:g} "
+                            f"(relative to the largest energy): the integration cannot be trusted")
 
 
 def _sample_times(sol, omega, t_end, tps, per_period=64):
@@ -601,7 +708,7 @@ def _history(run, sol, v, omega, tps, modes=None):
         Qmax = max(Qmax, abs(p.Q) * st.Pa)
         dal = max(dal, abs(lockres))
         stuck = 1 if (extra is not None and extra[0] == "stuck") else 0
-        return [ti, phi, w, F2, p.s * st.a, stuck, F1, N1, N2], (y, alpha)
+        return [ti, phi, w, F2, p.s * st.a, stuck, F1, N1, N2, p.lam_s * st.P, p.N * st.P], (y, alpha)
 
     for ti in t:
         row, state = at(float(ti))
@@ -637,9 +744,13 @@ def _write(out_dir, name, hist, st):
     from .vtu import mesh_data, write_series
     H = hist["rows"]
     path = os.path.join(out_dir, "history.csv")
-    np.savetxt(path, H[:, :6], delimiter=",", comments="",
-               header="t [s],phi [rad],phi_dot [rad/s],F2 [N],slide [m],stuck (1 stuck; 0 sliding or free)",
-               fmt=["%.17g"] * 5 + ["%d"])
+    if not np.isfinite(H).all():
+        raise SolverFailure("the time history is not finite; nothing written")
+    np.savetxt(path, H[:, [0, 1, 2, 3, 4, 5, 9, 10]], delimiter=",", comments="",
+               header="t [s],phi [rad],phi_dot [rad/s],F2 [N],slide [m],stuck (1 stuck; 0 sliding or free),"
+                      "F_ax [N] (guide axial force: slide-lock multiplier; 0 without friction),"
+                      "N [N] (|transverse clamp force|)",
+               fmt=["%.17g"] * 5 + ["%d"] + ["%.17g"] * 2)
     # frames: at most 200, evenly spread over the samples (>= 10 when there are that many samples)
     idx = np.unique(np.linspace(0, len(H) - 1, min(len(H), 200)).round().astype(int))
     frames = []
@@ -662,9 +773,18 @@ def run_friction(v):
     The run is a sequence of segments, each integrated by DOP853 with event location:
     stuck (slide locked at s_c; event: |F_ax| = mu0 N crossing upwards -> slip in the direction of
     F_ax, after the jump of the massless slide to F_ax = sigma mu N) and slipping (F_ax = sigma mu N;
-    event: s' = (ds/dphi) phi' reaching zero -> stuck at the current slide).  m1 = 0 here: the rod
-    and the telescopic piece are massless, T = J_A1 phi'^2 / 2 exactly.  Initial state: at rest at
-    phi0 with the slide of the frictionless statics, stuck.
+    event: s' = (ds/dphi) phi' reaching zero -> stick at the current slide if static friction can
+    hold it there, see below).  m1 = 0 here: the rod and the telescopic piece are massless,
+    T = J_A1 phi'^2 / 2 exactly.  Initial state: at rest at phi0 with the slide of the frictionless
+    statics.
+
+    Entry into stick (t = 0 and every end of a slip): the slide is locked only if |F_ax| <= mu0 N
+    there; on the boundary (within round-off: F_ax = N = 0 in the vertical state, or |F_ax| = mu N =
+    mu0 N when a slip ends with mu = mu0) only if |F_ax| - mu0 N does not grow for the coming motion
+    (one-sided rates from dF_ax/dphi and dN/dphi with the slide locked; the motion's direction from
+    phi', phi'' and the change of the forcing).  Otherwise it slips at once; mu0 = 0 never sticks.
+    After the run every history sample is checked against Coulomb's law and the energy balance
+    against ENERGY_TOL: a violation fails the run (exit 1).
 
     Scene defaults EI = 1e4 N m^2, EA = 1e6 N (EA/EI = 100 m^-2, not the inextensible 1e6): while
     stuck, phi can change only by stretching the rod, K_stuck ~ EA (2a)^2 / L, and with the default
@@ -687,6 +807,11 @@ def run_friction(v):
     omega = math.sqrt(K / M0)
     theta = v["theta_ratio"] * omega
     ground = Ground(v.get("ag", 0.0), theta, v.get("record"))
+    # the integrator follows the faster of the motion and the forcing, and steps at record nodes
+    w_fast = max(omega, theta) if ground.forced and ground.ag else omega
+    nodes = int(np.searchsorted(ground.rt, v["t_end"])) if ground.rt is not None else 0
+    st.max_solves = check_work(v, w_fast, st.n_el, "beam-friction", extra_solves=20 * nodes)
+    st.deadline = t_wall + WALL_LIMIT_S
     V0 = st.potential(p0.y, p0.alpha)
     phi0 = v["phi0"]
     steps = max(1, int(math.ceil(abs(phi0) / 0.02)))
@@ -698,7 +823,6 @@ def run_friction(v):
     run.V0 = V0
     st.mu = v["mu"]
     mu0 = v["mu0"]
-    mode, sigma, s_c = "stuck", 0.0, p_init.s
     E0 = run.energy(p_init, 0.0)
     t, z = 0.0, np.array([phi0, 0.0, 0.0, 0.0, 0.0])
     segs = []         # (t0, t1, dense, mode, sigma, s_c)
@@ -706,10 +830,88 @@ def run_friction(v):
     jump_loss = 0.0
     n_steps = n_fev = 0
     short = 0
+    h_probe = 1e-4 * 2 * math.pi / max(omega, theta if ground.forced else 0.0)
+    mode, sigma, s_c = "free", 0.0, None
 
     def set_mode():
         st.mode, st.sigma = mode, sigma
         run.cache.clear()
+
+    def motion_direction(tt, zz, p):
+        """Sign of the coming change of phi from (tt, phi, phi'), to third order in time (the
+        jerk from the change of the forcing at fixed state): 0 when nothing moves."""
+        phi_, w_ = float(zz[0]), float(zz[1])
+        a0 = run.accel(tt, phi_, w_, p)[0]
+        a1 = run.accel(tt + h_probe, phi_, w_, p)[0]
+        h = h_probe
+        delta = w_ * h + 0.5 * a0 * h * h + (a1 - a0) * h * h / 6.0
+        scale = abs(w_) * h + (abs(a0) + abs(a1)) * h * h
+        if scale == 0.0 or abs(delta) <= 1e-12 * scale:
+            return 0.0
+        return 1.0 if delta > 0 else -1.0
+
+    def stick_test(tt, zz, p):
+        """(holds, sigma): can static friction hold the slide locked at this instant?  |F_ax| <=
+        mu0 N decides; on the boundary (within round-off, e.g. F_ax = N = 0 in the vertical state,
+        or |F_ax| = mu N = mu0 N when a slip ends with mu = mu0) the one-sided rate of
+        |F_ax| - mu0 N for the coming motion does (computed from dF_ax/dphi and dN/dphi with the
+        slide locked): stick only if it does not grow.  sigma: the slip direction otherwise."""
+        F, F1, c, c1 = p.lam_s, p.lam_s1, p.Nc, p.Nc1
+        tol = 1e-9 * (1.0 + abs(F) + mu0 * abs(c))
+        g = abs(F) - mu0 * abs(c)
+        if g < -tol:
+            return True, 0.0
+        if g > tol:
+            return False, (1.0 if F > 0 else -1.0)
+        d = motion_direction(tt, zz, p)
+        if d == 0.0:
+            return True, 0.0      # nothing moves: held until the breakaway event says otherwise
+
+        def rate(dd):
+            dF = (1.0 if F > 0 else -1.0) * F1 * dd if abs(F) > tol else abs(F1)
+            dN = (1.0 if c > 0 else -1.0) * c1 * dd if abs(c) > tol else abs(c1)
+            return dF - mu0 * dN
+        if rate(d) <= 1e-9 * (abs(F1) + mu0 * abs(c1)):
+            return True, 0.0
+        if abs(F) > tol:
+            return False, (1.0 if F > 0 else -1.0)
+        return False, (1.0 if F1 * d > 0 else -1.0)
+
+    def to_slip(tt, phi, s_lock, sgm):
+        """Jump of the massless slide at fixed phi, phi' from the locked state to F_ax = sgm mu N;
+        the elastic energy released is dissipated (jump_loss)."""
+        nonlocal jump_loss, mode, sigma
+        mode, sigma = "stuck", 0.0
+        set_mode()
+        p = run.eval(tt, phi, s_lock)
+        E_before = st.potential(p.y, p.alpha)
+        mode, sigma = "slip", sgm
+        set_mode()
+        try:
+            q = st.point(phi, second=False)
+        except SolverFailure as exc:
+            raise SolverFailure(f"no slip state at breakaway, t = {tt:.6g} s: {exc.reason}", exc.history)
+        if sgm * (q.s - s_lock) < -1e-12:
+            raise SolverFailure(f"the slide jumped against the breakaway force at t = {tt:.6g} s")
+        jump_loss += (E_before - st.potential(q.y, q.alpha)) * st.Pa
+        run.cache.clear()
+
+    def enter_stick(tt, zz, s_lock):
+        """At t = 0 and at every end of a slip: stuck at s_lock if static friction can hold the
+        slide there, else slip at once (mu0 = 0 never sticks: the slide is free)."""
+        nonlocal mode, sigma, s_c
+        if mu0 == 0.0:
+            mode, sigma, s_c = "free", 0.0, None
+            return
+        mode, sigma = "stuck", 0.0
+        set_mode()
+        p = run.eval(tt, float(zz[0]), s_lock)
+        holds, sgm = stick_test(tt, zz, p)
+        if holds:
+            mode, sigma, s_c = "stuck", 0.0, s_lock
+        else:
+            to_slip(tt, float(zz[0]), s_lock, sgm)
+            s_c = None
 
     def turn(tt, zz):
         return zz[1]
@@ -717,8 +919,11 @@ def run_friction(v):
     turn.direction = 0
 
     def breakaway(tt, zz):
+        # |F_ax| - mu0 N, less the round-off margin of the stick test: a stuck phase entered on
+        # the boundary (mu = mu0, or F_ax = N = 0) starts at -margin, not at a round-off sign that
+        # would hide the upward crossing from the event search
         p = run.eval(tt, zz[0], s_c)
-        return abs(p.lam_s) - mu0 * p.N
+        return abs(p.lam_s) - mu0 * p.N - 1e-9 * (1.0 + abs(p.lam_s) + mu0 * p.N)
     breakaway.terminal = True
     breakaway.direction = 1
 
@@ -729,12 +934,15 @@ def run_friction(v):
     slip_end.direction = -1
 
     try:
+        enter_stick(0.0, z, p_init.s)
         while t < v["t_end"] * (1 - 1e-14):
             set_mode()
             if mode == "stuck":
                 sol = _integrate(run, t, v["t_end"], z, [turn, breakaway], s_c=s_c)
-            else:
+            elif mode == "slip":
                 sol = _integrate(run, t, v["t_end"], z, [turn, slip_end])
+            else:
+                sol = _integrate(run, t, v["t_end"], z, [turn])
             if sol.status < 0:
                 raise SolverFailure(f"time integration failed at t = {t:.6g} s ({mode}): {sol.message}")
             n_steps += sol.t.size - 1
@@ -750,23 +958,13 @@ def run_friction(v):
             if sol.status != 1:
                 break
             phi = float(z[0])
-            if mode == "stuck":
+            if mode == "stuck":            # breakaway: slip in the direction of the guide force
                 p = run.eval(t, phi, s_c)
-                E_before = st.potential(p.y, p.alpha)
-                sigma = 1.0 if p.lam_s > 0 else -1.0
-                mode = "slip"
-                set_mode()
-                try:
-                    q = st.point(phi, second=False)
-                except SolverFailure as exc:
-                    raise SolverFailure(f"no slip state at breakaway, t = {t:.6g} s: {exc.reason}", exc.history)
-                if sigma * (q.s - s_c) < -1e-12:
-                    raise SolverFailure(f"the slide jumped against the breakaway force at t = {t:.6g} s")
-                jump_loss += (E_before - st.potential(q.y, q.alpha)) * st.Pa
-                run.cache.clear()
-            else:
+                to_slip(t, phi, s_c, 1.0 if p.lam_s > 0 else -1.0)
+                s_c = None
+            else:                          # the slip ends: stuck, if static friction holds there
                 p = run.eval(t, phi, None)
-                mode, sigma, s_c = "stuck", 0.0, p.s
+                enter_stick(t, z, p.s)
     finally:
         bar.close()
 
@@ -794,6 +992,8 @@ def run_friction(v):
     else:
         Eref = abs(E0)
     bal = abs(err) / Eref if Eref > 0 else 0.0
+    ratio = _check_coulomb(rows, modes, mu0, st.mu, st.P)
+    _check_energy(bal, err, st)
     amp, reason = _steady(ground, theta, tps, v["t_end"], rows)
     stuck_time = sum(b - a for a, b, _, md_, _, _ in segs if md_ == "stuck")
     # zero drift while stuck: the slide of every stuck sample equals its segment's s_c
@@ -820,6 +1020,7 @@ def run_friction(v):
         "stick_slip_switches": len(segs) - 1,
         "stuck_time": stuck_time,
         "stuck_slide_drift": drift,
+        "stuck_force_ratio_max": ratio,
         "friction_work": Df,
         "jump_loss": jump_loss,
         "work_in": W,

@@ -162,7 +162,7 @@ class ParamSet:
             values["EA"] = 1e6 * values["EI"]
         if "mu0" in values and values["mu0"] is None:
             values["mu0"] = values.get("mu", 0.0)
-        for rule in self.rules:
+        for rule in self.rules + ((rule_fe_ranges,) if "EI" in values else ()):
             msg = rule(values)
             if msg:
                 raise BadInput(msg)
@@ -202,4 +202,47 @@ def rule_l1_le_l(v):
 def rule_l1_lt_l(v):
     if not v["l1"] < v["l"]:
         return (f"parameter l1 = {v['l1']:g} m must lie on the rod: allowed 0 < l1 < l = {v['l']:g} m")
+    return None
+
+
+# The FE models' verified ranges ------------------------------------------------------------------
+# Measured with the global statics of beam-slider/-fixed/-both (sum of forces and moment about A1
+# within 1e-9 P, validation/STABILITY.md) and the cantilever against the elastica: EI/(P a^2) up to
+# 1e15 (at 1e16 the moment balance is off by 4e-6 while the error estimate says 1e-4), EA a^2/EI up to
+# 1e13 (at 1e15 off by 8e-6 with an estimate of 6e-8: silently wrong), EA/P up to 1e21; the
+# cantilever's EA L^2/EI up to 1e14 (1e16 stalls).  Beyond them the answers are not trustworthy or
+# the arithmetic overflows (EI = 1e308: NaN and numpy warnings), so they are bad input.  EA a^2/EI
+# >= 1: a rod is slender (EA L^2/EI = (L/r)^2, r its radius of gyration).
+KAPPA_MAX, EA_RATIO_MAX, EA_P_MAX, EA_CANT_MAX = 1e15, 1e13, 1e21, 1e14
+
+
+def rule_fe_ranges(v):
+    EI, EA = v["EI"], v.get("EA")
+    if EA is not None and not math.isfinite(EA):
+        return (f"parameter EA: the default 1e6 m^-2 * EI = {EA:g} N overflows for EI = {EI:g} N m^2; "
+                f"allowed: EA < 1e308 N (set EA, or a smaller EI)")
+    if "a" not in v:  # cantilevers: lengths and forces by L and EI/L^2; only EA L^2/EI matters
+        r = EA * v["L"] ** 2 / EI
+        if not 1.0 <= r <= EA_CANT_MAX:
+            return (f"parameter EA = {EA:g} N: EA L^2/EI = {r:.3g} is outside the range the FE model is "
+                    f"verified for; allowed: {EI / v['L'] ** 2:.6g} <= EA <= {EA_CANT_MAX * EI / v['L'] ** 2:.6g} N "
+                    f"here (1 <= EA L^2/EI <= {EA_CANT_MAX:g})")
+        return None
+    P, a = v["m"] * v["g"], v["a"]
+    if not (math.isfinite(P) and P > 0 and math.isfinite(a * a) and a * a > 0):
+        return (f"parameters m, g, a: the load m g = {P:g} N and a^2 = {a * a:g} m^2 must be positive and "
+                f"finite; allowed: m g and a^2 between 1e-300 and 1e300")
+    kappa = EI / (P * a * a)
+    if not kappa <= KAPPA_MAX:
+        return (f"parameter EI = {EI:g} N m^2: EI/(m g a^2) = {kappa:.3g} is outside the range the FE statics "
+                f"is verified for; allowed: EI <= {KAPPA_MAX * P * a * a:.6g} N m^2 here "
+                f"(EI/(m g a^2) <= {KAPPA_MAX:g})")
+    r = EA * a * a / EI
+    if not 1.0 <= r <= EA_RATIO_MAX:
+        return (f"parameter EA = {EA:g} N: EA a^2/EI = {r:.3g} is outside the range the FE model is verified "
+                f"for; allowed: {EI / (a * a):.6g} <= EA <= {EA_RATIO_MAX * EI / (a * a):.6g} N here "
+                f"(1 <= EA a^2/EI <= {EA_RATIO_MAX:g})")
+    if not EA / P <= EA_P_MAX:
+        return (f"parameter EA = {EA:g} N: EA/(m g) = {EA / P:.3g} is outside the range the FE model is "
+                f"verified for; allowed: EA <= {EA_P_MAX * P:.6g} N here (EA/(m g) <= {EA_P_MAX:g})")
     return None

@@ -11,9 +11,10 @@ from scratch, so a case gives the same numbers whether it is solved alone or in 
 from __future__ import annotations
 
 import importlib
+import math
 from dataclasses import dataclass
 
-from .errors import BadInput
+from .errors import BadInput, SolverFailure
 from .params import ParamSet, rule_l1_le_l, rule_l1_lt_l, rule_mu0_ge_mu
 
 GEOMETRY = ("a", "b", "d", "l", "m", "g")
@@ -40,7 +41,44 @@ class Scene:
 
     def run(self, values: dict) -> dict:
         module, func = self.runner.split(":")
-        return getattr(importlib.import_module(module, __package__), func)(values)
+        res = getattr(importlib.import_module(module, __package__), func)(values)
+        bad = _non_finite(res)
+        if bad and res.get("converged", True):
+            raise SolverFailure(f"the result is not finite ({bad} = {_at(res, bad)}); not reported as "
+                                f"converged")
+        return res
+
+
+def _non_finite(obj, path=""):
+    """Dotted path of the first NaN or inf float in a result (private ``_`` keys skipped), or ''."""
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            if str(k).startswith("_"):
+                continue
+            bad = _non_finite(v, f"{path}.{k}" if path else str(k))
+            if bad:
+                return bad
+        return ""
+    if isinstance(obj, (list, tuple)):
+        for i, v in enumerate(obj):
+            bad = _non_finite(v, f"{path}[{i}]")
+            if bad:
+                return bad
+        return ""
+    if isinstance(obj, (bool, str)) or obj is None:
+        return ""
+    try:
+        return "" if math.isfinite(float(obj)) else path
+    except (TypeError, ValueError, OverflowError):
+        return ""
+
+
+def _at(res, path):
+    import re
+    obj = res
+    for part in re.findall(r"[^.\[\]]+|\[\d+\]", path):
+        obj = obj[int(part[1:-1])] if part.startswith("[") else obj[part]
+    return obj
 
 
 SCENES: dict[str, Scene] = {s.name: s for s in [

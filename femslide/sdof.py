@@ -39,7 +39,23 @@ from .errors import BadInput, SolverFailure
 
 TWO_PI = 2.0 * math.pi
 STEADY_TOL = 1e-10      # m: two successive forcing periods must agree to this for a steady state
-MAX_STEPS = 5_000_000   # closed-form segments before the run is declared failed
+MAX_STEPS = 5_000_000   # closed-form segments before the run is declared failed (a safety net: the
+                        # a-priori bound MAX_PERIODS below is far lower)
+# Bounded work (issue 12).  The run follows the motion period by period: closed-form segments
+# between events, located by a scan of 8 samples per shortest period.  Measured on the 2-core
+# development machine under load: 150-210 us per period of the shortest time scale for the solve,
+# energy balance and summary of a forced run (the slowest kind: 2 events and 16 scan samples per
+# period; unforced runs need one closed form per half-swing), and as much again for --out (history
+# and JSON).  A run may follow at most MAX_PERIODS such periods: about US_PER_PERIOD * MAX_PERIODS
+# = 20 s of solving (40 s with --out) and under 1 GiB, inside the 2 minutes and 4 GiB of the
+# contract with room to spare.
+US_PER_PERIOD = 200
+MAX_PERIODS = 100_000
+MAX_RECORD_ROWS = 1_000_000       # each row is a segment boundary (~20 us each: 20 s)
+MAX_RECORD_BYTES = 64 * 2**20     # a 1e6-row CSV of full-precision numbers is ~40 MB
+E_MAX = 1e250                     # J: energies (and so w, v, forces) stay far inside the float range
+ENERGY_TOL = 1e-6                 # a run whose energy balance is worse than this fails (exit 1)
+HISTORY_ROWS = 1_000_000          # history.csv: 64 samples per shortest period, at most this many
 
 
 # ---------------------------------------------------------------------------------------------
@@ -53,12 +69,19 @@ def read_record(path: str):
     must be finite and strictly increasing, at least two rows.  Returns ``(times, accelerations)``
     as lists of floats.  Raises :class:`BadInput` naming ``record`` otherwise.
     """
+    allowed = "a readable CSV text file with columns t [s], a [m/s^2]"
     try:
-        with open(path, newline="") as fh:
+        size = os.path.getsize(path)
+        if size > MAX_RECORD_BYTES:
+            raise BadInput(f"parameter record: {path!r} is {size / 2**20:.0f} MiB; allowed: {allowed} "
+                           f"of at most {MAX_RECORD_BYTES // 2**20} MiB and {MAX_RECORD_ROWS} rows")
+        with open(path, newline="", encoding="utf-8") as fh:
             text = fh.read()
     except OSError as exc:
         raise BadInput(f"parameter record: cannot read {path!r} ({exc.strerror or exc}); "
-                       f"allowed: a readable CSV file with columns t [s], a [m/s^2]") from None
+                       f"allowed: {allowed}") from None
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise BadInput(f"parameter record: {path!r} is not text ({exc}); allowed: {allowed}") from None
     ts, acc = [], []
     seen_data = False
     for lineno, line in enumerate(text.splitlines(), 1):
@@ -86,6 +109,10 @@ def read_record(path: str):
                            f"increasing (t = {t:g} s after {ts[-1]:g} s)")
         ts.append(t)
         acc.append(a)
+        if len(ts) > MAX_RECORD_ROWS:
+            raise BadInput(f"parameter record: {path!r} has more than {MAX_RECORD_ROWS} data rows; "
+                           f"allowed: at most {MAX_RECORD_ROWS} rows (each is a segment of the exact "
+                           f"solution; resample the record)")
     if len(ts) < 2:
         raise BadInput(f"parameter record: {path!r} has {len(ts)} data rows; "
                        f"allowed: a CSV file with at least two rows 't, a'")
@@ -247,22 +274,30 @@ class Oscillator:
         self.F = forcing
         self.omega = math.sqrt(self.k / self.m)
         self.sigma = self.c / (2.0 * self.m)
-        wd2 = self.omega ** 2 - self.sigma ** 2
-        if wd2 > 0.0:
-            self.kind, self.wd = 0, math.sqrt(wd2)          # under-damped (or undamped)
-        elif wd2 == 0.0:
+        om, sig = self.omega, self.sigma
+        # omega_d or omega_h from the ratio (no overflow of omega^2 or sigma^2, no cancellation)
+        if sig < om:
+            r = sig / om
+            self.kind, self.wd = 0, om * math.sqrt((1.0 - r) * (1.0 + r))   # under-damped (or undamped)
+        elif sig == om:
             self.kind, self.wd = 1, 0.0                     # critically damped
         else:
-            self.kind, self.wd = 2, math.sqrt(-wd2)         # over-damped (wd = omega_h)
+            r = om / sig
+            self.kind, self.wd = 2, sig * math.sqrt((1.0 - r) * (1.0 + r))  # over-damped (wd = omega_h)
+        # over-damped rates: slow r1 = wd - sigma = -omega^2/(sigma + wd) (computed so: the
+        # difference cancels for sigma >> omega), fast r2 = -(sigma + wd)
+        self.r1 = -om * (om / (sig + self.wd)) if self.kind == 2 else 0.0
+        self.r2 = -(sig + self.wd) if self.kind == 2 else 0.0
         periods = [TWO_PI / (self.wd if self.kind == 0 else self.omega)]
         if forcing.harmonic:
             periods.append(TWO_PI / forcing.theta)
         self.h_scan = min(periods) / 8.0
         th = forcing.theta
         if forcing.harmonic and self.c > 0.0:
-            D = (self.k - self.m * th * th) ** 2 + (self.c * th) ** 2
-            self.B1 = forcing.A * (self.k - self.m * th * th) / D
-            self.B2 = -forcing.A * self.c * th / D
+            re, im = self.k - self.m * th * th, self.c * th
+            h = math.hypot(re, im)
+            self.B1 = forcing.A * (re / h) / h
+            self.B2 = -forcing.A * (im / h) / h
         else:
             self.B1 = self.B2 = 0.0
 
@@ -321,6 +356,7 @@ class Oscillator:
                 return w, v, (Ft - k * w) / m
             return fd
         B1, B2 = self.B1, self.B2
+        r1, r2 = self.r1, self.r2
 
         def fd(tau):
             if kind == 0:
@@ -330,7 +366,7 @@ class Oscillator:
             else:
                 # over-damped: e^{-sigma tau} folded into cosh and sinh (0 < wd < sigma), so that
                 # neither overflows on long stuck or sliding stretches
-                ep, em = exp_((wd - sig) * tau), exp_(-(wd + sig) * tau)
+                ep, em = exp_(r1 * tau), exp_(r2 * tau)
                 C, S = 0.5 * (ep + em), 0.5 * (ep - em) / wd
             e = exp_(-sig * tau) if sig and kind != 2 else 1.0
             w = e * (x0 * C + xs * S) + a0 + a1 * tau
@@ -347,6 +383,22 @@ class Oscillator:
     # -- events --------------------------------------------------------------------------------
     def _velocity_zero(self, fd, s, x0, u0, analytic, tau_max, from_rest):
         """First tau in (0, tau_max] where s*v reaches 0, or None."""
+        if analytic and self.kind != 0:
+            # critically or over-damped, constant force: v is e^{-sigma tau} (u0 - xv tau), or
+            # alpha e^{r1 tau} + beta e^{r2 tau}; either has at most one zero.  From rest (u0 = 0)
+            # that zero is the start, so the mass creeps towards its end position without stopping.
+            if from_rest or u0 == 0.0:
+                return None
+            om2x = self.omega * (self.omega * x0)
+            if self.kind == 1:
+                xv = self.sigma * u0 + om2x
+                tau = u0 / xv if xv != 0.0 else -1.0
+            else:
+                alpha = u0 * self.r1 - om2x
+                beta = -u0 * self.r2 + om2x
+                ratio = -beta / alpha if alpha != 0.0 else -1.0
+                tau = math.log(ratio) / (2.0 * self.wd) if ratio > 1.0 else -1.0
+            return tau if 0.0 < tau <= tau_max else None
         if analytic:
             wd = self.wd
             b = (self.sigma * u0 + self.omega ** 2 * x0) / wd
@@ -423,6 +475,20 @@ class Oscillator:
         # place the event where the threshold is reached (not before)
         return min(max(tb, ta), rt[j])
 
+    def _direction(self, t, w, G):
+        """Sliding direction from rest at (t, w) with net force G = F(t) - k w: sign(G), or, when G is
+        at the round-off level of its terms (a grazing zero of v and a, e.g. every forcing period of
+        the frictionless theta = omega/2 response), the sign of its slope dG/dt = F'(t) (v = 0).
+        Taking round-off's sign there started the segment the wrong way, and the scan then reported
+        a turning point where v was far from zero (frictionless ex. 3 at t ~ 6e3 s: 1e-3 m error)."""
+        F = self.F
+        scale = abs(F.A) * (1.0 + F.theta * abs(t)) + abs(F.record_value(t)) + abs(self.k * w)
+        if abs(G) <= 16 * 2.2e-16 * scale or G == 0.0:
+            dG = F.slope(t)
+            if dG != 0.0:
+                G = dG
+        return 1.0 if G > 0 else -1.0
+
     # -- the run -------------------------------------------------------------------------------
     def run(self, w0, t_end):
         """Integrate from rest at w0 (t = 0) to t_end.  Returns a :class:`Solution`."""
@@ -430,13 +496,13 @@ class Oscillator:
         t, w, v = 0.0, float(w0), 0.0
         segs = []        # (ts, te, x0, u0, a0, a1, phi, state)
         turning = []     # (t, w)
-        friction_work = 0.0
+        slid = []        # |w1 - w| of every sliding segment (summed exactly at the end)
         G = F.value(0.0) - k * w
         stuck = abs(G) <= fs
-        s = 1.0 if G > 0 else -1.0
+        s = self._direction(0.0, w, G)
         forever = False
         from_rest = True
-        analytic_free = (self.kind == 0) and not F.harmonic
+        analytic_free = not F.harmonic  # closed-form velocity zeros (any damping) when q = 0
         steps = 0
         merge_dt = 1e-6 * 8.0 * self.h_scan  # 1e-6 of the shortest period
         while t < t_end:
@@ -455,9 +521,7 @@ class Oscillator:
                     segs.append((t, tb, 0.0, 0.0, w, 0.0, 0.0, 0))
                 t = tb
                 G = F.value(t) - k * w
-                if G == 0.0:  # mu0 = 0: the net force leaves zero with the sign of its slope
-                    G = F.slope(t)
-                s = 1.0 if G > 0 else -1.0
+                s = self._direction(t, w, G)
                 stuck, v, from_rest = False, 0.0, True
                 continue
             p, q, t_node = F.piece(t)
@@ -471,7 +535,7 @@ class Oscillator:
             if tau is None:
                 w1, v1, _ = fd(t_stop - t)
                 segs.append((t, t_stop, x0, u0, a0, a1, phi, state))
-                friction_work += fk * abs(w1 - w)
+                slid.append(abs(w1 - w))
                 t, w, v = t_stop, w1, v1
                 if v == 0.0:
                     v = 0.0
@@ -480,7 +544,7 @@ class Oscillator:
             w1 = fd(tau)[0]
             te = t + tau
             segs.append((t, te, x0, u0, a0, a1, phi, state))
-            friction_work += fk * abs(w1 - w)
+            slid.append(abs(w1 - w))
             t, w, v = te, w1, 0.0
             # a grazing zero (v and a vanish together, e.g. frictionless forcing) restarts from a
             # round-off-sized net force and finds the same instant again: it is one turning point
@@ -492,9 +556,9 @@ class Oscillator:
             if abs(G) <= fs:
                 stuck = True
             else:
-                s = 1.0 if G > 0 else -1.0
+                s = self._direction(t, w, G)
                 from_rest = True
-        return Solution(self, float(w0), t_end, segs, turning, forever, friction_work)
+        return Solution(self, float(w0), t_end, segs, turning, forever, fk * math.fsum(slid))
 
 
 def _harmonic_exceed(A, theta, t0, Gc, thr):
@@ -548,15 +612,18 @@ class Solution:
                         "a0": a[:, 4], "a1": a[:, 5], "phi": a[:, 6], "state": a[:, 7]}
         return self._np
 
-    def eval(self, t, seg=None):
-        """w [m], v [m/s], state (+1/-1 sliding direction, 0 stuck) at times ``t`` (array)."""
+    def eval(self, t, seg=None, tau=None):
+        """w [m], v [m/s], state (+1/-1 sliding direction, 0 stuck) at times ``t`` (array), or at
+        offsets ``tau`` into segments ``seg`` (exact offsets: no round-off of t - ts at large t)."""
         import numpy as np
         o = self.osc
         A_ = self._arrays()
-        t = np.asarray(t, dtype=float)
-        if seg is None:
-            seg = np.clip(np.searchsorted(A_["ts"], t, side="right") - 1, 0, len(A_["ts"]) - 1)
-        tau = t - A_["ts"][seg]
+        if tau is None:
+            t = np.asarray(t, dtype=float)
+            if seg is None:
+                seg = np.clip(np.searchsorted(A_["ts"], t, side="right") - 1, 0, len(A_["ts"]) - 1)
+            tau = t - A_["ts"][seg]
+        tau = np.asarray(tau, dtype=float)
         x0, u0, a0, a1, phi, st = (A_[n][seg] for n in ("x0", "u0", "a0", "a1", "phi", "state"))
         sig, om, wd = o.sigma, o.omega, o.wd
         if o.kind == 0:
@@ -564,7 +631,7 @@ class Solution:
         elif o.kind == 1:
             C, S = np.ones_like(tau), tau
         else:  # over-damped: e^{-sigma tau} folded in (no overflow), as in the segment solution
-            ep, em = np.exp((wd - sig) * tau), np.exp(-(wd + sig) * tau)
+            ep, em = np.exp(o.r1 * tau), np.exp(o.r2 * tau)
             C, S = 0.5 * (ep + em), 0.5 * (ep - em) / wd
         e = np.exp(-sig * tau) if o.kind != 2 else 1.0
         w = e * (x0 * C + (u0 + sig * x0) * S) + a0 + a1 * tau
@@ -598,8 +665,15 @@ class Solution:
         """Relative energy error |E(t_end) + D_friction + D_viscous - W_in - E(0)| / E_ref.
 
         E = m v^2/2 + k w^2/2; D_friction = mu N * (distance slid), exact; D_viscous = int c v^2 dt
-        and W_in = int F v dt by 10-point Gauss-Legendre on pieces no longer than half the shortest
-        period (of omega and theta) and 3/sigma.  E_ref = E(0), or the largest E seen when E(0) = 0.
+        and W_in = int F v dt by 10-point Gauss-Legendre on pieces of each sliding segment:
+        under-damped, pieces no longer than half the shortest period (of omega and theta) and
+        3/sigma; critically and over-damped (no oscillation of the free motion), pieces graded
+        geometrically from each segment start (0.5/lambda_fast, growing by 1.5: every piece is at
+        most half its distance from the start, so each decaying exponential is resolved where it
+        matters), then of half a forcing period when there is one.  So a stiff over-damped run needs
+        O(log(sigma t_end)) pieces per segment, not sigma t_end.  The pieces are evaluated in chunks
+        (bounded memory) and summed with math.fsum.  E_ref = E(0), or the largest E seen when
+        E(0) = 0.
         """
         import numpy as np
         o = self.osc
@@ -609,36 +683,99 @@ class Solution:
         w_end, v_end, _ = self.eval(np.array([self.t_end]))
         E_end = 0.5 * o.m * v_end[0] ** 2 + 0.5 * o.k * w_end[0] ** 2
         Emax = max(E0, E_end)
-        W_in = D_visc = 0.0
+        W_parts, D_parts = [], []
         if sl.size:
-            lim = [math.pi / o.omega]
+            ts_all, te_all = A_["ts"], A_["te"]
+            Lmax = float(np.max(te_all[sl] - ts_all[sl]))
+            if o.kind == 0:
+                lim = [math.pi / o.omega]
+                if o.sigma > 0:
+                    lim.append(3.0 / o.sigma)
+                grade = np.zeros(1)
+            else:
+                lim = [math.inf]
+                fast = -o.r2 if o.kind == 2 else o.sigma
+                g, h = [0.0], 0.5 / fast
+                top = min(Lmax, math.pi / o.F.theta if o.F.harmonic else math.inf)
+                while g[-1] < top:
+                    g.append(g[-1] + h)
+                    h *= 1.5
+                grade = np.array(g)
             if o.F.harmonic:
                 lim.append(math.pi / o.F.theta)
-            if o.sigma > 0:
-                lim.append(3.0 / o.sigma)
             hq = min(lim)
-            ts, te = A_["ts"][sl], A_["te"][sl]
-            npieces = np.maximum(1, np.ceil((te - ts) / hq).astype(int))
-            seg = np.repeat(sl, npieces)
-            start = np.repeat(ts, npieces)
-            length = np.repeat((te - ts) / npieces, npieces)
-            j = np.arange(seg.size) - np.repeat(np.cumsum(npieces) - npieces, npieces)
-            a = start + j * length
+            K = grade.size - 1
             xg, wg = np.polynomial.legendre.leggauss(10)
-            tt = a[:, None] + 0.5 * length[:, None] * (xg[None, :] + 1.0)
-            segm = np.repeat(seg[:, None], 10, axis=1)
-            w, v, _ = self.eval(tt.ravel(), segm.ravel())
-            w, v = w.reshape(tt.shape), v.reshape(tt.shape)
-            Fv = o.F.eval_np(tt) if o.F.forced else 0.0
-            half = 0.5 * length[:, None] * wg[None, :]
-            W_in = float(np.sum(half * Fv * v)) if o.F.forced else 0.0
-            D_visc = float(np.sum(half * o.c * v * v)) if o.c else 0.0
-            Emax = max(Emax, float(np.max(0.5 * o.m * v * v + 0.5 * o.k * w * w)))
-        err = E_end + self.friction_work + D_visc - W_in - E0
+            chunk = max(1, 100_000 // (K + 1))
+            for c0 in range(0, sl.size, chunk):
+                idx = sl[c0:c0 + chunk]
+                ts, te = ts_all[idx], te_all[idx]
+                L = te - ts
+                # graded pieces [g_j, g_j+1] clipped at the segment end, then uniform pieces of at
+                # most hq from min(g_K, L) to L; starts are offsets into the segment
+                starts, lengths, segs = [], [], []
+                if K > 0:
+                    ga = np.minimum(grade[None, :-1], L[:, None])
+                    gb = np.minimum(grade[None, 1:], L[:, None])
+                    starts.append(ga.ravel())
+                    lengths.append((gb - ga).ravel())
+                    segs.append(np.repeat(idx, K))
+                g_end = np.minimum(grade[-1], L)
+                rest = L - g_end
+                if math.isfinite(hq):
+                    nu = np.where(rest > 0, np.maximum(1, np.ceil(rest / hq)), 0).astype(np.int64)
+                else:
+                    nu = (rest > 0).astype(np.int64)
+                k = np.repeat(np.arange(idx.size), nu)
+                j = np.arange(k.size) - np.repeat(np.cumsum(nu) - nu, nu)
+                hl = rest[k] / nu[k]
+                starts.append(g_end[k] + j * hl)
+                lengths.append(hl)
+                segs.append(idx[k])
+                a = np.concatenate(starts)
+                length = np.concatenate(lengths)
+                seg = np.concatenate(segs)
+                keep = length > 0
+                a, length, seg = a[keep], length[keep], seg[keep]
+                for p0 in range(0, a.size, 400_000):  # one long segment may have many pieces
+                    aa, ll, ss = a[p0:p0 + 400_000], length[p0:p0 + 400_000], seg[p0:p0 + 400_000]
+                    tau = aa[:, None] + 0.5 * ll[:, None] * (xg[None, :] + 1.0)
+                    segm = np.repeat(ss[:, None], 10, axis=1)
+                    w, v, _ = self.eval(None, segm.ravel(), tau.ravel())
+                    w, v = w.reshape(tau.shape), v.reshape(tau.shape)
+                    half = 0.5 * ll[:, None] * wg[None, :]
+                    if o.F.forced:
+                        W_parts.append(np.sum(half * self._force(tau, segm) * v, axis=1))
+                    if o.c:
+                        D_parts.append(np.sum(half * o.c * v * v, axis=1))
+                    Emax = max(Emax, float(np.max(0.5 * o.m * v * v + 0.5 * o.k * w * w)))
+        W_in = math.fsum(np.concatenate(W_parts).tolist()) if W_parts else 0.0
+        D_visc = math.fsum(np.concatenate(D_parts).tolist()) if D_parts else 0.0
+        err = math.fsum([E_end, self.friction_work, D_visc, -W_in, -E0])
         Eref = E0 if E0 > 0 else Emax
         if Eref == 0.0:
             return 0.0
         return abs(err) / Eref
+
+    def _force(self, tau, seg):
+        """F at offsets tau into segments seg as the segment solutions see it: the harmonic part
+        with the segment's own phase, A sin(phi + theta tau), and the record's linear piece
+        p + q tau of the segment (a phase theta t computed afresh differs by round-off
+        ~ eps theta t, which over a long run made the energy balance drift as t_end^2)."""
+        import numpy as np
+        F = self.osc.F
+        A_ = self._arrays()
+        out = np.zeros_like(tau)
+        if F.has_record:
+            # the segment's record piece: a0 k + a1 c = p - s mu N, a1 k = q (see coefficients)
+            o = self.osc
+            st = A_["state"][seg]
+            q = A_["a1"][seg] * o.k
+            p = A_["a0"][seg] * o.k + A_["a1"][seg] * o.c + st * o.fk
+            out = np.where(st != 0, p + q * tau, 0.0)
+        if F.harmonic:
+            out = out + F.A * np.sin(A_["phi"][seg] + F.theta * tau)
+        return out
 
     # per-period amplitudes ---------------------------------------------------------------------
     def period_amplitudes(self):
@@ -721,13 +858,18 @@ class Solution:
         if o.F.harmonic:
             periods.append(TWO_PI / o.F.theta)
         dt = min(periods) / points_per_period
-        n = int(min(2_000_000, math.ceil(self.t_end / dt)))
         A_ = self._arrays()
-        t = np.unique(np.concatenate([np.linspace(0.0, self.t_end, n + 1), A_["ts"], A_["te"]]))
+        # uniform samples up to the start of a final stop (then only its end): a mass at rest for
+        # the rest of a long run needs no samples; at most HISTORY_ROWS (coarser for long runs)
+        t_s = float(A_["ts"][-1]) if self.forever else self.t_end
+        n = int(min(HISTORY_ROWS, math.ceil(t_s / dt)))
+        t = np.unique(np.concatenate([np.linspace(0.0, t_s, n + 1), A_["ts"], A_["te"], [self.t_end]]))
         t = t[(t >= 0) & (t <= self.t_end)]
         seg = np.clip(np.searchsorted(A_["ts"], t, side="right") - 1, 0, len(A_["ts"]) - 1)
         # an instant that ends a segment belongs to the next one (same w, v = 0 at events)
         w, v, st = self.eval(t, seg)
+        if not (np.isfinite(w).all() and np.isfinite(v).all()):
+            raise SolverFailure("the time history is not finite; nothing written")
         path = os.path.join(outdir, "history.csv")
         np.savetxt(path, np.column_stack([t, w, v, st]), delimiter=",",
                    header="t [s],w [m],v [m/s],state (+1/-1 sliding direction; 0 stuck)",
@@ -761,13 +903,156 @@ def build(values: dict) -> tuple[Oscillator, float, float]:
         rec_t, acc = read_record(rec)
         rec_F = [-m * a for a in acc]
     forcing = Forcing(A, theta if A else 0.0, rec_t, rec_F)
+    _check_finite(values, m=m, k=k, omega=omega, theta=theta, A=A, sigma=values.get("c_v", 0.0) / (2 * m),
+                  N=m * values["g"], fk=values["mu"] * m * values["g"], fs=values["mu0"] * m * values["g"],
+                  rec_F=rec_F, rec=rec)
     osc = Oscillator(m, k, values.get("c_v", 0.0), values["mu"], values["mu0"], values["g"], forcing)
-    return osc, float(values.get("w0", 0.0)), float(values["t_end"])
+    w0, t_end = float(values.get("w0", 0.0)), float(values["t_end"])
+    check_bounds(osc, w0, t_end, values)
+    return osc, w0, t_end
+
+
+# ---------------------------------------------------------------------------------------------
+# Bounded input: numbers the solver can compute with, work within MAX_PERIODS (issue 12)
+# ---------------------------------------------------------------------------------------------
+
+def _check_finite(values, **q):
+    """Derived quantities (omega, forces, rates) must be finite floats: an overflow here (e.g.
+    m ag with ag = 1e308, or a record acceleration times m) is bad input naming its parameters."""
+    names = {"omega": ("k, m", "omega = sqrt(k/m)", "k/m < 1e308 s^-2"),
+             "theta": ("theta_ratio, k, m", "theta = theta_ratio sqrt(k/m)", "theta_ratio sqrt(k/m) < 1e308 rad/s"),
+             "A": ("P0, ag, m", "the force amplitude |P0 - m ag|", "|P0 - m ag| < 1e308 N"),
+             "sigma": ("c_v, m", "sigma = c_v/(2m)", "c_v/(2m) < 1e308 s^-1"),
+             "N": ("m, g", "N = m g", "m g < 1e308 N"),
+             "fk": ("mu, m, g", "the friction force mu m g", "mu m g < 1e308 N"),
+             "fs": ("mu0, m, g", "the static friction limit mu0 m g", "mu0 m g < 1e308 N")}
+    for key, (params, what, allowed) in names.items():
+        x = q.get(key)
+        if x is not None and not math.isfinite(x):
+            raise BadInput(f"parameters {params}: {what} overflows the floating-point range; "
+                           f"allowed: {allowed}")
+    rec_F = q.get("rec_F")
+    if rec_F is not None and not all(math.isfinite(f) for f in rec_F):
+        raise BadInput(f"parameter record: m a(t) overflows for the accelerations in {q['rec']!r} "
+                       f"(m = {q['m']:g} kg); allowed: |a| * m < 1e308 N")
+
+
+def _impulse(osc, t_end):
+    """Upper bound of int_0^t_end |F| dt [N s] (harmonic amplitude times t_end plus the record's
+    piecewise-linear |force| integrated over [0, t_end])."""
+    F = osc.F
+    imp = abs(F.A) * t_end if F.harmonic else 0.0
+    if F.has_record:
+        rt, rF = F.rt, F.rF
+        for i in range(len(rt) - 1):
+            a, b = rt[i], rt[i + 1]
+            if a >= t_end:
+                break
+            imp += max(abs(rF[i]), abs(rF[i + 1])) * (min(b, t_end) - max(a, 0.0)) if b > 0 else 0.0
+    return imp
+
+
+def energy_bound(osc, w0, t_end):
+    """log of an upper bound of the oscillator's energy up to t_end [log J]: friction and damping only
+    take energy out, and d sqrt(E)/dt <= |F| / sqrt(2 m), so sqrt(E) <= sqrt(E0) + int |F| dt / sqrt(2m).
+    Logarithms, so that the bound itself cannot overflow.  Returns (log E_bound, log sqrt(E0) part,
+    log forcing part)."""
+    lo = -math.inf
+    e0 = math.log(0.5 * osc.k) / 2 + math.log(abs(w0)) if w0 else lo     # log sqrt(E0)
+    imp = _impulse(osc, t_end)
+    ef = math.log(imp) - 0.5 * math.log(2 * osc.m) if imp > 0 else lo   # log of the forcing part
+    big = max(e0, ef)
+    if big == lo:
+        return lo, e0, ef
+    return 2 * (big + math.log1p(math.exp(min(e0, ef) - big))), e0, ef
+
+
+def work_periods(osc, w0, t_end):
+    """A-priori bound of the shortest periods the run has to follow up to t_end, and that period.
+
+    Forced stretches (harmonic: all of [0, t_end]; a record: its span) are followed period by
+    period.  Unforced, the motion stops or creeps: critically or over-damped a single closed-form
+    segment; under-damped with kinetic friction mu N > 0 each half-swing lowers the amplitude by at
+    least 2 mu N/k (energy: friction and damping only remove energy), so at most A k/(2 mu N) + 1
+    half-swings for an amplitude bound A; with damping alone the amplitude reaches the dead zone
+    mu0 N/k after ln(A k/(mu0 N))/(sigma T/2) half-swings."""
+    F = osc.F
+    om = max(osc.omega, F.theta) if F.harmonic else osc.omega
+    T = TWO_PI / om
+    if F.harmonic:
+        return t_end / T, T
+    span = min(t_end, F.rt[-1]) if F.has_record else 0.0
+    n_nodes = bisect.bisect_right(F.rt, t_end) if F.has_record else 0
+    P = span / T + n_nodes / 4.0          # a record node costs about a quarter period's work
+    tail = t_end - span
+    if tail <= 0:
+        return P, T
+    if osc.kind != 0:
+        return P + 1.0, T
+    logE = energy_bound(osc, w0, t_end)[0]
+    A = math.exp(0.5 * (logE - math.log(0.5 * osc.k))) if logE > -700 else 0.0   # amplitude bound
+    Td = TWO_PI / osc.wd
+    half = tail / (Td / 2)
+    if osc.fk > 0:
+        half = min(half, A * osc.k / (2 * osc.fk) + 1)
+    if osc.fs > 0 and osc.sigma > 0 and A * osc.k > osc.fs:
+        half = min(half, math.log(A * osc.k / osc.fs) / (osc.sigma * Td / 2) + 1)
+    if A * osc.k <= osc.fs and not F.has_record:
+        half = 0.0                            # held by static friction from the start
+    return P + half * (Td / 2) / T, T
+
+
+def check_bounds(osc, w0, t_end, values):
+    """BadInput unless the run's energies stay within E_MAX and its work within MAX_PERIODS."""
+    logE, e0, ef = energy_bound(osc, w0, t_end)
+    if logE > math.log(E_MAX):
+        half_log = 0.5 * math.log(E_MAX)
+        if e0 >= ef:
+            wmax = math.exp(half_log - 0.5 * math.log(0.5 * osc.k))
+            raise BadInput(f"parameter w0 = {w0:g} m: the initial energy k w0^2/2 = 10^{e0 * 2 / math.log(10):.0f} J "
+                           f"is beyond the range the solver computes in (energies up to {E_MAX:g} J); "
+                           f"allowed: |w0| <= {wmax:.6g} m for k = {osc.k:g} N/m")
+        lim = math.exp(half_log + 0.5 * math.log(2 * osc.m))    # max impulse [N s]
+        F = osc.F
+        if F.harmonic and abs(F.A) * t_end >= _impulse(osc, t_end) - abs(F.A) * t_end:
+            name = "P0" if abs(values.get("P0") or 0.0) >= osc.m * abs(values.get("ag") or 0.0) else "ag"
+            val = values.get(name) or 0.0
+            raise BadInput(f"parameter {name} = {val:g}: the force amplitude |P0 - m ag| = {abs(F.A):g} N can "
+                           f"put up to 10^{ef * 2 / math.log(10):.0f} J into the oscillator by t_end = {t_end:g} s, "
+                           f"beyond the range the solver computes in (energies up to {E_MAX:g} J); allowed: "
+                           f"|P0 - m ag| <= {lim / t_end:.6g} N for t_end = {t_end:g} s and m = {osc.m:g} kg")
+        raise BadInput(f"parameter record: the record's force m a(t) can put up to 10^{ef * 2 / math.log(10):.0f} J "
+                       f"into the oscillator by t_end = {t_end:g} s, beyond the range the solver computes in "
+                       f"(energies up to {E_MAX:g} J); allowed: int |a| dt <= {lim / osc.m:.6g} m/s over the record")
+    P, T = work_periods(osc, w0, t_end)
+    if P > MAX_PERIODS:
+        lo, hi = 0.0, t_end                    # the largest t_end within MAX_PERIODS (P grows with t)
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            if work_periods(osc, w0, mid)[0] <= MAX_PERIODS:
+                lo = mid
+            else:
+                hi = mid
+        what = "forcing period" if osc.F.harmonic and osc.F.theta > osc.omega else "natural period"
+        raise BadInput(f"parameter t_end = {t_end:g} s: the run would follow {P:.3g} periods of its "
+                       f"shortest time scale ({what} {T:.4g} s); the exact solver takes about "
+                       f"{US_PER_PERIOD} us per period and a run may follow at most {MAX_PERIODS:g} "
+                       f"(about {MAX_PERIODS * US_PER_PERIOD * 1e-6:.0f} s); allowed: t_end <= {lo:.6g} s "
+                       f"for these parameters")
 
 
 def run(values: dict) -> dict:
-    """Simulate one scene; returns (contract result dict, None)."""
+    """Simulate one scene; returns the contract result dict.  SolverFailure (exit 1) when the
+    result is not finite or the energy balance is worse than ENERGY_TOL."""
     osc, w0, t_end = build(values)
+    try:
+        return _run(osc, w0, t_end)
+    except (OverflowError, ZeroDivisionError, FloatingPointError, MemoryError) as exc:
+        raise SolverFailure(f"floating-point failure in the exact solution ({type(exc).__name__}: {exc}); "
+                            f"the parameters are outside the range this solver computes in") from None
+
+
+def _run(osc, w0, t_end):
     sol = osc.run(w0, t_end)
     amp, reason, t_steady = sol.steady()
     res = {
@@ -790,6 +1075,13 @@ def run(values: dict) -> dict:
         "theta": osc.F.theta if osc.F.harmonic else None,
         "_write": sol.write,
     })
+    bad = [key for key in ("w_max", "energy_balance") if not math.isfinite(res[key])]
+    if bad or not all(math.isfinite(t) and math.isfinite(w) for t, w in sol.turning):
+        raise SolverFailure(f"the solution is not finite ({', '.join(bad) or 'turning points'}): "
+                            f"the parameters are outside the range this solver computes in")
+    if res["energy_balance"] > ENERGY_TOL:
+        raise SolverFailure(f"energy balance {res['energy_balance']:.3g} is worse than the tolerance "
+                            f"{ENERGY_TOL:g} (relative to the largest energy)")
     return res
 
 

@@ -57,6 +57,14 @@ def pick_file(path, frame=None):
     return path, None
 
 
+def _check_readable(vtu, given):
+    """A corrupt or truncated VTU is bad input naming the file (VTK would only log errors and hand
+    back an empty grid): it is parsed with meshio first."""
+    from .meshfile import read_meshio
+    what = "result file" if vtu == given else f"{given}: frame file"
+    read_meshio(vtu, what)
+
+
 def _import_pyvista(off_screen):
     if off_screen:
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
@@ -74,8 +82,12 @@ def render(path, screenshot=None, frame=None, window_size=WINDOW):
     """
     import numpy as np
     vtu, t = pick_file(path, frame)
+    _check_readable(vtu, path)
     pv = _import_pyvista(screenshot is not None)
     grid = pv.read(vtu)
+    if grid.n_points == 0 or grid.n_cells == 0:
+        raise BadInput(f"result file {vtu}: holds no points or cells; allowed: a .vtu written by "
+                       f"femslide (or any VTU mesh with cells)")
     part = grid.cell_data["part"] if "part" in grid.cell_data else None
     types = np.asarray(grid.celltypes)
     if part is None:  # a plain mesh: lines as rods, polygons as the body, vertices as supports

@@ -10,10 +10,19 @@ sweep row equals the ``solve`` of that case; it also costs nothing here (cold so
 
 A failed case is reported in its row (``converged`` false, ``reason``) and the sweep goes on.  With
 ``--out DIR`` the rows stream to ``DIR/sweep.jsonl`` as they finish (each line the row plus
-``case``, ``scene``, ``params``, ``status``), so an interrupted sweep keeps what finished; rerunning
-with the same ``--out`` (or ``--resume``) skips the cases already there (matched by scene and the full
-set of parameter values).  Rows whose run crashed (``status`` "error": a lost worker, an internal
-error) are run again; converged and failed rows are not (failures are deterministic).
+``case``, ``case_dir``, ``scene``, ``varied``, ``fixed`` (the parameters given), ``params`` (all
+values), ``version``, ``status``), so an interrupted
+sweep keeps what finished; rerunning with the same ``--out`` (or ``--resume``) skips the cases
+already there (matched by femslide version, scene and the full set of parameter values).  Rows whose
+run crashed (``status`` "error": a lost worker, an internal error) are run again; converged and
+failed rows are not (failures are deterministic).
+
+A folder holds the rows of one sweep only: the same femslide version, scene, varied parameter and
+fixed (``--set``) parameters; the varied values may differ (a resumed sweep may add values).  A
+folder with another sweep's rows is bad input (exit 2, before any case runs): its rows and case
+folders would mix with this sweep's.  Case folders ``case_NNN`` are numbered on from the largest
+number already in the folder (rows or folders), so a case's files are never overwritten and every
+row's ``case_dir`` and ``files`` name the files of that row's own run.
 """
 from __future__ import annotations
 
@@ -24,7 +33,8 @@ import sys
 from .errors import BadInput, SolverFailure
 
 JSONL = "sweep.jsonl"
-EXTRA = ("case", "scene", "params", "status")  # jsonl-only keys (not in `sweep --json` rows)
+EXTRA = ("case", "case_dir", "scene", "varied", "fixed", "params", "version", "status")  # jsonl-only keys
+CASE_DIR = "case_{:03d}"
 
 
 def solve_case(scene_name: str, values: dict, out_dir: str | None = None, cache=None):
@@ -50,29 +60,109 @@ def solve_case(scene_name: str, values: dict, out_dir: str | None = None, cache=
     return res, "converged" if res.get("converged", True) else "failed"
 
 
-def _key(scene_name, values):
-    return json.dumps([scene_name, {k: values[k] for k in sorted(values)}], sort_keys=True)
+def _version():
+    from . import __version__
+    return __version__
 
 
-def _load_done(path):
-    """Rows of a previous run: key -> (row, status), skipping unreadable (e.g. truncated) lines."""
-    done = {}
+def _key(scene_name, values, version=None):
+    """Resume key of a case: femslide version, scene and every parameter value."""
+    return json.dumps([version or _version(), scene_name, {k: values[k] for k in sorted(values)}],
+                      sort_keys=True)
+
+
+def _fixed(target, base, varied):
+    """The sweep's fixed parameters as given (scene file [parameters], then --set), each converted to
+    its canonical value (``EI=1e6`` and ``EI=1000000`` are the same sweep).  Derived and default values
+    are not listed: they follow from these and the varied value."""
+    table = {p.name: p for p in target.scene.params.params()}
+    given = {**(getattr(target, "params", None) or {}), **base}
+    fixed = {k: table[k].check(v) for k, v in given.items() if k != varied and k in table}
+    if getattr(target, "mesh_path", None):
+        fixed["mesh file"] = os.path.abspath(target.mesh_path)
+    return fixed
+
+
+def _identity(version, scene_name, varied, fixed):
+    """What makes rows belong to one sweep: version, scene, varied name and the fixed parameters."""
+    return json.dumps([version, scene_name, varied, {k: fixed[k] for k in sorted(fixed)}], sort_keys=True)
+
+
+def _records(path):
+    """The readable records of a jsonl file (a line cut by an interrupt is skipped)."""
+    recs = []
     if not os.path.isfile(path):
-        return done
-    with open(path) as fh:
-        for line in fh:
-            try:
-                rec = json.loads(line)
-            except json.JSONDecodeError:
-                continue
-            if not isinstance(rec, dict) or "params" not in rec or "scene" not in rec:
-                continue
-            if rec.get("status") == "error":
-                continue
-            row = {k: v for k, v in rec.items() if k not in EXTRA}
-            status = rec.get("status") or ("converged" if row.get("converged") else "failed")
-            done[_key(rec["scene"], rec["params"])] = (row, status)
+        return recs
+    try:
+        fh = open(path, encoding="utf-8")
+    except OSError as exc:
+        raise BadInput(f"--out: cannot read {path} ({exc.strerror or exc})") from None
+    with fh:
+        try:
+            for line in fh:
+                try:
+                    rec = json.loads(line)
+                except json.JSONDecodeError:
+                    continue
+                if isinstance(rec, dict):
+                    recs.append(rec)
+        except UnicodeDecodeError:
+            raise BadInput(f"--out: {path} is not a femslide sweep file (not UTF-8 text); "
+                           f"allowed: a folder of one sweep, or a new one") from None
+    return recs
+
+
+def _check_same_sweep(out, recs, scene_name, varied, base_values, resume):
+    """BadInput unless every record of the folder belongs to this sweep (see the module docstring)."""
+    want = _identity(_version(), scene_name, varied, base_values)
+    for rec in recs:
+        params = rec.get("fixed")
+        ok = (isinstance(params, dict) and rec.get("varied") == varied
+              and _identity(rec.get("version"), rec.get("scene"), varied, params) == want)
+        if ok:
+            continue
+        what = []
+        if rec.get("version") != _version():
+            what.append(f"femslide {rec.get('version') or '(unknown version)'}, this is {_version()}")
+        if rec.get("scene") != scene_name:
+            what.append(f"scene {rec.get('scene')}, not {scene_name}")
+        if rec.get("varied") != varied:
+            what.append(f"varied {rec.get('varied') or '(unknown)'}, not {varied}")
+        if isinstance(params, dict) and not what:
+            diff = sorted(k for k in set(params) | set(base_values) if k != varied
+                          and params.get(k) != base_values.get(k))
+            show = (lambda d, k: f"{d[k]!r}" if k in d else "default")  # noqa: E731
+            what.append("other fixed parameters: " + ", ".join(
+                f"{k} = {show(params, k)} there, {show(base_values, k)} here" for k in diff[:4]))
+        how = "--resume continues a sweep only with its own scene and parameters; " if resume else ""
+        raise BadInput(f"--out {out}: the folder holds the rows of another sweep (case "
+                       f"{rec.get('case')}: {'; '.join(what) or 'unreadable record'}); {how}allowed: a new "
+                       f"folder, or the folder of this same sweep")
+
+
+def _load_done(recs):
+    """Rows of a previous run of this sweep: key -> (row, status, case, case_dir)."""
+    done = {}
+    for rec in recs:
+        if "params" not in rec or "scene" not in rec or rec.get("status") == "error":
+            continue
+        row = {k: v for k, v in rec.items() if k not in EXTRA}
+        status = rec.get("status") or ("converged" if row.get("converged") else "failed")
+        done[_key(rec["scene"], rec["params"], rec.get("version"))] = (row, status)
     return done
+
+
+def _next_case(out, recs):
+    """First case number above every number used in the folder (records and case_NNN folders)."""
+    used = [r["case"] for r in recs if isinstance(r.get("case"), int)]
+    try:
+        names = os.listdir(out)
+    except OSError:
+        names = []
+    for nm in names:
+        if nm.startswith("case_") and nm[5:].isdigit():
+            used.append(int(nm[5:]))
+    return max(used, default=-1) + 1
 
 
 def _open_stream(path):
@@ -185,18 +275,28 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, das
             raise BadInput("--dask needs dask.distributed: pip install 'femslide[dask]'") from None
 
     n = len(cases)
-    out_dirs = [os.path.join(out, f"case_{i:03d}") if out else None for i in range(n)]
+    out_dirs: list = [None] * n
+    case_no: list = [None] * n
     rows: list = [None] * n
     statuses: list = [None] * n
     stream = None
     if out:
         os.makedirs(out, exist_ok=True)
         path = os.path.join(out, JSONL)
-        done = _load_done(path)
+        recs = _records(path)
+        fixed = _fixed(target, base, name)
+        _check_same_sweep(out, recs, scene.name, name, fixed, resume)
+        done = _load_done(recs)
         for i, v in enumerate(cases):
             prev = done.get(_key(scene.name, v))
             if prev is not None:
                 rows[i], statuses[i] = prev
+        nxt = _next_case(out, recs)
+        for i in range(n):
+            if rows[i] is None:  # a new number and folder: earlier cases' files are never overwritten
+                case_no[i] = nxt
+                out_dirs[i] = os.path.join(out, CASE_DIR.format(nxt))
+                nxt += 1
         stream = _open_stream(path)
     todo = [i for i in range(n) if rows[i] is None]
 
@@ -220,7 +320,10 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, das
             row = {name: values[name], **row}
             rows[i], statuses[i] = row, status
             if stream:
-                rec = {**row, "case": i, "scene": scene.name, "params": values, "status": status}
+                rec = {**row, "case": case_no[i], "case_dir": os.path.basename(out_dirs[i]),
+                       "scene": scene.name, "varied": name, "fixed": fixed, "params": values,
+                       "version": _version(),
+                       "status": status}
                 stream.write(json.dumps(rec) + "\n")
                 stream.flush()
             if status != "converged":

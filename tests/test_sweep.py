@@ -133,10 +133,10 @@ def test_jsonl_stream_and_resume(tmp_path):
     assert rows[:2] == first  # taken from the file, wall times included
     lines = path.read_text().splitlines()
     assert len(lines) == 4 and json.loads(lines[-1])["c"] == 1e8
-    # a different --set is a different case: it is run, not taken from the file
-    code, out, _ = cli("sweep", "hinge-slider", "--vary", "c=1e4", "--set", "d=0.1", "--json", "--out", str(tmp_path))
-    assert code == 0 and json.loads(out)[0]["phi"] != first[0]["phi"]
-    assert len(path.read_text().splitlines()) == 5
+    # a different --set is another sweep: not mixed into this folder (bad input, nothing run)
+    code, out, err = cli("sweep", "hinge-slider", "--vary", "c=1e4", "--set", "d=0.1", "--json", "--out", str(tmp_path))
+    assert code == 2 and "another sweep" in err and "d = default there, 0.1 here" in err
+    assert len(path.read_text().splitlines()) == 4
 
 
 def test_resumed_rows_keep_their_status(tmp_path):
