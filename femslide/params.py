@@ -169,6 +169,18 @@ class ParamSet:
         return values
 
 
+def floor_g(x: float, digits: int = 6) -> str:
+    """x rounded *down* to ``digits`` significant digits, as %g: an upper bound a user can copy from a
+    message and pass back (rounding to nearest may land just above the bound)."""
+    if not math.isfinite(x) or x <= 0:
+        return f"{x:g}"
+    e = math.floor(math.log10(x)) - digits + 1
+    y = math.floor(x / 10.0 ** e) * 10.0 ** e
+    while y > x:  # the power of ten itself rounded
+        y = math.nextafter(y, 0.0)
+    return f"{y:.{digits}g}"
+
+
 def parse_assignments(items) -> dict:
     """``["EI=1e8", "d=0.1"]`` -> ``{"EI": "1e8", "d": "0.1"}`` (values checked later)."""
     out = {}

@@ -36,6 +36,7 @@ import math
 import os
 
 from .errors import BadInput, SolverFailure
+from .params import floor_g
 
 TWO_PI = 2.0 * math.pi
 STEADY_TOL = 1e-10      # m: two successive forcing periods must agree to this for a steady state
@@ -1037,7 +1038,7 @@ def check_bounds(osc, w0, t_end, values):
         raise BadInput(f"parameter t_end = {t_end:g} s: the run would follow {P:.3g} periods of its "
                        f"shortest time scale ({what} {T:.4g} s); the exact solver takes about "
                        f"{US_PER_PERIOD} us per period and a run may follow at most {MAX_PERIODS:g} "
-                       f"(about {MAX_PERIODS * US_PER_PERIOD * 1e-6:.0f} s); allowed: t_end <= {lo:.6g} s "
+                       f"(about {MAX_PERIODS * US_PER_PERIOD * 1e-6:.0f} s); allowed: t_end <= {floor_g(lo)} s "
                        f"for these parameters")
 
 

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import SolverFailure
+from .errors import BadInput, SolverFailure
 from .model import Model, PatternCache, solve_linear
 from .newton import newton, principal_branch
 from .results import extract, flatten, rod_arrays, unflatten
@@ -76,6 +76,28 @@ def scales(fs: Frozen):
         EI = [r.EI if isinstance(r.EI, float) else r.EI.max for r in fs.rods]
         F = max(EI, default=1.0) / (L * L)
     return L, F
+
+
+# the stiffness range in which the solver is verified (validation/STABILITY.md: beyond it round-off of
+# the stiff terms outgrows the answers while the estimates do not notice)
+KAPPA_MAX = 1e15     # EI / (F L^2): bending stiffness against the loads
+EA_RATIO_MAX = 1e14  # EA L^2 / EI (L: the model length unit)
+
+
+def check_stiffness_range(fs: Frozen, L: float, F: float):
+    """Bad input (naming the rod and the field) outside the verified stiffness range."""
+    for r in fs.rods:
+        EI = max(r.EI.value) if not isinstance(r.EI, float) else r.EI
+        EA = max(r.EA.value) if not isinstance(r.EA, float) else r.EA
+        EImin = min(r.EI.value) if not isinstance(r.EI, float) else r.EI
+        if not math.isfinite(EA):
+            raise BadInput(f"rod {r.name}: EA = {EA:g} N is not finite (the default EA is 1e6 m^-2 * EI); give EA")
+        if EI / (F * L * L) > KAPPA_MAX:
+            raise BadInput(f"rod {r.name}: EI = {EI:g} N m^2 is more than {KAPPA_MAX:g} times the loads' scale "
+                           f"F L^2 = {F * L * L:g} N m^2; allowed: EI <= {KAPPA_MAX * F * L * L:g} N m^2 for these loads")
+        if EA * L * L / EImin > EA_RATIO_MAX:
+            raise BadInput(f"rod {r.name}: EA L^2 / EI = {EA * L * L / EImin:g} exceeds {EA_RATIO_MAX:g} (L = {L:g} m, "
+                           f"the structure's size); allowed: EA <= {EA_RATIO_MAX * EImin / (L * L):g} N")
 
 
 # -- how the path is followed ------------------------------------------------------------------------
@@ -554,6 +576,7 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
     if Lref is None or Fref is None:
         L0, F0 = scales(fs)
         Lref, Fref = Lref or L0, Fref or F0
+    check_stiffness_range(fs, Lref, Fref)
     cache = cache or PatternCache()
     watch = watch or default_watch
     rods = fs.rods
