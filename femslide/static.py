@@ -52,7 +52,7 @@ N_START = 2       # elements per (shortest) rod on the coarsest adaptive level
 N_MAX = 4096
 N_DIRECT = 16     # meshes finer than this start from the interpolated solution of the coarser one
 MAX_STEP_ROTATION = 0.8      # rad: largest predicted rotation increment of a load step
-MAX_STEP_TRANSLATION = 0.2   # model lengths: largest predicted translation increment of a load step
+MAX_STEP_TRANSLATION = 0.5   # model lengths: largest predicted translation increment of a load step
 ROUNDOFF_LIMIT = 1e-3  # relative round-off scatter of the largest moment above which a result is refused
 DENSE_CHECK = 600  # unknowns: the path choice and the stability check run on meshes up to this size
 
@@ -292,14 +292,14 @@ def _load_steps(model: Model, path: Path, start=None):
         if info.converged:
             return y, info.alpha, info.iterations
     dense = model.n <= DENSE_CHECK
-    y, alpha = _initial_stress(model, 1.0 / path.load_steps) if dense else model.zero_state()
+    y, alpha = model.zero_state()
+    retried = not dense   # (the initial stresses are found by a dense least-squares fit)
     step0 = 1.0 / path.load_steps
     lam, step, its = 0.0, step0, 0
     stable = (-1.0) ** model.n_c
-    tangent = _load_tangent(model, model.zero_state()[0], alpha, 0.0)
+    tangent, _, fl = _load_tangent(model, model.zero_state()[0], alpha, 0.0)
     if tangent is None:
         tangent = np.zeros(model.n_q)
-    fl = model.system(y, alpha, 0.0, jacobian=False)[2]["fl"]
     compliance0 = -float(fl @ tangent)   # work rate of the loads per load factor: 1 / stiffness
     bound = np.full(model.n_q, MAX_STEP_TRANSLATION)
     bound[model.rotation_dofs()] = MAX_STEP_ROTATION
@@ -323,10 +323,17 @@ def _load_steps(model: Model, path: Path, start=None):
             size = float(np.abs(pred).max())
             if float(np.abs(y_new[:model.n_q] - y[:model.n_q] - pred).max()) > max(size, 1e-12):
                 ok, reason = False, "the step left the tangent's neighbourhood: it jumped past a limit point"
-            elif dense:
-                _, A, _ = model.system(y_new, info.alpha, target, dense=True)
-                if np.linalg.slogdet(A)[0] != stable:
-                    ok, reason = False, "the equilibrium lost its stability"
+        if ok and target < 1.0:   # (the stability at full load is checked on the solution)
+            new_tangent, sign, fl = _load_tangent(model, y_new, info.alpha, target)
+            if sign is not None and sign != stable:
+                ok, reason = False, "the equilibrium lost its stability"
+        if not ok and lam == 0.0 and not retried:
+            # from the undeformed state a structure held only by its loads' initial stresses (a hanging
+            # pendulum) has a singular tangent without them: start again with the multipliers that
+            # hold the loads there
+            retried = True
+            y, alpha = _initial_stress(model, dlam)
+            continue
         if not ok:
             step = 0.5 * dlam
             continue
@@ -334,11 +341,10 @@ def _load_steps(model: Model, path: Path, start=None):
         y, lam = y_new, target
         step = min(step0, 2.0 * step)
         if lam < 1.0:
-            tangent = _load_tangent(model, y, alpha, lam)
+            tangent = new_tangent
             # the structure's stiffness against its loads (1 / compliance) falls to zero at a limit
             # point and turns negative past it
-            compliance = -float(model.system(y, alpha, lam, jacobian=False)[2]["fl"] @ tangent) \
-                if tangent is not None else math.inf
+            compliance = -float(fl @ tangent) if tangent is not None else math.inf
             if not (0.0 < compliance <= 1e4 * max(compliance0, 1e-300)) and compliance0 > 0:
                 raise SolverFailure(f"load stepping stalled at load factor {lam:.6g}: a limit point of the "
                                     f"loaded structure (its stiffness against the loads fell to "
@@ -348,15 +354,17 @@ def _load_steps(model: Model, path: Path, start=None):
 
 
 def _load_tangent(model: Model, y, alpha, lam):
-    """d q / d lam at a converged state (the first-order response to the loads)."""
+    """(d q / d lam, the sign of the tangent's determinant (dense models, else None), d r / d lam) at
+    a converged state: the first-order response to the loads, from one assembly."""
     r, A, info = model.system(y, alpha, lam, dense=model.n <= DENSE_CHECK)
+    sign = float(np.linalg.slogdet(A)[0]) if isinstance(A, np.ndarray) else None
     rhs = np.zeros(model.n)
     rhs[:model.n_q] = -info["fl"]
     try:
         dy = solve_linear(A, rhs)
     except np.linalg.LinAlgError:
-        return None
-    return dy[:model.n_q] if np.all(np.isfinite(dy)) else None
+        return None, sign, info["fl"]
+    return (dy[:model.n_q] if np.all(np.isfinite(dy)) else None), sign, info["fl"]
 
 
 def _controlled(model: Model, path: Path, start=None, within=0.1, maxit=40):
@@ -441,7 +449,7 @@ class Level:
 
     def __init__(self, n, model, y, alpha):
         self.n, self.model, self.y, self.alpha = n, model, y, alpha
-        self._arrays = self._res = self._watched = self._noise = None
+        self._arrays = self._res = self._watched = self._noise = self._scatter = None
 
     @property
     def arrays(self):
@@ -493,6 +501,13 @@ def _force_noise(lv: Level) -> float:
 
 
 def _roundoff_scatter(lv: Level) -> float:
+    """The round-off scatter of a level's largest rod moment (computed once per level)."""
+    if lv._scatter is None:
+        lv._scatter = _scatter(lv)
+    return lv._scatter
+
+
+def _scatter(lv: Level) -> float:
     """Relative change of the largest rod moment when Newton reconverges from the solution perturbed
     by 1e-10 (relative, alternating signs): how well round-off lets the equilibrium be determined.
 
