@@ -292,8 +292,9 @@ def _load_steps(model: Model, path: Path, start=None):
         if info.converged:
             return y, info.alpha, info.iterations
     dense = model.n <= DENSE_CHECK
-    y, alpha = model.zero_state()
-    retried = not dense   # (the initial stresses are found by a dense least-squares fit)
+    # the undeformed state with the multipliers that hold the loads there: a structure held only by
+    # its loads' initial stresses (a hanging pendulum) has a singular tangent without them
+    y, alpha = _initial_stress(model, 1.0 / path.load_steps) if dense else model.zero_state()
     step0 = 1.0 / path.load_steps
     lam, step, its = 0.0, step0, 0
     stable = (-1.0) ** model.n_c
@@ -327,13 +328,6 @@ def _load_steps(model: Model, path: Path, start=None):
             new_tangent, sign, fl = _load_tangent(model, y_new, info.alpha, target)
             if sign is not None and sign != stable:
                 ok, reason = False, "the equilibrium lost its stability"
-        if not ok and lam == 0.0 and not retried:
-            # from the undeformed state a structure held only by its loads' initial stresses (a hanging
-            # pendulum) has a singular tangent without them: start again with the multipliers that
-            # hold the loads there
-            retried = True
-            y, alpha = _initial_stress(model, dlam)
-            continue
         if not ok:
             step = 0.5 * dlam
             continue
