@@ -111,6 +111,21 @@ def strain_energy(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray) -> float
     return 0.5 * float(np.sum(e))
 
 
+def _noise(es, U, dx, dy, t1, t2, alpha, inv):
+    dmag = np.maximum(np.abs(dx), np.abs(dy))
+    umag = float(np.abs(U[:, :2]).max())
+    ang = np.abs(t1) + np.abs(t2) + np.abs(alpha) + (2.0 * (es.xmax + umag)) * es.inv_L0
+    return _EPS * (es.k00_2 * (umag + dmag) * (1.0 + dmag * es.inv_L0)
+                   + es.k_noise * ang * (1.0 + 2.0 * inv))
+
+
+def force_noise(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray) -> np.ndarray:
+    """The round-off level of every element's forces (the estimate :func:`evaluate` returns with the
+    tangent), without the forces."""
+    dx, dy, _, _, Ln, _, alpha, t1, t2 = _kinematics(es, U, alpha_ref)
+    return _noise(es, U, dx, dy, t1, t2, alpha, 1.0 / Ln)
+
+
 def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool = True):
     """Internal forces (n, 6), tangents (n, 6, 6) or None, basic forces (n, 3), alpha (n,) and,
     with the tangent, the round-off level of each element's forces (n,).
@@ -139,11 +154,7 @@ def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool
     # the chord angle carries eps |x| / L0 (node coordinates rounded), which EI/L0 turns into moment
     # noise and 1/Ln into shear noise in the nodal forces.  u_j - u_i is rounded to eps |u| (the
     # displacement magnitude), and u_bar ~ D0 . dU / L0
-    dmag = np.maximum(np.abs(dx), np.abs(dy))
-    umag = float(np.abs(U[:, :2]).max())
-    ang = np.abs(t1) + np.abs(t2) + np.abs(alpha) + (2.0 * (es.xmax + umag)) * es.inv_L0
-    noise = _EPS * (es.k00_2 * (umag + dmag) * (1.0 + dmag * es.inv_L0)
-                    + es.k_noise * ang * (1.0 + 2.0 * inv))
+    noise = _noise(es, U, dx, dy, t1, t2, alpha, inv)
     # K = B^T kb B + N z z^T/Ln + (M1 + M2)/Ln^2 (r z^T + z r^T) has the translational block
     # [[X, -X], [-X, X]] with X = k00 p p^T + (kappa + N Ln)/Ln^2 w w^T - m/Ln (p w^T + w p^T),
     # translation-rotation columns -+ rho_a w/Ln (rho_a: row sums of the bending block) and the

@@ -41,6 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import corotational
 from .errors import BadInput, SolverFailure
 from .model import Model, PatternCache, solve_linear
 from .newton import newton, principal_branch
@@ -490,7 +491,9 @@ def _force_like(kinds):
 def _force_noise(lv: Level) -> float:
     """Round-off level of the element forces of a level (model units), from the model's estimate."""
     if lv._noise is None:
-        lv._noise = float(lv.model.system(lv.y, lv.alpha, 1.0)[2]["noise"]) if lv.model.elements is not None else 0.0
+        m = lv.model
+        lv._noise = 4.0 * float(corotational.force_noise(m.elements, m.nodal(lv.y[:m.n_q]), lv.alpha).max()) \
+            if m.elements is not None else 0.0
     return lv._noise
 
 
