@@ -311,7 +311,9 @@ def _load_steps(model: Model, path: Path, start=None):
         # without bound and the steps shrink towards it
         grow = float(np.max(np.abs(tangent) / bound))
         dlam = min(step, 1.0 - lam, 1.0 / grow if grow > 0 else math.inf)
-        if dlam < 1e-6:
+        if 1.0 - lam <= 1e-6:
+            dlam = 1.0 - lam          # the last sliver of load
+        elif dlam < 1e-6:
             why = "the response to the loads grows without bound" if dlam < step else reason
             raise SolverFailure(f"load stepping stalled at load factor {lam:.6g}: a limit point or a "
                                 f"bifurcation of the loaded structure ({why})", hist)
