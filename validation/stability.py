@@ -3,6 +3,9 @@
     /work/venv/bin/python validation/stability.py [--jobs 2]        # ~2 min on 2 cores
     /work/venv/bin/python validation/stability.py --recheck          # checks + report only, on the
                                                                       # runs saved by the last run (in $TMPDIR)
+    /work/venv/bin/python validation/stability.py --only "GROUP;GROUP"   # run these groups only; their
+                                    # rows replace those in stability.jsonl, STABILITY.md is rewritten
+                                    # from all rows (the other groups' rows as last run)
 
 Every case runs as ``python -m femslide solve|simulate SCENE --set ... --json --quiet`` in a
 subprocess with a time limit (TIMEOUT s), so a hang is recorded as such.  Its outcome is one of
@@ -36,8 +39,16 @@ Checks (TOL = 1e-6 relative unless stated):
   independent solve_ivp event-switching integrator (sdof_reference.ivp_simulate,
   DOP853, rtol 1e-12) - turning points within 1e-7 m (1e-6 relative for the resonant growth) - and
   at theta = omega the exact growth per cycle (pi P0 - 4 mu N)/k (1e-6 relative).
-* beam-oscillation, beam-friction: no independent reference: energy balance (<= 1e-6; the run's own
-  ``energy_balance``) and zero drift while stuck (``stuck_slide_drift`` <= 1e-12 m).
+* beam-oscillation, beam-friction: energy balance (<= 1e-6; the run's own ``energy_balance``) and
+  zero drift while stuck (``stuck_slide_drift`` <= 1e-12 m); beam-friction also Coulomb's law while
+  stuck (``stuck_force_ratio_max`` <= 1 + 1e-6) and, for t_end <= 3 s and mu0 <= 1, the independent
+  model validation/friction_reference.py (extensible elastica by shooting, scipy events): turning
+  points within 1e-6 rad and 1e-6 s.
+* issue 12 groups (extreme loads, huge records, stiff damping, long t_end, friction limits): inputs
+  beyond what the solvers handle must exit 2 naming the parameter (or 1 with a reason) within the
+  time limit; those that run are checked as above, stiff damping against scipy's Radau
+  (sdof_reference.ivp_simulate) on the history written with --out (1e-10 m), huge w0 against the
+  free vibration w0 (-1)^j at t = j pi/omega (1e-12 relative), a long record by its energy balance.
 Writes validation/STABILITY.md (and stability.jsonl with the raw rows).
 """
 from __future__ import annotations
@@ -63,7 +74,7 @@ import numpy as np  # noqa: E402
 import references as ref  # noqa: E402
 import sdof_reference as sref  # noqa: E402
 
-TIMEOUT = 60.0
+TIMEOUT = 130.0   # the contract: every case ends within 2 minutes
 RUNS = pathlib.Path(tempfile.gettempdir()) / "femslide_stability_runs.json"   # raw runs for --recheck
 BAD = ("WRONG", "WRONG?", "internal error", "timeout", "check error", "bad-input message unclear")
 TOL = 1e-6
@@ -104,6 +115,7 @@ def cases():
     for scene, tl in long_t.items():
         add("end time t_end", "simulate", scene, t_end=1e-6)
         add("end time t_end", "simulate", scene, t_end=tl)
+    _issue12_cases(add)
     # out-of-range input must exit 2 with the parameter named
     add("bad input", "solve", "beam-slider", EI=0.0)
     add("bad input", "solve", "beam-slider", n_elements=0)
@@ -113,12 +125,77 @@ def cases():
     return out
 
 
+RECORDS = pathlib.Path(tempfile.gettempdir()) / "femslide_stability_records"
+
+
+def _records():
+    """Record files for the 'huge records' group (written once into $TMPDIR)."""
+    RECORDS.mkdir(exist_ok=True)
+    files = {}
+    f = RECORDS / "values_1e308.csv"
+    if not f.exists():
+        f.write_text("t,a\n0,1e308\n1,-1e308\n2,1e308\n")
+    files["huge values"] = str(f)
+    for n, name in ((200_000, "rows_2e5.csv"), (1_000_001, "rows_1e6+1.csv")):
+        f = RECORDS / name
+        if not f.exists():
+            t = np.arange(n) * (1e-3 if n < 500_000 else 1e-4)
+            a = 3 * np.sin(7 * t) + 2 * np.sin(23 * t)
+            np.savetxt(f, np.column_stack([t, a]), delimiter=",", header="t,a", comments="")
+        files[name] = str(f)
+    return files
+
+
+def _issue12_cases(add):
+    """Extreme and limit inputs of issue 12: each must end right - solved and checked, or exit 2 / 1
+    with a message - within the time limit."""
+    g = "extreme loads"
+    add(g, "simulate", "sdof-free", w0=1e120)            # energy 1e242 J: solved
+    add(g, "simulate", "sdof-free", w0=1e308)            # beyond the float range: exit 2 (w0)
+    add(g, "simulate", "sdof-harmonic", P0=1e6)
+    add(g, "simulate", "sdof-harmonic", P0=1e300)        # exit 2 (P0)
+    add(g, "simulate", "sdof-harmonic", ag=1e308)        # m ag overflows: exit 2
+    add(g, "solve", "beam-slider", EI=1e308)             # exit 2 (EA = 1e6 EI overflows)
+    add(g, "solve", "beam-slider", m=1e-300)             # EI/(m g a^2) beyond 1e15: exit 2
+    add(g, "solve", "beam-slider", EA=1e21)              # EA a^2/EI = 1e15: exit 2
+    g = "huge records"
+    rec = _records()
+    add(g, "simulate", "sdof-harmonic", record=rec["huge values"])          # exit 2 (record)
+    add(g, "simulate", "sdof-harmonic", record=rec["rows_1e6+1.csv"])       # exit 2 (rows)
+    add(g, "simulate", "sdof-harmonic", record=rec["rows_2e5.csv"], t_end=200.0)
+    add(g, "simulate", "sdof-harmonic", record=rec["rows_2e5.csv"], t_end=1e4)   # t_end cap: exit 2
+    g = "stiff damping"
+    for c in (1e2, 1e4, 1e9, 1e12):
+        add(g, "simulate", "sdof-free", c_v=c, _out=True)
+    add(g, "simulate", "sdof-harmonic", c_v=1e9, t_end=3.0, _out=True)
+    add(g, "simulate", "beam-oscillation", c_v=1e3, t_end=2.0)
+    g = "long t_end"
+    add(g, "simulate", "sdof-free", t_end=1e7)                         # stops: any t_end
+    add(g, "simulate", "sdof-free", mu=0.0, mu0=0.0, t_end=1e7)        # never stops: exit 2
+    add(g, "simulate", "sdof-free", c_v=1e9, t_end=1e7)                # creeps: one segment
+    add(g, "simulate", "sdof-harmonic", t_end=1e7)                     # exit 2 with the usable t_end
+    add(g, "simulate", "sdof-harmonic", theta_ratio=3.0, t_end=9400.0)  # just below that limit
+    add(g, "simulate", "beam-oscillation", t_end=1e4)                  # exit 2
+    add(g, "simulate", "beam-friction", t_end=1e4)                     # exit 2
+    g = "friction limits"
+    for kw in (dict(mu=1e-6, mu0=1e-6), dict(mu=0.0, mu0=1e-6), dict(mu=0.05, mu0=0.05),
+               dict(mu=0.1, mu0=0.15, ag=2.0, theta_ratio=0.6), dict(mu=2.0, mu0=2.4)):
+        add(g, "simulate", "beam-friction", t_end=2.0, **kw)
+    add(g, "simulate", "sdof-harmonic", mu=1e-6, mu0=1e-6)
+    add(g, "simulate", "sdof-harmonic", mu=50.0, mu0=60.0)
+
+
 # -- running ------------------------------------------------------------------------------------------
 
 def run_case(case):
     argv = [sys.executable, "-m", "femslide", case["cmd"], case["scene"], "--json", "--quiet"]
-    for k, v in case["set"].items():
-        argv += ["--set", f"{k}={v!r}"]
+    sets = {k: v for k, v in case["set"].items() if not k.startswith("_")}
+    for k, v in sets.items():
+        argv += ["--set", f"{k}={v if isinstance(v, str) else repr(v)}"]
+    out = None
+    if case["set"].get("_out"):
+        out = tempfile.mkdtemp(prefix="femslide_stab_")
+        argv += ["--out", out]
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""),
                FEMSLIDE_QUIET="1")
     t0 = time.perf_counter()
@@ -132,8 +209,12 @@ def run_case(case):
         js = json.loads(p.stdout.strip().splitlines()[-1]) if p.stdout.strip() else None
     except (json.JSONDecodeError, IndexError):
         js = None
+    hist = None
+    if out and p.returncode == 0:   # a subsample of the history (t, w) for the check
+        H = np.loadtxt(os.path.join(out, "history.csv"), delimiter=",", skiprows=1)
+        hist = H[np.unique(np.linspace(0, len(H) - 1, 400).astype(int)), :2].tolist()
     return {**case, "exit": p.returncode, "time": dt, "stderr": p.stderr.strip(), "json": js,
-            "argv": " ".join(["femslide"] + argv[3:])}
+            "hist": hist, "argv": " ".join(["femslide"] + argv[3:])}
 
 
 # -- checks -------------------------------------------------------------------------------------------
@@ -197,6 +278,8 @@ def check(row):
     if row["exit"] == 2:
         msg = row["stderr"].splitlines()[-1] if row["stderr"] else ""
         named = any(f"parameter {k}" in msg or f"{k} " in msg for k in row["set"]) or "parameter" in msg
+        if "internal error" in row["stderr"] or "Traceback" in row["stderr"] or "Warning" in row["stderr"]:
+            return "internal error", "exit 2 but: " + row["stderr"][-300:]
         return ("failed cleanly" if named else "bad-input message unclear"), "exit 2: " + msg
     if row["exit"] == 1:
         msg = row["stderr"].splitlines()[-1] if row["stderr"] else ""
@@ -213,6 +296,8 @@ def check(row):
         return "internal error", f"exit {row['exit']}: {row['stderr'][-300:]}"
     if row["group"] == "bad input":
         return "WRONG", "bad input accepted (exit 0)"
+    if "Warning" in row["stderr"]:
+        return "WRONG?", "exit 0 with warnings on stderr: " + row["stderr"][-300:]
     if not r.get("converged", False):
         return "WRONG", "exit 0 but converged is false"
     try:
@@ -292,9 +377,12 @@ SDOF_DEF = {"sdof-free": dict(m=1.0, k=200.0, mu=0.2, mu0=0.24, w0=0.07, c_v=0.0
 
 
 def check_sdof(row, v, r):
-    p = {**SDOF_DEF[row["scene"]], "g": 9.81, **row["set"]}
+    p = {**SDOF_DEF[row["scene"]], "g": 9.81, **{k: x for k, x in row["set"].items() if not k.startswith("_")}}
     if "mu" in row["set"] and "mu0" not in row["set"]:
         p["mu0"] = p["mu"]
+    special = check_sdof_issue12(row, p, r)
+    if special is not None:
+        return special
     got = [(q["t"], q["w"]) for q in r["turning_points"]]
     bal = r.get("energy_balance", 0.0)
     N = p["m"] * p["g"]
@@ -377,6 +465,73 @@ def check_sdof(row, v, r):
     return ("solved" if ok else "WRONG"), detail
 
 
+def check_sdof_issue12(row, p, r):
+    """Checks of the issue-12 sdof cases that the general ones do not cover (None: not such a case)."""
+    bal = r.get("energy_balance")
+    if "record" in p:
+        ok = bal is not None and bal <= 1e-9
+        return ("solved (energy balance)" if ok else "WRONG"), (
+            f"{len(r['turning_points'])} turning points, {r['steps']} segments; energy_balance {bal:.1e} "
+            f"(no reference for a 2e5-node record: the energy balance of the exact segments, tol 1e-9)")
+    if p.get("c_v", 0.0) > 0.0:
+        hist = row.get("hist")
+        iv = sref.ivp_simulate(p["m"], p["k"], p["c_v"], p["mu"], p["mu0"], p["g"], p["w0"],
+                               A=p.get("P0", 0.0), theta=p.get("theta_ratio", 0.0) * math.sqrt(p["k"] / p["m"]),
+                               t_end=min(p["t_end"], 3.0), rtol=1e-12, atol=1e-16, method="Radau")
+        if hist is None:   # no history written: the turning points and the stop
+            ok = len(r["turning_points"]) == len(iv.turning) and bal <= 1e-9
+            return ("solved" if ok else "WRONG"), (f"{len(r['turning_points'])} turning points vs Radau "
+                                                   f"{len(iv.turning)}; energy_balance {bal:.1e}")
+        H = np.array(hist)
+        H = H[H[:, 0] <= min(p["t_end"], 3.0)]
+        e = float(np.max(np.abs(H[:, 1] - sref.ivp_eval(iv, H[:, 0]))))
+        ok = e <= 1e-10 and bal <= 1e-9
+        return ("solved" if ok else "WRONG"), (f"history vs scipy Radau (rtol 1e-12): |dw| {e:.1e} m "
+                                               f"(tol 1e-10); energy_balance {bal:.1e}; {r['steps']} segments")
+    if abs(p["w0"]) > 1e100:
+        om = math.sqrt(p["k"] / p["m"])
+        got = r["turning_points"]
+        ew = max(abs(q["w"] - p["w0"] * (-1) ** (j + 1)) / abs(p["w0"]) for j, q in enumerate(got))
+        et = max(abs(q["t"] - (j + 1) * math.pi / om) for j, q in enumerate(got))
+        ok = ew <= 1e-12 and et <= 1e-9 and bal <= 1e-9
+        return ("solved" if ok else "WRONG"), (f"{len(got)} turning points vs w0 (-1)^j at j pi/omega "
+                                               f"(friction 1e-122 of the amplitude): |dw|/w0 {ew:.1e}, "
+                                               f"|dt| {et:.1e} s; energy_balance {bal:.1e}")
+    return None
+
+
+_FREF = {}
+
+
+def friction_reference_check(v, r):
+    """Turning points of beam-friction against validation/friction_reference.py (None: not run)."""
+    import friction_reference as fr
+    keys = ("mu", "mu0", "ag", "theta_ratio", "t_end")
+    sets = {k: v[k] for k in keys if k in v}
+    if set(v) - set(keys) or v.get("t_end", 3.0) > 3.0 or sets.get("mu0", sets.get("mu", 0.24)) > 1.0:
+        return None
+    if "mu" in sets and "mu0" not in sets:
+        sets["mu0"] = sets["mu"]
+    key = json.dumps(sets, sort_keys=True)
+    if key not in _FREF:
+        _FREF[key] = fr.simulate(**sets)
+    ref = _FREF[key]
+    got = [(q["t"], q["w"]) for q in r["turning_points"] if abs(q["w"]) > 1e-4]
+    big = [(t, w) for t, w in ref["turning"] if abs(w) > 1e-4]
+    if len(got) != len(big):
+        return False, f"{len(got)} turning points (|phi| > 1e-4), independent model {len(big)}"
+    ew = max((abs(a[1] - b[1]) for a, b in zip(got, big)), default=0.0)
+    et = max((abs(a[0] - b[0]) for a, b in zip(got, big)), default=0.0)
+    return (ew <= 1e-6 and et <= 1e-6), (f"vs the independent model (elastica, scipy): {len(got)} turning "
+                                         f"points, |dphi| {ew:.1e} rad, |dt| {et:.1e} s; its stuck time "
+                                         f"{fr.stuck_time(ref):.4g} s")
+
+
+def coulomb_ok(row, r):
+    ratio, excess = r.get("stuck_force_ratio_max"), r.get("stuck_force_excess_max")
+    return ratio is None or ratio <= 1 + 1e-6 or (excess is not None and excess <= 1e-9 * P)
+
+
 def check_beam_dynamics(row, v, r):
     bal = r.get("energy_balance")
     drift = r.get("stuck_slide_drift", 0.0)
@@ -385,8 +540,22 @@ def check_beam_dynamics(row, v, r):
     if "stuck_time" in r:
         detail += f"; stuck {r['stuck_time']:.3g} s of {r['t_end']:g}"
     ok = bal is not None and bal <= 1e-6 and drift <= 1e-12
+    if row["scene"] == "beam-friction":
+        ratio, excess = r.get("stuck_force_ratio_max"), r.get("stuck_force_excess_max")
+        detail += (f"; max |F_ax|/(mu0 N) stuck {ratio:.6g}, excess {excess:.1e} N" if ratio is not None
+                   else "; never stuck")
+        # Coulomb to 1e-6 relative, or to the multipliers' round-off (1e-9 P) for tiny mu0
+        coulomb = ratio is None or ratio <= 1 + 1e-6 or excess <= 1e-9 * P
+        ok = ok and coulomb
+        fr = friction_reference_check({**{"t_end": 3.0}, **row["set"]}, r)
+        if fr is not None and bal is not None and bal <= 1e-6:
+            ok = ok and fr[0]
+            detail += "; " + fr[1]
+            return ("solved" if ok else "WRONG"), detail
+        if fr is not None:
+            detail += "; " + fr[1]
     scale = max(abs(r.get("work_in", 0.0) or 0.0), abs(r.get("friction_work", 0.0) or 0.0))
-    if not ok and drift <= 1e-12 and "work_in" in r and scale < 1e-12 and r["w_max"] < 1e-15:
+    if not ok and drift <= 1e-12 and coulomb_ok(row, r) and "work_in" in r and scale < 1e-12 and r["w_max"] < 1e-15:
         return "solved (round-off level)", detail + f"; work_in {r['work_in']:.1e} J: below round-off"
     return ("solved" if ok else "WRONG"), detail + " (no independent reference: energy balance, drift)"
 
@@ -399,6 +568,13 @@ def main():
         jobs = int(sys.argv[sys.argv.index("--jobs") + 1])
     t0 = time.perf_counter()
     cs = cases()
+    only = None
+    if "--only" in sys.argv:      # a subset of groups, merged into the rows of the last full run
+        only = [g.strip() for g in sys.argv[sys.argv.index("--only") + 1].split(";")]
+        unknown = set(only) - {c["group"] for c in cs}
+        if unknown:
+            raise SystemExit(f"--only: unknown group(s) {sorted(unknown)}")
+        all_cases, cs = cs, [c for c in cs if c["group"] in only]
     rows = [None] * len(cs)
     if "--recheck" in sys.argv:   # redo the checks and the report on the runs of the last full run
         saved = json.loads(RUNS.read_text())
@@ -410,29 +586,56 @@ def main():
             rows[i] = f.result()
             print(f"[{k + 1}/{len(cs)}] {rows[i]['scene']} {rows[i]['set']} exit {rows[i]['exit']} "
                   f"{rows[i]['time']:.1f} s", flush=True)
-    if cs:
+    if cs and only is None:
         t_run = time.perf_counter() - t0
         with open(RUNS, "w") as fh:   # raw runs, for --recheck
             json.dump({"t_run": t_run, "rows": rows}, fh)
     for row in rows:
         row["outcome"], row["detail"] = check(row)
+        row["its"] = _its(row)
     t_total = time.perf_counter() - t0 if cs else t_run   # runs + checks (recheck: the saved runs' time)
+    note = ""
+    if only is not None:          # merge: the other groups' rows as last written
+        old = {}
+        if (HERE / "stability.jsonl").exists():
+            for line in (HERE / "stability.jsonl").read_text().splitlines():
+                rec = json.loads(line)
+                old[_case_key(rec)] = rec
+        new = {_case_key(r): r for r in rows}
+        merged = []
+        for c in all_cases:
+            k = _case_key(c)
+            if k in new:
+                merged.append(new[k])
+            elif k in old:
+                merged.append(old[k])
+        rows = merged
+        note = (f"Groups {', '.join(only)} rerun with `--only` ({len(new)} cases, {t_total:.0f} s); the "
+                f"other rows are those of the last full run.")
+        t_total = None
     with open(HERE / "stability.jsonl", "w") as fh:
         for row in rows:
             fh.write(json.dumps({k: row.get(k) for k in ("group", "cmd", "scene", "set", "exit", "time",
-                                                         "outcome", "detail", "stderr")}) + "\n")
-    write_md(rows, t_total)
+                                                         "outcome", "detail", "stderr", "its")}) + "\n")
+    write_md(rows, t_total, note)
     counts = {}
     for row in rows:
         counts[row["outcome"]] = counts.get(row["outcome"], 0) + 1
-    print(f"{len(rows)} cases in {t_total:.0f} s: " + ", ".join(f"{k} {n}" for k, n in sorted(counts.items())))
+    print(f"{len(rows)} cases" + (f" in {t_total:.0f} s" if t_total is not None else "") + ": "
+          + ", ".join(f"{k} {n}" for k, n in sorted(counts.items())))
     bad = [r for r in rows if r["outcome"] in BAD]
     for r in bad:
         print(f"!! {r['outcome']}: {r['argv'] if 'argv' in r else r['scene']} -> {r['detail']}")
     return 1 if bad else 0
 
 
+def _case_key(c):
+    return json.dumps([c["group"], c["cmd"], c["scene"], c["set"]], sort_keys=True)
+
+
 def _its(row):
+    if "json" not in row:         # a row read back from stability.jsonl
+        return row.get("its", "-")
     r = row["json"] or {}
     for k in ("iterations", "steps"):
         if k in r:
@@ -440,7 +643,15 @@ def _its(row):
     return "-"
 
 
-def write_md(rows, t_total):
+def _fmt_set(k, v):
+    if isinstance(v, float):
+        return f"{k}={v:g}"
+    if k == "record":
+        return f"{k}={os.path.basename(str(v))}"
+    return f"{k}={v}"
+
+
+def write_md(rows, t_total, note=""):
     counts = {}
     for row in rows:
         counts[row["outcome"]] = counts.get(row["outcome"], 0) + 1
@@ -449,12 +660,20 @@ def write_md(rows, t_total):
          "`stability.jsonl`).  Each case is one `femslide solve|simulate SCENE --set ... --json` run in a "
          f"subprocess with a {TIMEOUT:g} s limit; the checks are described in the script's docstring "
          "(independent references where they exist: elastica shooting, spring-hinge equivalent at large EI, "
-         "exact decrement formula, solve_ivp event switching; otherwise global statics or the energy "
-         "balance and zero drift while stuck).  Defaults: a = 1, b = 0.5, d = 0.2, l = 3, m = 1, g = 9.81 "
+         "exact decrement formula, solve_ivp event switching, scipy Radau for stiff damping, the "
+         "independent beam-friction model validation/friction_reference.py; otherwise global statics or "
+         "the energy balance, zero drift and Coulomb's law while stuck).  The groups extreme loads, huge "
+         "records, stiff damping, long t_end and friction limits are the inputs of issue 12: each must "
+         "end right - checked, or exit 2 naming the parameter / exit 1 with a reason - within the time "
+         "limit.  Defaults: a = 1, b = 0.5, d = 0.2, l = 3, m = 1, g = 9.81 "
          "(P = 9.81 N), EI = 1e6, EA = 1e6 EI unless set.", "",
-         f"**{len(rows)} cases (runs and checks took {t_total:.0f} s): " + ", ".join(f"{n} {k}" for k, n in sorted(counts.items()))
-         + ".**", "",
-         "Outcomes: `solved` (check passed), `solved (flagged)` (true error > 1e-6 but within 10x of femslide's own "
+         f"**{len(rows)} cases" + (f" (runs and checks took {t_total:.0f} s)" if t_total is not None else "")
+         + ": " + ", ".join(f"{n} {k}" for k, n in sorted(counts.items())) + ".**", ""]
+    if note:
+        L += [note, ""]
+    L += [
+         "Outcomes: `solved` (check passed), `solved (energy balance)` (no reference: the exact "
+         "solution's energy balance within 1e-9), `solved (flagged)` (true error > 1e-6 but within 10x of femslide's own "
          "error_estimate - a coarse fixed mesh or the round-off floor of a very stiff model - or N = 1, "
          "which has no estimate), `failed cleanly` "
          "(exit 1 with a reason / exit 2 naming the parameter), `WRONG` (converged but the check fails: a "
@@ -477,7 +696,7 @@ def write_md(rows, t_total):
         for r in rows:
             if r["group"] != g or r["outcome"] in BAD:
                 continue
-            sets = " ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}" for k, v in r["set"].items())
+            sets = " ".join(_fmt_set(k, v) for k, v in r["set"].items() if not k.startswith("_"))
             det = r["detail"].replace("|", "/")
             L.append(f"| {r['scene']} | {sets} | {r['outcome']} | {r['exit']} | {_its(r)} | {r['time']:.1f} | {det} |")
         L.append("")
