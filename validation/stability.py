@@ -635,7 +635,7 @@ def _case_key(c):
 
 def _its(row):
     if "json" not in row:         # a row read back from stability.jsonl
-        return row.get("its", "-")
+        return "-" if row.get("its") is None else row["its"]
     r = row["json"] or {}
     for k in ("iterations", "steps"):
         if k in r:
