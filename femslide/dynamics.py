@@ -67,6 +67,7 @@ import scipy.linalg as sla  # noqa: E402
 
 from .corotational import strain_energy  # noqa: E402
 from .errors import BadInput, SolverFailure  # noqa: E402
+from .sdof import _floor_sig  # noqa: E402
 
 N_DEFAULT = 8          # elements of the flexible rod when n_elements is not given
 N_MAX_DYN = 150        # dense Jacobians (size < 600)
@@ -114,7 +115,8 @@ def check_work(v, omega, n, scene, extra_solves=0):
                        f"{per_period:.2g} s of computing per period of the motion ({T:.4g} s; "
                        f"{SOLVES_PER_PERIOD} statics solves of ~{solve_seconds(n) * 1e3:.2g} ms), "
                        f"so {periods:.3g} periods would take ~{periods * per_period:.3g} s; allowed: "
-                       f"t_end <= {t_max:.4g} s ({WORK_BUDGET_S:g} s of work; fewer n_elements allow more)")
+                       f"t_end <= {_floor_sig(t_max, 4)} s ({WORK_BUDGET_S:g} s of work; fewer n_elements "
+                       f"allow more)")
     return int(RUNTIME_FACTOR * WORK_BUDGET_S / solve_seconds(n)) + 2000
 
 

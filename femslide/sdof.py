@@ -1012,6 +1012,15 @@ def work_periods(osc, w0, t_end):
     return P + half * (Td / 2) / T, T
 
 
+def _floor_sig(x, digits=6):
+    """x rounded down to ``digits`` significant digits, as text: a stated limit that is itself
+    allowed (rounding 9456.693 to '9456.69' is; '%.6g' of 9456.696 would give a value above it)."""
+    if not (x > 0 and math.isfinite(x)):
+        return f"{x:g}"
+    e = math.floor(math.log10(x)) - digits + 1
+    return f"{math.floor(x / 10.0 ** e) * 10.0 ** e:.{digits}g}"
+
+
 def check_bounds(osc, w0, t_end, values):
     """BadInput unless the run's energies stay within E_MAX and its work within MAX_PERIODS."""
     logE, e0, ef = energy_bound(osc, w0, t_end)
@@ -1047,7 +1056,7 @@ def check_bounds(osc, w0, t_end, values):
         raise BadInput(f"parameter t_end = {t_end:g} s: the run would follow {P:.3g} periods of its "
                        f"shortest time scale ({what} {T:.4g} s); the exact solver takes about "
                        f"{US_PER_PERIOD} us per period and a run may follow at most {MAX_PERIODS:g} "
-                       f"(about {MAX_PERIODS * US_PER_PERIOD * 1e-6:.0f} s); allowed: t_end <= {lo:.6g} s "
+                       f"(about {MAX_PERIODS * US_PER_PERIOD * 1e-6:.0f} s); allowed: t_end <= {_floor_sig(lo)} s "
                        f"for these parameters")
 
 
