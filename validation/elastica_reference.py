@@ -39,6 +39,18 @@ ea = EA L^2 / EI.  The deviations from the straight rod (xi ~ phi^2, eta ~ phi) 
 shortening of a slightly bent rod, or the ~N / EA stretch that fixes the clamp force of the
 sliding-clamp rod, are not lost in the cancellation r(L) - L t0.
 
+Limits (single shooting)
+------------------------
+* Tip-loaded cantilevers: up to P L^2 / EI ~ 200 (the tip angle, the unknown, is then resolved to
+  round-off; see ``inclined_cantilever``).
+* A rod under high tension N has boundary layers ~exp(L sqrt(N / EI)); the sliding-clamp rod with its
+  guide (nearly) across the rod and a large EA becomes such a string once the slide exceeds
+  ~sqrt(EI / EA) L (EA L^2 / EI = 1e6: slides above ~1e-3 L): there the continuation needs hundreds
+  of integrations (seconds) or gives up (RuntimeError after MAX_INTEGRATIONS).  Guides at an angle
+  to the rod, the rods in tension or compression below buckling, and EA L^2 / EI <= 1e4 are cheap.
+* At a limit point or bifurcation of the loading path (snap-through, buckling) the continuation
+  stops with a RuntimeError saying so.
+
 Closed forms used by the self-tests
 -----------------------------------
 * ``end_moment_circle``: tip moment only, M constant: a circular arc of radius EI / M (exact, also
@@ -64,7 +76,9 @@ RTOL = 1e-12     # solve_ivp tolerances (nondimensional problem)
 ATOL = 1e-15
 XTOL = 1e-13     # Newton / scipy.optimize.root step tolerance on the shooting unknowns
 RES_TOL = 1e-9   # largest accepted residual of the shooting equations (nondimensional)
-SQRT_STEP = 1.5  # continuation: first step in sqrt(nondimensional load)
+HYBR_MAXFEV = 60 # integrations allowed to the scipy.optimize.root fallback per call
+MAX_INTEGRATIONS = 1500   # per continuation, then RuntimeError (bounded run time)
+ROT_STEP = 0.5   # continuation: first load step gives about this linear-theory rotation [rad]
 ANGLE_TOL = 0.02 # continuation: accepted corrector move of an angle unknown beyond half its increment [rad]
 
 
@@ -85,7 +99,8 @@ def _solve(fun, z0, maxiter=15, fallback=True):
     """Root of fun (returning (residual, Jacobian)) from z0: (z, J at z, Newton iterations) or None.
 
     Newton's method with the exact Jacobian and residual backtracking; converged when the step is
-    below XTOL (1 + |z|), or when no step decreases the residual any more and it is below
+    below XTOL (1 + |z|) (or below sqrt(XTOL) (1 + |z|) and 1e-3 times the previous step: quadratic
+    convergence makes the next one negligible), or when no step decreases the residual any more and it is below
     RES_TOL (its round-off floor: an ill-conditioned Jacobian turns that noise into steps above
     XTOL).  Given up early if the residual has not dropped 100-fold after 4 iterations.  If Newton
     fails and ``fallback``: scipy.optimize.root (hybr, same Jacobian, xtol XTOL) from z0.
@@ -95,6 +110,7 @@ def _solve(fun, z0, maxiter=15, fallback=True):
     try:
         r, J = fun(z)
         r_start = np.linalg.norm(r)
+        prev = math.inf
         for nit in range(1, maxiter + 1):
             dz = -np.linalg.solve(J, r)
             nr = np.linalg.norm(r)
@@ -109,8 +125,12 @@ def _solve(fun, z0, maxiter=15, fallback=True):
                     break                     # at the round-off floor
                 raise FloatingPointError("no decrease")
             z, r, J = zt, rt, Jt
-            if np.max(np.abs(dz)) <= XTOL * (1.0 + np.max(np.abs(z))):
+            step = np.max(np.abs(dz)) / (1.0 + np.max(np.abs(z)))
+            # converged: the step is below XTOL, or it is below sqrt(XTOL) after a quadratic
+            # contraction (then the next step, ~ step^2, would be below XTOL)
+            if step <= XTOL or (step <= math.sqrt(XTOL) and step <= 1e-3 * prev):
                 break
+            prev = step
             if nit == 4 and np.linalg.norm(r) > 1e-2 * r_start and np.max(np.abs(r)) > RES_TOL:
                 raise FloatingPointError("slow")
         else:
@@ -121,7 +141,7 @@ def _solve(fun, z0, maxiter=15, fallback=True):
             return None
         try:
             sol = optimize.root(fun, np.atleast_1d(np.asarray(z0, float)), jac=True, method="hybr",
-                                options=dict(xtol=XTOL))
+                                options=dict(xtol=XTOL, maxfev=HYBR_MAXFEV))
         except (RuntimeError, ValueError, FloatingPointError, np.linalg.LinAlgError):
             return None
         z = sol.x
@@ -132,12 +152,18 @@ def _solve(fun, z0, maxiter=15, fallback=True):
     return (z, J, nit) if np.max(np.abs(r)) <= RES_TOL else None
 
 
-def _continuation(fun_at, z_zero, z_first, load, angles=None, max_rejects=60):
+class _Budget(Exception):
+    pass
+
+
+def _continuation(fun_at, z_zero, z_first, angles=None, max_rejects=30):
     """Follow the root z(lam) of fun_at(lam) from lam = 0 (where it is ``z_zero``) to lam = 1.
 
     The load factor is lam = tau^2 (equal steps in tau are equal steps in sqrt(load), which sets the
-    rod's bending length sqrt(EI / P)); first step dtau = min(1, SQRT_STEP / sqrt(load)), then
-    x1.5 after an easy step (<= 5 Newton iterations), x0.5 after a rejected one.  Predictor:
+    rod's bending length sqrt(EI / P)).  First step: the linear-theory rotations (the angle
+    unknowns of ``z_first(1)``) scaled to ROT_STEP, dtau = min(1, sqrt(ROT_STEP / max |rotation|))
+    (a nearly straight rod is solved in one step); then x1.5 after an easy step (<= 5 Newton
+    iterations), x0.5 after a rejected one.  Predictor:
     ``z_first(lam)`` (linear theory) for the first step, then the tangent dz/dlam = -J^-1 dr/dlam
     (dr/dlam by a difference in lam, J exact).  A step is rejected if Newton fails, or if an angle
     unknown (``angles``: boolean mask, default all) lands farther from its prediction than half its
@@ -145,10 +171,25 @@ def _continuation(fun_at, z_zero, z_first, load, angles=None, max_rejects=60):
     the followed branch, while distinct elastica branches differ by O(1) rad, so the test guards
     against jumping to another branch.  The hybr fallback of ``_solve`` is used only after three
     rejected steps in a row."""
-    dtau = min(1.0, SQRT_STEP / math.sqrt(max(load, 1e-300)))
-    tau, z_last, J_last = 0.0, np.asarray(z_zero, float), None
+    calls = [0]
+    fun_at_raw = fun_at
+
+    def fun_at(lam):   # counts the integrations (each call of a residual function is one)
+        f = fun_at_raw(lam)
+
+        def counted(z):
+            calls[0] += 1
+            if calls[0] > MAX_INTEGRATIONS:
+                raise _Budget()
+            return f(z)
+        return counted
+
+    z_last, J_last, tau = np.asarray(z_zero, float), None, 0.0
     mask = np.ones(z_last.size, bool) if angles is None else np.asarray(angles, bool)
+    rot = float(np.max(np.abs(np.asarray(z_first(1.0), float) - z_last)[mask]))
+    dtau = min(1.0, math.sqrt(ROT_STEP / max(rot, 1e-300)))
     rejects = rejects_in_row = 0
+    det0 = None
     while tau < 1.0:
         tt = min(1.0, tau + dtau)
         lt = tt * tt
@@ -156,9 +197,16 @@ def _continuation(fun_at, z_zero, z_first, load, angles=None, max_rejects=60):
             guess = np.asarray(z_first(lt), float)
         else:
             lam, h = tau * tau, 1e-6
-            r_h, _ = fun_at(lam + h)(z_last)    # r(z_last, lam) = 0 (to RES_TOL, in practice 1e-14)
+            try:
+                r_h, _ = fun_at(lam + h)(z_last)    # r(z_last, lam) = 0 (to RES_TOL, ~1e-14)
+            except _Budget:
+                raise RuntimeError(f"continuation gave up after {MAX_INTEGRATIONS} integrations")
             guess = z_last - np.linalg.solve(J_last, r_h / h) * (lt - lam)
-        out = _solve(fun_at(lt), guess, maxiter=10, fallback=rejects_in_row >= 3)
+        try:
+            out = _solve(fun_at(lt), guess, maxiter=10, fallback=rejects_in_row >= 3)
+        except _Budget:
+            raise RuntimeError(f"continuation gave up after {MAX_INTEGRATIONS} integrations at load "
+                               f"factor {tau * tau:.6g} (see the module's notes on hard cases)")
         ok = False
         if out is not None:
             z, J, nit = out
@@ -167,11 +215,19 @@ def _continuation(fun_at, z_zero, z_first, load, angles=None, max_rejects=60):
         if not ok:
             rejects += 1
             rejects_in_row += 1
-            if rejects > max_rejects:
-                raise RuntimeError(f"continuation failed at load factor {tau * tau:.6g}")
+            if rejects > max_rejects or (tau > 0 and dtau < 1e-9):
+                hint = ""
+                if J_last is not None and det0:
+                    rel = abs(np.linalg.det(J_last) / det0)
+                    if rel < 1e-3:
+                        hint = (f" (det J fell to {rel:.1e} of its initial value: a limit point or "
+                                "bifurcation - the rod snaps or buckles under this load)")
+                raise RuntimeError(f"continuation failed at load factor {tau * tau:.6g}{hint}")
             dtau *= 0.5
             continue
         tau, z_last, J_last = tt, z, J
+        if det0 is None:
+            det0 = np.linalg.det(J)
         rejects_in_row = 0
         if nit <= 5:
             dtau *= 1.5
@@ -203,7 +259,8 @@ def _cantilever_rhs(Ft, Fn, qt, qn, ea):
 
 
 def inclined_cantilever(L: float, EI: float, angle: float, Fx: float, Fy: float, M: float = 0.0,
-                        q=(0.0, 0.0), EA: float | None = None) -> dict:
+                        q=(0.0, 0.0), EA: float | None = None,
+                        rotation_guess: float | None = None) -> dict:
     """Rod clamped at the origin along ``angle`` [rad from +x]; dead tip force (Fx, Fy) [N], tip
     moment M [N m] (counter-clockwise), uniform dead load q = (qx, qy) [N/m] per unit undeformed
     length (self-weight: q = rhoA g); EA [N] None = inextensible.
@@ -212,7 +269,11 @@ def inclined_cantilever(L: float, EI: float, angle: float, Fx: float, Fy: float,
     so the rod is integrated from the free tip (tangent angle the unknown, M(L) = M) to the root,
     and the equation is theta(0) = angle.  Shooting from the tip is the well-conditioned direction
     (from the clamp, d M(L) / d M(0) grows like exp(L sqrt(P / EI)): ~1e6 at P L^2 / EI = 300).
-    Tested up to P L^2 / EI = 300.
+    Tested up to P L^2 / EI = 100 (single shooting reaches its round-off limit near 300).
+
+    ``rotation_guess`` (tip rotation [rad]): skip the continuation and start Newton there, to
+    reach a known equilibrium off the principal branch (e.g. an unstable straight state above the
+    buckling load); by default the principal branch (loading from zero) is followed.
 
     Returns a dict:
       tip        (x, y) tip position [m]
@@ -249,8 +310,13 @@ def inclined_cantilever(L: float, EI: float, angle: float, Fx: float, Fy: float,
         return fun
 
     rot_lin = Mn + 0.5 * Fn + qn / 6.0        # tip rotation, linear theory
-    load = math.hypot(Ft, Fn) + abs(Mn) + math.hypot(qt, qn)
-    phL = float(_continuation(fun_at, [0.0], lambda lam: np.array([lam * rot_lin]), load)[0])
+    if rotation_guess is None:
+        phL = float(_continuation(fun_at, [0.0], lambda lam: np.array([lam * rot_lin]))[0])
+    else:
+        out = _solve(fun_at(1.0), [rotation_guess])
+        if out is None:
+            raise RuntimeError("no equilibrium found from rotation_guess")
+        phL = float(out[0][0])
 
     # final pass, with the extrema of M (t x n = 0) as events
     def txn(s, Y):
@@ -385,7 +451,7 @@ def pinned_slider_rod(L: float, EI: float, angle: float, guide_angle: float, F,
             return r, J
         return fun
 
-    ph0, c = _continuation(fun_at, [0.0, 0.0], first, math.hypot(Ft, Fn), angles=[True, False])
+    ph0, c = _continuation(fun_at, [0.0, 0.0], first, angles=[True, False])
     nt, nn = Ft + c * gpt, Fn + c * gpn
 
     def txn(s, Y):
