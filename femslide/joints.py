@@ -205,12 +205,6 @@ class Link:
             d[self.ib + 2] = -1.0
         return t, d
 
-    def frame(self, z):
-        """(e, n) of the guide at the state z (global unit vectors)."""
-        thb = float(z[self.ib + 2]) if self.ib is not None else 0.0
-        ex, ey, nx, ny = self._frame(thb)
-        return np.array([ex, ey]), np.array([nx, ny])
-
     def point_a(self, z):
         """Position of a's joint point (model units) and the lever of a's forces about a's frame."""
         px, py, Rx, Ry, _ = _point(z.tolist(), self.ia, self.a)

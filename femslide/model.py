@@ -371,10 +371,6 @@ class Model:
         return np.column_stack([X[0] + u + c * r[..., 0] - s * r[..., 1], X[1] + v + s * r[..., 0] + c * r[..., 1]]) \
             if r.ndim == 2 else np.array([X[0] + u + c * r[0] - s * r[1], X[1] + v + s * r[0] + c * r[1]])
 
-    def frame_X0(self, f: int):
-        """Reference origin of frame f (a node or a body) in model units."""
-        return self.X0[f] if f < self.n_nodes else self.body_X0[f - self.n_nodes]
-
     def add_constraint(self, c):
         self.constraints.append(c)
         return c
@@ -423,15 +419,6 @@ class Model:
             return np.zeros((0, 3)), np.zeros(0)
         _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False)
         return qb, alpha
-
-    def energy(self, y, alpha_ref, lam=1.0):
-        """Total potential energy (model units) of the state: strain + springs + lam loads."""
-        q = y[:self.n_q]
-        E = corotational.strain_energy(self.elements, self.nodal(q), alpha_ref) if self.elements is not None else 0.0
-        E += lam * float(self.p_lin @ q)
-        for t, d in zip(self.terms, self._term_dofs):
-            E += float(t.eval(q[d], lam)[0])
-        return E
 
     def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
         """Residual and Jacobian of the equations at y.

@@ -129,7 +129,6 @@ def extract(model, y, alpha, arrays=None) -> dict:
     """The named results of SPEC section 8 (SI units) of a converged state."""
     L, F = model.Lref, model.Fref
     q = y[:model.n_q]
-    U = model.nodal(q)
     arrays = rod_arrays(model, y, alpha) if arrays is None else arrays
     rods = {}
     for rod in model.structure.rods:
@@ -155,7 +154,6 @@ def extract(model, y, alpha, arrays=None) -> dict:
         if j.b == "ground":
             reactions[j.name] = {"Fx": out["Fx"], "Fy": out["Fy"], "M": out["M"]}
     M_all = max((r["M_max"] for r in rods.values()), default=0.0)
-    del U
     return {"M_max": M_all, "bodies": bodies, "rods": rods, "joints": joints, "reactions": reactions}
 
 
