@@ -420,6 +420,19 @@ class Model:
         _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False)
         return qb, alpha
 
+    def applied(self, y, lam=1.0):
+        """The generalised forces on the frames from everything but the rod elements - loads (times
+        ``lam``), springs and joint multipliers - in the residual's sign (minus the force on the
+        frame), model units.  At equilibrium the elements' internal forces balance them; results
+        recover cut forces and moments along rods from them (exact to the residual)."""
+        q, mu = y[:self.n_q], y[self.n_q:self.n_q + self.n_c]
+        g = lam * self.p_lin
+        for t, d in zip(self.terms, self._term_dofs):
+            g[d] += t.eval(q[d], lam)[1]
+        for c, d, ci in zip(self.constraints, self._con_dofs, self._con_mu):
+            g[d] += mu[ci] @ c.eval(q[d], mu[ci])[1]
+        return g
+
     def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
         """Residual and Jacobian of the equations at y.
 

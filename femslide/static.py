@@ -45,7 +45,7 @@ from . import corotational
 from .errors import BadInput, SolverFailure
 from .model import Model, PatternCache, solve_linear
 from .newton import newton, principal_branch
-from .results import extract, flatten, rod_arrays, unflatten
+from .results import end_moments, extract, flatten, rod_arrays, unflatten
 from .structure import Frozen
 
 TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (10x below 1e-6)
@@ -529,12 +529,11 @@ def _scatter(lv: Level) -> float:
         return 0.0
     if not np.all(np.isfinite(y)):
         return 0.0
-    q0, _ = m.element_forces(lv.y[:m.n_q], lv.alpha)
-    q1, _ = m.element_forces(y[:m.n_q], lv.alpha)
-    M0 = np.abs(q0[:, 1:]).max()
+    M0 = np.abs(end_moments(m, lv.y)).max()
+    M1 = np.abs(end_moments(m, y)).max()
     # relative to the moment, or to 1e-6 of the loads' moment scale (model unit) when the rods carry
     # (almost) none: the noise of a zero moment is no relative error of anything
-    return float(abs(np.abs(q1[:, 1:]).max() - M0) / max(M0, 1e-6))
+    return float(abs(M1 - M0) / max(M0, 1e-6))
 
 
 @dataclass
