@@ -98,18 +98,16 @@ def end_moments(model, y, X=None):
     if X is None:
         X = model.X0 + model.nodal(y[:model.n_q])[:, :2]
     g = model.applied(y)[:3 * model.n_nodes].reshape(-1, 3)
-    out = np.empty((model.elements.size, 2))
-    for k, nodes in enumerate(model.rod_nodes):
-        el = np.nonzero(model.elem_rod == k)[0]
-        Xr = X[nodes] - X[nodes[0]]
-        gr = g[nodes]
-        F = np.cumsum(gr[:, :2], axis=0)
-        Mo = np.cumsum(gr[:, 2] + Xr[:, 0] * gr[:, 1] - Xr[:, 1] * gr[:, 0])
-        M1 = -(Mo[:-1] - (Xr[:-1, 0] * F[:-1, 1] - Xr[:-1, 1] * F[:-1, 0]))
-        d = Xr[:-1] - Xr[1:]
-        M2 = -M1 + (d[:, 0] * F[:-1, 1] - d[:, 1] * F[:-1, 0])
-        out[el, 0], out[el, 1] = M1, M2
-    return out
+    first = model.node_first
+    Xr = X - X[first]
+    rows = np.column_stack([g[:, 0], g[:, 1], g[:, 2] + Xr[:, 0] * g[:, 1] - Xr[:, 1] * g[:, 0]])
+    C = np.cumsum(rows, axis=0)
+    C -= (C[first] - rows[first])            # sums over each rod's own nodes only
+    i, j = model.elements.conn[:, 0], model.elements.conn[:, 1]
+    Fx, Fy = C[i, 0], C[i, 1]
+    M1 = -(C[i, 2] - (Xr[i, 0] * Fy - Xr[i, 1] * Fx))
+    d = X[i] - X[j]
+    return np.column_stack([M1, -M1 + (d[:, 0] * Fy - d[:, 1] * Fx)])
 
 
 def _start_force(model, y, rod):
