@@ -21,8 +21,11 @@ from __future__ import annotations
 
 from .errors import BadInput, SolverFailure
 from .structure import Structure, Table
+from .run import Result
+from . import sweep as _sweep_module  # noqa: F401  (loaded now, so that femslide.sweep stays the function)
 
-__all__ = ["Structure", "Table", "solve", "simulate", "load", "list_scenes", "BadInput", "SolverFailure"]
+__all__ = ["Structure", "Table", "solve", "simulate", "sweep", "load", "list_scenes", "Result", "BadInput",
+           "SolverFailure"]
 __version__ = "0.2.0"
 
 
@@ -75,3 +78,49 @@ def solve(target, **params):
 def simulate(target, **params):
     """Run a dynamic scene (a built-in name or a scene file); keyword arguments are its parameters."""
     return _run("simulate", target, dict(params))
+
+
+def sweep(target, *, fixed=None, jobs=1, quiet=False, **varied):
+    """Solve (or simulate) every combination of parameter values; one table row per case.
+
+    Parameters
+    ----------
+    target : str, os.PathLike or Structure
+        A built-in scene name (``"beam-slider"``), a scene or structure file, or a
+        :class:`Structure`.
+    fixed : dict, optional
+        Parameters kept constant in every case (as keyword arguments of :func:`solve`).
+    jobs : int, default 1
+        Number of worker processes; 1 runs the cases one after the other in this process.  The
+        rows are the same either way: every case is solved from scratch, as :func:`solve` solves
+        it alone.
+    quiet : bool, default False
+        Switch off the progress bar (shown on stderr only when it is a terminal).
+    **varied : list of values
+        The varied parameters, each with a list (tuple, range, numpy array) of values: scene
+        parameters (``EI=[1e4, 1e6]``) or structure fields (``**{"right.EI": [1e4, 1e6]}``; a vector
+        field takes a list of vectors).  Several varied parameters give the full grid
+        (``itertools.product``, the first name varying slowest).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case in grid order: the varied parameters, ``converged`` (bool), ``reason``
+        (why a case failed, else None), then every scalar value of the result under dotted names
+        (``M_max``, ``reactions.B1.Fx``, ``rods.right.M_max``, ``wall_time_s``...; see
+        :meth:`Result.flat`; NaN where a case has no value).  A case that fails does not stop the
+        sweep: its row says why.  ``df.attrs`` holds ``target``, ``varied`` and ``fixed``.
+
+    Raises
+    ------
+    BadInput
+        An unknown parameter, a value out of range (every case is checked before any runs), or a
+        varied parameter without a list of values.
+
+    Examples
+    --------
+    >>> df = femslide.sweep("beam-slider", EI=[1e4, 1e6, 1e8])          # doctest: +SKIP
+    >>> df[["EI", "M_max", "reactions.B1.Fx"]]                           # doctest: +SKIP
+    """
+    from .run import sweep_table
+    return sweep_table(target, varied, fixed=fixed, jobs=jobs, quiet=quiet)
