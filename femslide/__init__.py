@@ -29,14 +29,37 @@ __all__ = ["Structure", "Table", "solve", "simulate", "sweep", "load", "list_sce
 __version__ = "0.2.0"
 
 
-def list_scenes():
-    """Names of the built-in scenes."""
+def list_scenes() -> list:
+    """Names of the built-in scenes (``femslide scenes`` lists their parameters and defaults).
+
+    Returns
+    -------
+    list of str
+        ``["hinge-slider", ..., "beam-slider", ..., "sdof-harmonic", ...]``.
+    """
     from .scenes import SCENES
     return list(SCENES)
 
 
 def load(path: str) -> Structure:
-    """The structure declared in a structure file (TOML), to inspect, change and solve."""
+    """The structure declared in a structure file (TOML), to inspect, change and solve.
+
+    Parameters
+    ----------
+    path : str
+        A structure file: ``[[rod]]``, ``[[body]]``, ``[[joint]]``, ``[[load]]`` tables and
+        ``gravity`` (a file without a ``scene`` key).
+
+    Returns
+    -------
+    Structure
+        A new, mutable declaration; ``femslide.solve(s)`` solves it.
+
+    Raises
+    ------
+    BadInput
+        A missing or malformed file; the message names the file, the entry and the field.
+    """
     from .structfile import load as _load
     return _load(path).structure
 
@@ -61,22 +84,71 @@ def _run(command, target, params):
         res = solve_structure(fs, elements=elements)
         res["wall_time_s"] = time.perf_counter() - t0
         return res
-    tgt = load_target(target)
+    import os
+    tgt = load_target(os.fspath(target) if isinstance(target, os.PathLike) else target)
     scene = tgt.scene
     if scene.command != command:
         raise BadInput(f"{target} is a '{scene.command}' scene")
     return run_case(scene, tgt.resolve(params))
 
 
-def solve(target, **params):
-    """Static equilibrium.  ``target``: a :class:`Structure`, a structure or scene file path, or a
-    built-in scene name; keyword arguments override parameters (scenes: ``EI=1e8``; structures:
-    ``**{"right.EI": 1e8}``, ``elements=32``).  Returns a dict-like :class:`femslide.run.Result`."""
+def solve(target, **params) -> Result:
+    """Static equilibrium on the principal branch (all loads ramped together from zero).
+
+    Parameters
+    ----------
+    target : Structure, str or os.PathLike
+        A :class:`Structure`, a structure file (TOML), a scene file, or a built-in scene name
+        (``"beam-slider"``; :func:`list_scenes`).
+    **params
+        Overrides.  Scenes: their parameters (``EI=1e8``, SI units).  Structures and structure
+        files: fields by name, ``**{"right.EI": 1e8, "wind.force": [0, -500]}``, ``gravity``,
+        and ``elements=32`` (a fixed mesh for every rod instead of adaptive refinement).
+
+    Returns
+    -------
+    Result
+        A dict of named values (SI units): for declared structures ``converged``, ``M_max``,
+        ``bodies``, ``rods``, ``joints``, ``reactions``, ``iterations``, ``error_estimate``,
+        ``wall_time_s``; for scenes the keys of ``femslide solve SCENE --json``.  FE results also
+        give arrays along the rods (:meth:`Result.rod`) and a table (:meth:`Result.to_dataframe`).
+
+    Raises
+    ------
+    BadInput
+        An unknown name, a value out of range, a structure that is not connected to the ground.
+    SolverFailure
+        The load path ends at a limit point before full load, or the structure is a mechanism.
+    """
     return _run("solve", target, dict(params))
 
 
-def simulate(target, **params):
-    """Run a dynamic scene (a built-in name or a scene file); keyword arguments are its parameters."""
+def simulate(target, **params) -> Result:
+    """Motion in time of a dynamic scene.
+
+    Parameters
+    ----------
+    target : str or os.PathLike
+        A built-in dynamic scene (``sdof-free``, ``sdof-decay``, ``sdof-harmonic``,
+        ``beam-oscillation``, ``beam-friction``) or a scene file of one.
+    **params
+        Its parameters (``t_end=5.0``, ``mu=0.2``, SI units).
+
+    Returns
+    -------
+    Result
+        The keys of ``femslide simulate SCENE --json`` (``turning_points``, ``stop``, ``w_max``,
+        ``steady_amplitude``, ``steps``, ``energy_balance``, ``wall_time_s``...) and the time
+        history as arrays, :attr:`Result.history`.
+
+    Raises
+    ------
+    BadInput
+        An unknown parameter or a value out of range (also a run whose work would exceed the
+        bounds; the message gives the usable range).
+    SolverFailure
+        The integration failed or its energy balance is worse than 1e-6.
+    """
     return _run("simulate", target, dict(params))
 
 
