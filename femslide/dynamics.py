@@ -769,7 +769,7 @@ def history_table(hist) -> dict:
     """The time history as named arrays (SI; the samples of history.csv): ``t`` [s], ``phi`` [rad]
     (body rotation, > 0 leaning towards B1), ``phi_dot`` [rad/s], ``slide`` [m] (along the guide),
     ``stuck`` (1 stuck, 0 sliding or free), ``F_ax`` [N] (guide axial force, the slide-lock
-    multiplier; 0 without friction), ``N`` [N] (|transverse clamp force|), and the d'Alembert
+    multiplier; 0 without friction), ``N`` [N] (magnitude of the transverse clamp force), and the d'Alembert
     reactions of the ground, ``F1``, ``N1`` at A1 and ``F2``, ``N2`` at B1 [N] (global x and y)."""
     H = hist["rows"]
     cols = {"t": 0, "phi": 1, "phi_dot": 2, "slide": 4, "stuck": 5, "F_ax": 9, "N": 10,

@@ -166,8 +166,8 @@ class Result(dict):
           stuck; the force of friction on the mass is -f);
         - structure scenes (``beam-oscillation``, ``beam-friction``): ``phi`` [rad] (> 0 leaning
           towards B1), ``phi_dot`` [rad/s], ``slide`` [m], ``stuck`` (1 stuck, 0 sliding or free),
-          ``F_ax`` [N] (force along the guide), ``N`` [N] (|transverse clamp force|), ``F1``, ``N1``
-          and ``F2``, ``N2`` [N] (forces of the ground at A1 and B1, global x and y).
+          ``F_ax`` [N] (force along the guide), ``N`` [N] (magnitude of the transverse clamp force),
+          ``F1``, ``N1`` and ``F2``, ``N2`` [N] (forces of the ground at A1 and B1, global x and y).
 
         Computed from the stored solution when first asked for, then kept.
         """
