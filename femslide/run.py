@@ -1,8 +1,15 @@
 """Running one case, whatever it is: a built-in scene, a scene file, a structure file or a declared
 structure.  The command line, sweeps and the Python API all run cases through here.
 
-A run returns a :class:`Result`: a dict holding the JSON object of the contract (SPEC sections 7 and
-8) plus, for FE statics, the solution (``result.solution``) whose arrays and files can be asked for.
+A run returns a :class:`Result`: a dict holding the JSON object of the contract (the keys ``solve
+--json`` / ``simulate --json`` print) plus, for FE statics, the solution (``result.solution``) with
+per-rod arrays and values by name, for simulations the time history, and files on request.  A scene
+runner hands these over in private keys of its dict, which never reach the result's keys:
+``_write`` (the writer of its files), ``_solution`` (a static solution) and ``_history`` (the time
+history: a dict of arrays, or a callable returning one when asked for).
+
+:func:`sweep_table` is ``femslide.sweep``: a table of cases run by the command line's sweep
+executors (femslide/sweep.py).
 """
 from __future__ import annotations
 
