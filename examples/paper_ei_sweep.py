@@ -35,7 +35,7 @@ out = sys.argv[1] if len(sys.argv) > 1 else tempfile.mkdtemp(prefix="femslide-ei
 os.makedirs(out, exist_ok=True)
 
 # the scene's parameters (its defaults; any of them can be changed like EI)
-a, b, d, l, m, g = 1.0, 0.5, 0.2, 3.0, 1.0, 9.81
+a, b, d, l, m, g = 1.0, 0.5, 0.2, 3.0, 1.0, 9.81  # noqa: E741  (the paper's names)
 P = m * g
 fixed = dict(a=a, b=b, d=d, l=l, m=m, g=g)
 
