@@ -205,6 +205,7 @@ def test_sweep_rows_equal_single_solves():
     assert isinstance(df, pd.DataFrame)
     assert list(df.columns[:3]) == ["EI", "converged", "reason"]
     assert df["EI"].tolist() == [1e4, 1e8] and df["converged"].all() and df["reason"].isna().all()
+    assert not [c for c in df.columns if c.startswith("_") or "._" in c]
     for i, EI in enumerate([1e4, 1e8]):
         one = femslide.solve("beam-slider", EI=EI).flat()
         for k, v in one.items():
