@@ -35,8 +35,13 @@ import bisect
 import math
 import os
 
+import numpy as np
+
 from .errors import BadInput, SolverFailure
 from .params import floor_g
+
+# 10-point Gauss-Legendre rule on [-1, 1] (energy balance): computed once
+_GAUSS10 = np.polynomial.legendre.leggauss(10)
 
 TWO_PI = 2.0 * math.pi
 STEADY_TOL = 1e-10      # m: two successive forcing periods must agree to this for a steady state
@@ -706,7 +711,7 @@ class Solution:
                 lim.append(math.pi / o.F.theta)
             hq = min(lim)
             K = grade.size - 1
-            xg, wg = np.polynomial.legendre.leggauss(10)
+            xg, wg = _GAUSS10
             chunk = max(1, 100_000 // (K + 1))
             for c0 in range(0, sl.size, chunk):
                 idx = sl[c0:c0 + chunk]
