@@ -19,11 +19,6 @@ from __future__ import annotations
 
 
 import numpy as np
-from scipy.linalg.lapack import dgbsv as _gbsv
-from scipy.linalg.lapack import dgesv as _gesv
-from scipy.sparse.csgraph import reverse_cuthill_mckee
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from . import corotational
 from .joints import Carrier, Link, RotationalSpring, SlideSpring
@@ -45,6 +40,8 @@ class Banded:
     """
 
     def __init__(self, rows, cols, size):
+        import scipy.sparse as sp   # large models only: small ones never import scipy
+        from scipy.sparse.csgraph import reverse_cuthill_mckee
         pat = sp.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(size, size)).tocsr()
         pat = pat + pat.T
         perm = reverse_cuthill_mckee(pat.tocsr(), symmetric_mode=True).astype(np.intp)
@@ -70,7 +67,8 @@ class BandMatrix:
 
     def solve(self, b):
         p = self.pattern
-        _, _, x, info = _gbsv(p.kl, p.ku, self.ab, b[p.perm], overwrite_ab=1, overwrite_b=1)
+        from scipy.linalg.lapack import dgbsv
+        _, _, x, info = dgbsv(p.kl, p.ku, self.ab, b[p.perm], overwrite_ab=1, overwrite_b=1)
         if info != 0:
             raise np.linalg.LinAlgError(f"singular matrix (LAPACK gbsv info {info})")
         out = np.empty_like(x)
@@ -495,6 +493,7 @@ class Model:
         if band is not None and not dense:
             A = band.assemble(vals)
         elif sparse and not dense:
+            import scipy.sparse as sp
             A = sp.csc_matrix((vals, (rows, cols)), shape=(size, size))
         else:
             flat = rows * size + cols if flat is None else flat
@@ -503,12 +502,17 @@ class Model:
 
 
 def solve_linear(A, b):
-    """Solve A x = b for the dense or sparse Jacobian of :meth:`Model.system`."""
+    """Solve A x = b for the dense, banded or sparse Jacobian of :meth:`Model.system`.
+
+    Dense systems (small models) go to numpy's LAPACK gesv, so that a small model never imports
+    scipy (whose import costs ten times a small solve); banded and sparse ones to scipy's dgbsv and
+    SuperLU.  A is not modified."""
     if isinstance(A, BandMatrix):
         return A.solve(b)
     if isinstance(A, np.ndarray):
-        lu, piv, x, info = _gesv(A, b, overwrite_a=1, overwrite_b=0)
-        if info != 0:
-            raise np.linalg.LinAlgError(f"singular matrix (LAPACK gesv info {info})")
-        return x
+        try:
+            return np.linalg.solve(A, b)
+        except np.linalg.LinAlgError as exc:
+            raise np.linalg.LinAlgError(f"singular matrix (LAPACK gesv: {exc})") from None
+    import scipy.sparse.linalg as spla
     return spla.splu(A, permc_spec="COLAMD").solve(b)

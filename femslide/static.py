@@ -146,13 +146,21 @@ class Path:
 
 def _reduced(A, n_q):
     """Null-space basis Z of the constraint rows and the reduced tangent Z^T K Z (dense)."""
-    from scipy.linalg import eigh, null_space
     K = A[:n_q, :n_q]
     G = A[n_q:, :n_q]
-    Z = null_space(G) if G.shape[0] else np.eye(n_q)
+    Z = _null_space(G) if G.shape[0] else np.eye(n_q)
     Hr = Z.T @ K @ Z
-    w, V = eigh(0.5 * (Hr + Hr.T))
+    w, V = np.linalg.eigh(0.5 * (Hr + Hr.T))
     return Z, w, V
+
+
+def _null_space(G):
+    """Orthonormal basis of the null space of G (SVD; rank tolerance max(shape) eps s_max, as
+    scipy.linalg.null_space)."""
+    _, s, Vt = np.linalg.svd(G, full_matrices=True)
+    tol = max(G.shape) * np.finfo(float).eps * (s[0] if s.size else 0.0)
+    rank = int(np.sum(s > tol))
+    return Vt[rank:].T.conj()
 
 
 def _initial_stress(model: Model, lam=1.0):
