@@ -75,9 +75,14 @@ def _fixed(target, base, varied):
     """The sweep's fixed parameters as given (scene file [parameters], then --set), each converted to
     its canonical value (``EI=1e6`` and ``EI=1000000`` are the same sweep).  Derived and default values
     are not listed: they follow from these and the varied value."""
-    table = {p.name: p for p in target.scene.params.params()}
+    params = getattr(target.scene, "params", None)
     given = {**(getattr(target, "params", None) or {}), **base}
-    fixed = {k: table[k].check(v) for k, v in given.items() if k != varied and k in table}
+    if params is None:  # a structure file: NAME.FIELD overrides, canonical as its resolve makes them
+        from .structfile import parse_value
+        fixed = {k: parse_value(v) for k, v in given.items() if k != varied}
+    else:
+        table = {p.name: p for p in params.params()}
+        fixed = {k: table[k].check(v) for k, v in given.items() if k != varied and k in table}
     if getattr(target, "mesh_path", None):
         fixed["mesh file"] = os.path.abspath(target.mesh_path)
     return fixed
@@ -226,13 +231,52 @@ def dask_client(address: str, workers: int | None = None):
         raise BadInput(f"--dask {address}: cannot reach the Dask scheduler: {exc}") from None
 
 
+def _path_names(scene_name):
+    """Names of the parameters that are file paths (``record``) of a scene; none for structure files,
+    whose mesh paths are resolved when the file is read."""
+    from .scenes import SCENES
+    scene = SCENES.get(scene_name)
+    if scene is None:
+        return ()
+    return tuple(p.name for p in scene.params.params() if p.kind == "path")
+
+
+def absolute_case(scene_name, values, out_dir):
+    """A case as a worker in another folder (or on another machine with the same file system) needs it:
+    the scene or structure file, every path parameter and the case folder made absolute against this
+    process's working directory.  Returns (scene_name, values, out_dir)."""
+    if scene_name.lower().endswith(".toml"):
+        scene_name = os.path.abspath(scene_name)
+    paths = _path_names(scene_name)
+    values = {k: os.path.abspath(v) if k in paths and isinstance(v, str) else v for k, v in values.items()}
+    return scene_name, values, (os.path.abspath(out_dir) if out_dir else out_dir)
+
+
+def _relative_files(row, abs_dir, out_dir):
+    """The row's ``files`` named as an in-process run names them (below ``out_dir`` as given), so that
+    rows are the same whichever way the sweep runs."""
+    files = row.get("files")
+    if not out_dir or not isinstance(files, list) or abs_dir == out_dir:
+        return row
+    out = []
+    for f in files:
+        if isinstance(f, str) and os.path.dirname(f) == abs_dir:
+            f = os.path.join(out_dir, os.path.basename(f))
+        out.append(f)
+    return {**row, "files": out}
+
+
 def _run_dask(scene_name, cases, todo, out_dirs, address, workers):
+    """Cases on a Dask cluster; ``workers``: worker processes of a LocalCluster (``address`` 'local'),
+    at most one per case.  Relative paths are made absolute before submitting (a worker's working
+    directory is not this process's)."""
     from dask.distributed import as_completed
     client, cluster = dask_client(address, min(workers or len(todo), len(todo)) if address == "local" else None)
     try:
-        futs, index = [], {}
+        futs, index, abs_dirs = [], {}, {}
         for i in todo:
-            f = client.submit(solve_case, scene_name, cases[i], out_dirs[i], pure=False)
+            name_i, values_i, abs_dirs[i] = absolute_case(scene_name, cases[i], out_dirs[i])
+            f = client.submit(solve_case, name_i, values_i, abs_dirs[i], pure=False)
             futs.append(f)
             index[f.key] = i
         for fut in as_completed(futs):
@@ -241,7 +285,7 @@ def _run_dask(scene_name, cases, todo, out_dirs, address, workers):
                 row, status = fut.result()
             except Exception as exc:  # lost worker, serialisation trouble
                 row, status = {"converged": False, "reason": f"worker error: {type(exc).__name__}: {exc}"}, "error"
-            yield i, row, status
+            yield i, _relative_files(row, abs_dirs[i], out_dirs[i]), status
     finally:
         client.close()
         if cluster is not None:
@@ -260,6 +304,9 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, das
         raise BadInput(f"parameter {name} is both set and varied")
     if jobs < 1:
         raise BadInput(f"--jobs {jobs}: allowed: an integer >= 1")
+    if dask and dask != "local" and jobs > 1:
+        raise BadInput(f"--jobs {jobs} with --dask {dask}: a running scheduler has its own workers; --jobs "
+                       f"sets the worker processes of --dask local only (allowed here: no --jobs)")
     if resume and not out:
         raise BadInput("--resume needs --out DIR (the sweep.jsonl of the earlier run)")
     cases = [target.resolve({**base, name: item}) for item in items]  # all checked before any run
