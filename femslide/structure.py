@@ -386,7 +386,8 @@ class Frozen:
             n = r.elements
             if n is not None:
                 if isinstance(n, bool) or not isinstance(n, (int, float)) or n != int(n) or not 1 <= n <= MAX_ELEMENTS:
-                    raise BadInput(f"{w}: elements = {n!r}; allowed: an integer in [1, {MAX_ELEMENTS}] (or absent: adaptive)")
+                    raise BadInput(f"{w}: elements = {n!r}; allowed: an integer in [1, {MAX_ELEMENTS}] "
+                                   f"(or absent: adaptive)")
                 n = int(n)
             rods.append(Rod(r.name, start, end, EI, EA, rhoA, n))
         rodnames = {r.name for r in rods}
@@ -486,7 +487,8 @@ class Frozen:
                 raise BadInput(f"{w}: give the joint point `at` (neither a nor b is a rod end)")
             scale = max(1.0, max(abs(v) for v in at))
             for ref, side in ((ra, "a"), (rb, "b")):
-                if ref.kind == "rod_end" and math.dist(pos(ref), at) > 1e-9 * scale and (side == "b" or j.type in ("pin", "weld")):
+                if ref.kind == "rod_end" and math.dist(pos(ref), at) > 1e-9 * scale \
+                        and (side == "b" or j.type in ("pin", "weld")):
                     raise BadInput(f"{w}: at = {list(at)} is not the position of the rod end {side} = "
                                    f"{getattr(j, side)!r} {list(pos(ref))}")
             axis = None

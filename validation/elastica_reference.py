@@ -200,13 +200,13 @@ def _continuation(fun_at, z_zero, z_first, angles=None, max_rejects=30):
             try:
                 r_h, _ = fun_at(lam + h)(z_last)    # r(z_last, lam) = 0 (to RES_TOL, ~1e-14)
             except _Budget:
-                raise RuntimeError(f"continuation gave up after {MAX_INTEGRATIONS} integrations")
+                raise RuntimeError(f"continuation gave up after {MAX_INTEGRATIONS} integrations") from None
             guess = z_last - np.linalg.solve(J_last, r_h / h) * (lt - lam)
         try:
             out = _solve(fun_at(lt), guess, maxiter=10, fallback=rejects_in_row >= 3)
         except _Budget:
             raise RuntimeError(f"continuation gave up after {MAX_INTEGRATIONS} integrations at load "
-                               f"factor {tau * tau:.6g} (see the module's notes on hard cases)")
+                               f"factor {tau * tau:.6g} (see the module's notes on hard cases)") from None
         ok = False
         if out is not None:
             z, J, nit = out
@@ -419,7 +419,7 @@ def pinned_slider_rod(L: float, EI: float, angle: float, guide_angle: float, F,
     Fv = np.array(F, float)
     Ft, Fn = Fv @ t0 * fs, Fv @ n0 * fs
     gpt, gpn = gp @ t0, gp @ n0              # g_perp in the axis frame
-    gt, gn = g @ t0, g @ n0
+    gt = g @ t0
     ea = None if EA is None else EA * L ** 2 / EI
     iea = 0.0 if ea is None else 1.0 / ea
 
