@@ -19,14 +19,23 @@ leaning towards B1, as in the paper).
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any, Union
+
 from .errors import BadInput, SolverFailure
 from .structure import Structure, Table
+
+if TYPE_CHECKING:
+    from .run import Result
+    from .structure import Frozen
+
+#: what solve and simulate take: a Structure, a structure or scene file path, or a built-in scene name
+Target = Union[Structure, "Frozen", str]
 
 __all__ = ["Structure", "Table", "solve", "simulate", "load", "list_scenes", "BadInput", "SolverFailure"]
 __version__ = "0.2.0"
 
 
-def list_scenes():
+def list_scenes() -> list[str]:
     """Names of the built-in scenes."""
     from .scenes import SCENES
     return list(SCENES)
@@ -65,13 +74,13 @@ def _run(command, target, params):
     return run_case(scene, tgt.resolve(params))
 
 
-def solve(target, **params):
+def solve(target: Target, **params: Any) -> Result:
     """Static equilibrium.  ``target``: a :class:`Structure`, a structure or scene file path, or a
     built-in scene name; keyword arguments override parameters (scenes: ``EI=1e8``; structures:
     ``**{"right.EI": 1e8}``, ``elements=32``).  Returns a dict-like :class:`femslide.run.Result`."""
     return _run("solve", target, dict(params))
 
 
-def simulate(target, **params):
+def simulate(target: str, **params: Any) -> Result:
     """Run a dynamic scene (a built-in name or a scene file); keyword arguments are its parameters."""
     return _run("simulate", target, dict(params))

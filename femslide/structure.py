@@ -37,9 +37,21 @@ Parts and points:
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field, fields, replace
+from typing import TYPE_CHECKING, Any, Union
 
 from .errors import BadInput
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from .static import Solution
+
+#: a point or vector (x, y) in SI units: m for points, N for forces
+Vec = Sequence[float]
+#: a rod property along the arc length: a number or a Table
+Field = Union[float, "Table"]
 
 GROUND = "ground"
 JOINT_TYPES = ("pin", "weld", "slider", "roller")
@@ -57,19 +69,20 @@ class Table:
     s: tuple
     value: tuple
 
-    def __call__(self, s):
+    def __call__(self, s: float | np.ndarray) -> float | np.ndarray:
+        """The value at arc length ``s`` [m] (linear interpolation, constant beyond the ends)."""
         import numpy as np
         return np.interp(s, self.s, self.value)
 
-    def scaled(self, factor):
+    def scaled(self, factor: float) -> Table:
         return Table(self.s, tuple(v * factor for v in self.value))
 
     @property
-    def min(self):
+    def min(self) -> float:
         return min(self.value)
 
     @property
-    def max(self):
+    def max(self) -> float:
         return max(self.value)
 
 
@@ -220,7 +233,7 @@ def polygon_area_centroid_inertia(outline):
 class Structure:
     """A planar structure being declared (mutable).  See the module docstring."""
 
-    def __init__(self, gravity=(0.0, -9.81)):
+    def __init__(self, gravity: Vec = (0.0, -9.81)) -> None:
         self.gravity = gravity
         self.rods: dict[str, Rod] = {}
         self.bodies: dict[str, Body] = {}
@@ -236,18 +249,20 @@ class Structure:
                 raise BadInput(f"name {name!r} is used twice; every rod, body, joint and load needs its own name")
         return name
 
-    def rod(self, name, start, end, EI, EA=None, rhoA=0.0, elements=None) -> Rod:
+    def rod(self, name: str, start: Vec, end: Vec, EI: Field, EA: Field | None = None, rhoA: Field = 0.0,
+            elements: int | None = None) -> Rod:
         r = Rod(self._name(name), tuple(start), tuple(end), EI, EA, rhoA, elements)
         self.rods[name] = r
         return r
 
-    def body(self, name, mass=0.0, centroid=None, inertia=None, outline=None) -> Body:
+    def body(self, name: str, mass: float = 0.0, centroid: Vec | None = None, inertia: float | None = None,
+             outline: Sequence[Vec] | None = None) -> Body:
         b = Body(self._name(name), mass, None if centroid is None else tuple(centroid), inertia,
                  None if outline is None else tuple(tuple(p) for p in outline))
         self.bodies[name] = b
         return b
 
-    def joint(self, name, type, a, b, **options) -> Joint:
+    def joint(self, name: str, type: str, a: str, b: str, **options: Any) -> Joint:
         unknown = set(options) - _JOINT_FIELDS
         if unknown:
             raise BadInput(f"joint {name}: unknown option(s) {', '.join(sorted(unknown))}")
@@ -256,30 +271,34 @@ class Structure:
         self.joints[name] = j
         return j
 
-    def pin(self, name, a, b, at=None, c=0.0) -> Joint:
+    def pin(self, name: str, a: str, b: str, at: Vec | None = None, c: float = 0.0) -> Joint:
         return self.joint(name, "pin", a, b, at=at, c=c)
 
-    def weld(self, name, a, b, at=None) -> Joint:
+    def weld(self, name: str, a: str, b: str, at: Vec | None = None) -> Joint:
         return self.joint(name, "weld", a, b, at=at)
 
-    def slider(self, name, a, b, axis, at=None, k=0.0, preload=0.0, mu=None, mu0=None, bearing=None) -> Joint:
+    def slider(self, name: str, a: str, b: str, axis: Vec, at: Vec | None = None, k: float = 0.0,
+               preload: float = 0.0, mu: float | None = None, mu0: float | None = None,
+               bearing: float | None = None) -> Joint:
         return self.joint(name, "slider", a, b, at=at, axis=axis, k=k, preload=preload, mu=mu, mu0=mu0,
                           bearing=bearing)
 
-    def roller(self, name, a, b, axis, at=None, k=0.0, preload=0.0, mu=None, mu0=None) -> Joint:
+    def roller(self, name: str, a: str, b: str, axis: Vec, at: Vec | None = None, k: float = 0.0,
+               preload: float = 0.0, mu: float | None = None, mu0: float | None = None) -> Joint:
         return self.joint(name, "roller", a, b, at=at, axis=axis, k=k, preload=preload, mu=mu, mu0=mu0)
 
-    def force(self, name, on, force=(0.0, 0.0), moment=0.0, at=None) -> Load:
+    def force(self, name: str, on: str, force: Vec = (0.0, 0.0), moment: float = 0.0,
+              at: Vec | None = None) -> Load:
         ld = Load(self._name(name), "force", on, tuple(force), moment, None if at is None else tuple(at))
         self.loads[name] = ld
         return ld
 
-    def distributed(self, name, on, force) -> Load:
+    def distributed(self, name: str, on: str, force: Vec) -> Load:
         ld = Load(self._name(name), "distributed", on, tuple(force))
         self.loads[name] = ld
         return ld
 
-    def set(self, path: str, value) -> None:
+    def set(self, path: str, value: Any) -> None:
         """Change one declared field by its dotted name, e.g. ``set("right.EI", 1e8)`` (sweeps)."""
         if path == "gravity":
             self.gravity = value
@@ -295,15 +314,15 @@ class Structure:
                 return
         raise BadInput(f"{path}: no rod, body, joint or load is named {name!r}")
 
-    def copy(self) -> "Structure":
+    def copy(self) -> Structure:
         s = Structure(self.gravity)
         s.rods, s.bodies, s.joints, s.loads = dict(self.rods), dict(self.bodies), dict(self.joints), dict(self.loads)
         return s
 
-    def freeze(self) -> "Frozen":
+    def freeze(self) -> Frozen:
         return Frozen.from_structure(self)
 
-    def solve(self, **options):
+    def solve(self, **options: Any) -> Solution:
         """Static equilibrium (see :func:`femslide.static.solve`)."""
         from .static import solve
         return solve(self.freeze(), **options)

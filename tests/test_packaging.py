@@ -117,3 +117,36 @@ def test_wheel_holds_templates_license_and_py_typed(tmp_path):
     assert f"\nVersion: {femslide.__version__}\n" in meta
     assert "\nLicense-Expression: MIT\n" in meta
     assert not any(n.startswith(("tests/", "validation/", "meshes/")) for n in names)
+
+
+def _public_callables():
+    """The public API: femslide's exported functions, and the public methods of Structure, Table and
+    Result (with Structure.__init__)."""
+    import inspect
+    from femslide.run import Result
+    out = [(f"femslide.{n}", getattr(femslide, n)) for n in ("solve", "simulate", "load", "list_scenes")]
+    for cls in (femslide.Structure, femslide.Table, Result):
+        for name, obj in vars(cls).items():
+            if inspect.isfunction(obj) and (not name.startswith("_") or name in ("__init__", "__call__")):
+                out.append((f"{cls.__name__}.{name}", obj))
+            elif isinstance(obj, property) and not name.startswith("_"):
+                out.append((f"{cls.__name__}.{name}", obj.fget))
+    return out
+
+
+def test_public_api_has_type_hints():
+    """Every parameter and the return value of the public API are annotated (py.typed promises it)."""
+    import inspect
+    missing = []
+    calls = _public_callables()
+    assert len(calls) > 20
+    for qual, fn in calls:
+        sig = inspect.signature(fn)
+        for p in sig.parameters.values():
+            if p.name in ("self", "cls"):
+                continue
+            if p.annotation is inspect.Parameter.empty:
+                missing.append(f"{qual}({p.name})")
+        if sig.return_annotation is inspect.Signature.empty:
+            missing.append(f"{qual} -> ?")
+    assert not missing, missing
