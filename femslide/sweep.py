@@ -23,6 +23,12 @@ folder with another sweep's rows is bad input (exit 2, before any case runs): it
 folders would mix with this sweep's.  Case folders ``case_NNN`` are numbered on from the largest
 number already in the folder (rows or folders), so a case's files are never overwritten and every
 row's ``case_dir`` and ``files`` name the files of that row's own run.
+
+On Dask (``--dask local``: a LocalCluster of ``--jobs`` worker processes, or one per case up to the CPU
+count; ``--dask tcp://host:port``: a running scheduler and its workers) the workers may run in another
+folder or on another machine sharing the file system: the case folders, path parameters (``record``)
+and structure files are made absolute against the caller's working folder before submitting, and the
+rows name their files as an in-process run does.
 """
 from __future__ import annotations
 
