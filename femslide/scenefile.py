@@ -222,6 +222,8 @@ def copy_template(name: str, folder: str = ".") -> list:
     """Copy the template of scene ``name`` into ``folder`` (created if missing) and return the paths
     written.  No existing file is overwritten: BadInput naming it, and nothing is copied."""
     files = _template_files(name)
+    if os.path.exists(folder) and not os.path.isdir(folder):
+        raise BadInput(f"init: {folder} is a file; allowed: a folder (existing or new)")
     dests = [os.path.join(folder, fname) for _, fname in files]
     for d in dests:
         if os.path.lexists(d):

@@ -290,6 +290,8 @@ def test_init_copies_a_scene_template_and_its_mesh(tmp_path):
     r = run("init", "structures/beam-both", str(d))
     assert r.returncode == 0, r.stderr
     assert structfile.load(str(d / "beam-both.toml")).structure.rods
+    r = run("init", "hinge-slider", str(d / "beam-slider.vtu"))
+    assert r.returncode == 2 and "is a file" in r.stderr
     r = run("init", "no-such-scene", str(d))
     assert r.returncode == 2 and "no-such-scene" in r.stderr and "structures/beam-slider" in r.stderr \
         and "hinge-slider" in r.stderr
