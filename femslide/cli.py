@@ -1,4 +1,4 @@
-"""The command-line contract of SPEC section 7.
+"""The command line: ``femslide COMMAND ...`` (``femslide --help``, ``femslide COMMAND --help``).
 
     femslide scenes
     femslide solve SCENE [--set NAME=VALUE]... [--json] [--out DIR]

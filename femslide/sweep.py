@@ -5,7 +5,7 @@ sweep used to continue each case from the previous solution (warm start); measur
 (EI = 1e4 ... 1e10) the warm and cold solutions agree only to ~3e-10 relative (both are converged to
 the solver's tolerance, not to the last bit), so a parallel sweep, which cannot warm start, would not
 reproduce an in-process one.  Solving cold everywhere makes the rows independent of how and in what
-order the cases run (SPEC section 7: "results of a sweep are the same whichever way it runs"), and a
+order the cases run (the results of a sweep are the same whichever way it runs), and a
 sweep row equals the ``solve`` of that case; it also costs nothing here (cold solves were faster).
 
 A failed case is reported in its row (``converged`` false, ``reason``) and the sweep goes on.  With
@@ -415,7 +415,8 @@ ASYMPTOTE_SCENES = ("beam-slider", "beam-fixed")
 
 def plot_sweep(path, scene, name, cases, rows):
     """M_max against the varied parameter (PNG, PDF, SVG by extension); log-log for EI sweeps, with
-    the SPEC section 3 asymptotes (1 and 2 terms) for beam-slider and beam-fixed."""
+    the beam-equivalent asymptotes of M_max (1 and 2 terms: (3 EI/(4a))^(1/3) (P(a+d))^(2/3) + P (l+b) L/(3a),
+    femslide.series.M_max_asymptote) for beam-slider and beam-fixed."""
     import matplotlib
     matplotlib.use("Agg", force=False)
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -443,7 +444,7 @@ def plot_sweep(path, scene, name, cases, rows):
         p = {k: v[k] for k in ("a", "b", "d", "l", "m", "g")}
         for nt, style in ((1, "--"), (2, ":")):
             ax.plot(xs, [M_max_asymptote(nt, e, L_r=L_r, **p) for e in xs], style, color="C1" if nt == 1 else "C2",
-                    label=f"asymptote, {nt} term{'s' if nt > 1 else ''} (SPEC 3)")
+                    label=f"asymptote, {nt} term{'s' if nt > 1 else ''}")
     for xb in bad:
         ax.axvline(xb, color="C3", lw=0.8, alpha=0.6)
     if bad:
