@@ -89,7 +89,7 @@ def _build_parser() -> argparse.ArgumentParser:
         if name == "sweep":
             s.add_argument("--vary", required=True, metavar="NAME=V1,V2,...",
                            help="the varied parameter and its values (commas inside [...] belong to a value)")
-            s.add_argument("--jobs", type=int, default=1, metavar="N",
+            s.add_argument("--jobs", type=int, default=None, metavar="N",
                            help="solve the cases in N processes; with --dask local: N worker processes "
                            "(default 1; --dask local alone: one per case, at most the CPU count)")
             s.add_argument("--dask", metavar="ADDRESS",

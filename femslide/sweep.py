@@ -277,7 +277,9 @@ def _run_dask(scene_name, cases, todo, out_dirs, address, workers):
     at most one per case.  Relative paths are made absolute before submitting (a worker's working
     directory is not this process's)."""
     from dask.distributed import as_completed
-    client, cluster = dask_client(address, min(workers or len(todo), len(todo)) if address == "local" else None)
+    if address == "local":  # never more workers than cases; by default at most the CPU count (and 8)
+        workers = min(workers or min(os.cpu_count() or 1, 8), len(todo))
+    client, cluster = dask_client(address, workers if address == "local" else None)
     try:
         futs, index, abs_dirs = [], {}, {}
         for i in todo:
@@ -300,17 +302,18 @@ def _run_dask(scene_name, cases, todo, out_dirs, address, workers):
 
 # -- the sweep -------------------------------------------------------------------------------------------
 
-def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, dask=None,
+def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, dask=None,
               resume=False, plot=None, quiet=False):
     """Run a sweep from the command line; returns the exit status (0 all converged, 1 a case failed,
-    2 a case was rejected as bad input)."""
+    2 a case was rejected as bad input).  ``jobs``: processes (None: in process), or with ``dask``
+    'local' the LocalCluster's worker processes (None: one per case, at most the CPU count)."""
     scene = target.scene
     spec = getattr(scene, "spec", scene.name)  # what a worker process loads the case from
     if name in base:
         raise BadInput(f"parameter {name} is both set and varied")
-    if jobs < 1:
+    if jobs is not None and jobs < 1:
         raise BadInput(f"--jobs {jobs}: allowed: an integer >= 1")
-    if dask and dask != "local" and jobs > 1:
+    if dask and dask != "local" and jobs is not None:
         raise BadInput(f"--jobs {jobs} with --dask {dask}: a running scheduler has its own workers; --jobs "
                        f"sets the worker processes of --dask local only (allowed here: no --jobs)")
     if resume and not out:
@@ -363,8 +366,8 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, das
         if not todo:
             runs = iter(())
         elif dask:
-            runs = _run_dask(spec, cases, todo, out_dirs, dask, jobs if jobs > 1 else None)
-        elif jobs > 1 and len(todo) > 1:
+            runs = _run_dask(spec, cases, todo, out_dirs, dask, jobs)
+        elif jobs is not None and jobs > 1 and len(todo) > 1:
             runs = _run_pool(spec, cases, todo, out_dirs, min(jobs, len(todo)))
         else:
             runs = _run_serial(spec, cases, todo, out_dirs)

@@ -177,6 +177,16 @@ def test_dask_local_jobs_sets_the_workers(monkeypatch):
     code, out, err = cli(*args, "--dask", "local", "--jobs", "2")
     assert code == 0, err
     assert seen == [("local", 2, 2)]
+    seen.clear()
+    code, out1, err = cli(*args, "--dask", "local", "--jobs", "1")  # one worker when asked for one
+    assert code == 0, err
+    assert seen == [("local", 1, 1)]
+    seen.clear()
+    many = ",".join(f"{c:g}" for c in [1e4 * 1.5 ** i for i in range(12)])
+    code, _, err = cli("sweep", "hinge-slider", "--vary", f"c={many}", "--json", "--dask", "local")
+    assert code == 0, err
+    n = min(os.cpu_count() or 1, 8)
+    assert seen == [("local", n, n)]  # without --jobs: at most the CPU count, not one per case (12)
     code0, out0, _ = cli(*args)
     assert code0 == 0
     assert_same_rows(json.loads(out0), json.loads(out))
