@@ -91,7 +91,8 @@ def _build_parser() -> argparse.ArgumentParser:
                            help="the varied parameter and its values (commas inside [...] belong to a value)")
             s.add_argument("--jobs", type=int, default=None, metavar="N",
                            help="solve the cases in N processes; with --dask local: N worker processes "
-                           "(default 1; --dask local alone: one per case, at most the CPU count)")
+                           "(default: in this process; --dask local alone: one worker per case, at most the "
+                           "CPU count and 8)")
             s.add_argument("--dask", metavar="ADDRESS",
                            help="run the cases on Dask: 'local' (a LocalCluster) or tcp://host:port (a running "
                            "scheduler whose workers have femslide installed); needs femslide[dask]")
