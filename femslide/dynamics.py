@@ -641,6 +641,7 @@ def run_oscillation(v):
         "t_end": v["t_end"],
         "integration_time_s": T_int,
         "_write": lambda d: _write(d, "beam-oscillation", hist, st),
+        "_history": lambda: history_table(hist),
     }
     return res
 
@@ -762,6 +763,20 @@ def _history(run, sol, v, omega, tps, modes=None):
         F2max = max(F2max, f1, f2)
     return {"rows": H, "states": states, "F2_max": float(F2max), "dal_res": dal / Qmax,
             "phi": H[:, 1]}
+
+
+def history_table(hist) -> dict:
+    """The time history as named arrays (SI; the samples of history.csv): ``t`` [s], ``phi`` [rad]
+    (body rotation, > 0 leaning towards B1), ``phi_dot`` [rad/s], ``slide`` [m] (along the guide),
+    ``stuck`` (1 stuck, 0 sliding or free), ``F_ax`` [N] (guide axial force, the slide-lock
+    multiplier; 0 without friction), ``N`` [N] (magnitude of the transverse clamp force), and the d'Alembert
+    reactions of the ground, ``F1``, ``N1`` at A1 and ``F2``, ``N2`` at B1 [N] (global x and y)."""
+    H = hist["rows"]
+    cols = {"t": 0, "phi": 1, "phi_dot": 2, "slide": 4, "stuck": 5, "F_ax": 9, "N": 10,
+            "F1": 6, "N1": 7, "F2": 3, "N2": 8}
+    out = {k: H[:, i].copy() for k, i in cols.items()}
+    out["stuck"] = out["stuck"].astype(int)
+    return out
 
 
 def _write(out_dir, name, hist, st):
@@ -1060,6 +1075,7 @@ def run_friction(v):
         "t_end": v["t_end"],
         "integration_time_s": time.perf_counter() - t_wall,
         "_write": lambda d: _write(d, "beam-friction", hist, st),
+        "_history": lambda: history_table(hist),
     }
     return res
 

@@ -182,7 +182,11 @@ class _Mesh:
             off += n + 1
             eoff += n
         self.n_nodes = off
+        self.prolongations = {}   # interpolation plans from coarser meshes (static.prolong)
         self.X0 = np.concatenate(Xs) if Xs else np.zeros((0, 2))
+        # the first node of each node's rod (rods are numbered node block by node block)
+        self.node_first = np.repeat([r[0] for r in self.rod_nodes], [r.size for r in self.rod_nodes]) \
+            if self.rod_nodes else np.zeros(0, np.intp)
         self.conn = None
         if conn:
             self.conn = np.concatenate(conn)
@@ -294,6 +298,8 @@ class Model:
         counts = tuple(int(elements[rp.name]) for rp in plan.rods)
         mesh = self.cache.mesh((plan.geometry, counts), lambda: _Mesh(plan, counts))
         self.X0, self.rod_nodes, self.n_nodes = mesh.X0, mesh.rod_nodes, mesh.n_nodes
+        self.node_first = mesh.node_first
+        self.mesh = mesh
         off = mesh.n_nodes
         if mesh.conn is not None:
             kbs = [element_stiffness(mesh.L0[e], mesh.s0[e], rp.EI, rp.EA)
@@ -419,6 +425,20 @@ class Model:
             return np.zeros((0, 3)), np.zeros(0)
         _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False)
         return qb, alpha
+
+    def applied(self, y, lam=1.0):
+        """The generalised forces on the frames from everything but the rod elements - loads (times
+        ``lam``), springs and joint multipliers - in the residual's sign (minus the force on the
+        frame), model units.  At equilibrium the elements' internal forces balance them; results
+        recover cut forces and moments along rods from them (exact to the residual)."""
+        q, mu = y[:self.n_q], y[self.n_q:self.n_q + self.n_c]
+        g = lam * self.p_lin
+        for t, d in zip(self.terms, self._term_dofs):
+            g[d] += t.eval(q[d], lam)[1]
+        for c, d, ci in zip(self.constraints, self._con_dofs, self._con_mu):
+            G = c.gradient(q[d]) if hasattr(c, "gradient") else c.eval(q[d], mu[ci])[1]
+            g[d] += mu[ci] @ G
+        return g
 
     def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
         """Residual and Jacobian of the equations at y.

@@ -210,6 +210,10 @@ class StructureFile:
             raise BadInput(f"structure file {self.path}: {exc}") from None
         return values
 
+    def prepare(self):
+        """Import the FE statics (timed apart from the solve, as ``import_time_s``)."""
+        from . import static  # noqa: F401
+
     def run(self, values: dict) -> dict:
         from .run import solve_structure
         s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})

@@ -22,7 +22,7 @@ HINGE_SCENES = {
     "hinge-spring": {"a", "b", "d", "l", "m", "g", "l1", "c", "k"},
     "hinge-extra-mass": {"a", "b", "d", "l", "m", "g", "l1", "c", "k", "dm", "m1", "l2"},
 }
-SOLVE_KEYS = {"converged", "phi", "psi", "slide", "T", "M_max", "reactions", "iterations",
+SOLVE_KEYS = {"import_time_s", "converged", "phi", "psi", "slide", "T", "M_max", "reactions", "iterations",
               "error_estimate", "wall_time_s"}
 HEAVY = {"numpy", "scipy", "skfem", "pyvista", "meshio", "matplotlib"}
 

@@ -124,7 +124,7 @@ def _public_callables():
     Result (with Structure.__init__)."""
     import inspect
     from femslide.run import Result
-    out = [(f"femslide.{n}", getattr(femslide, n)) for n in ("solve", "simulate", "load", "list_scenes")]
+    out = [(f"femslide.{n}", getattr(femslide, n)) for n in ("solve", "simulate", "sweep", "load", "list_scenes")]
     for cls in (femslide.Structure, femslide.Table, Result):
         for name, obj in vars(cls).items():
             if inspect.isfunction(obj) and (not name.startswith("_") or name in ("__init__", "__call__")):
