@@ -19,17 +19,29 @@ leaning towards B1, as in the paper).
 """
 from __future__ import annotations
 
+import os
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Any, Union
+
 from .errors import BadInput, SolverFailure
 from .structure import Structure, Table
 from .run import Result
 from . import sweep as _sweep_module  # noqa: F401  (loaded now, so that femslide.sweep stays the function)
+
+if TYPE_CHECKING:
+    import pandas
+
+    from .structure import Frozen
+
+#: what solve and sweep take: a Structure, a structure or scene file path, or a built-in scene name
+Target = Union[Structure, "Frozen", str, os.PathLike]
 
 __all__ = ["Structure", "Table", "solve", "simulate", "sweep", "load", "list_scenes", "Result", "BadInput",
            "SolverFailure"]
 __version__ = "0.2.0"
 
 
-def list_scenes() -> list:
+def list_scenes() -> list[str]:
     """Names of the built-in scenes (``femslide scenes`` lists their parameters and defaults).
 
     Returns
@@ -95,7 +107,7 @@ def _run(command, target, params):
     return run_case(scene, tgt.resolve(params))
 
 
-def solve(target, **params) -> Result:
+def solve(target: Target, **params: Any) -> Result:
     """Static equilibrium on the principal branch (all loads ramped together from zero).
 
     Parameters
@@ -126,7 +138,7 @@ def solve(target, **params) -> Result:
     return _run("solve", target, dict(params))
 
 
-def simulate(target, **params) -> Result:
+def simulate(target: str | os.PathLike, **params: Any) -> Result:
     """Motion in time of a dynamic scene.
 
     Parameters
@@ -155,7 +167,8 @@ def simulate(target, **params) -> Result:
     return _run("simulate", target, dict(params))
 
 
-def sweep(target, *, fixed=None, jobs=1, quiet=False, **varied):
+def sweep(target: Target, *, fixed: dict[str, Any] | None = None, jobs: int = 1, quiet: bool = False,
+          **varied: Iterable[Any]) -> pandas.DataFrame:
     """Solve (or simulate) every combination of parameter values; one table row per case.
 
     Parameters

@@ -308,7 +308,7 @@ class Structure:
             try:
                 lu = sla.lu_factor(A, check_finite=False)
             except (ValueError, np.linalg.LinAlgError) as exc:
-                raise SolverFailure(f"singular tangent at phi = {phi:.6g} rad ({exc})", hist)
+                raise SolverFailure(f"singular tangent at phi = {phi:.6g} rad ({exc})", hist)  # noqa: B904 (cause in the message)
             dy = -sla.lu_solve(lu, r, check_finite=False)
             res = max(res_f, res_g)
             # converged at the tolerance, or at the round-off floor of the stiff rod (the nearly
@@ -929,7 +929,7 @@ def run_friction(v):
         try:
             q = st.point(phi, second=False)
         except SolverFailure as exc:
-            raise SolverFailure(f"no slip state at breakaway, t = {tt:.6g} s: {exc.reason}", exc.history)
+            raise SolverFailure(f"no slip state at breakaway, t = {tt:.6g} s: {exc.reason}", exc.history)  # noqa: B904 (cause in the message)
         if sgm * (q.s - s_lock) < -1e-12:
             raise SolverFailure(f"the slide jumped against the breakaway force at t = {tt:.6g} s")
         jump_loss += (E_before - st.potential(q.y, q.alpha)) * st.Pa

@@ -17,8 +17,12 @@ import json
 import math
 import os
 import time
+from typing import TYPE_CHECKING
 
 from .errors import BadInput
+
+if TYPE_CHECKING:
+    import pandas
 
 
 ROD_COLUMNS = ("s", "x", "y", "u", "v", "theta", "N", "V", "M")
@@ -197,7 +201,7 @@ class Result(dict):
         """
         return flatten(clean(self))
 
-    def to_dataframe(self):
+    def to_dataframe(self) -> pandas.DataFrame:
         """The result as a :class:`pandas.DataFrame`.
 
         - FE statics (a result with rods): one row per rod node, columns ``rod`` (its name),

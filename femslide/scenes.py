@@ -108,7 +108,8 @@ SCENES: dict[str, Scene] = {s.name: s for s in [
     Scene("beam-spring", "solve", "beam-slider with a linear spring k along the guide (at rest in the vertical state)",
           ParamSet(FE + ("L", "k"), defaults={"L": None}, rules=(rule_L_le_l,)), ".paper:run_beam_spring"),
     Scene("beam-extra-mass", "solve",
-          "FE section 5.1: preloaded slider spring, flexible rod of length L under a rigid telescopic piece (m1, l2), extra mass dm",
+          "FE section 5.1: preloaded slider spring, flexible rod of length L under a rigid telescopic piece "
+          "(m1, l2), extra mass dm",
           ParamSet(FE + ("L", "k", "dm", "m1", "l2"), defaults={"L": 1.5, "dm": 1e-3}, rules=(rule_L_le_l,)),
           ".paper:run_beam_extra_mass"),
     Scene("cantilever-moment", "solve", "clamped rod under an end moment m_ratio * 2 pi EI/L (1: full circle)",

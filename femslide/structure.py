@@ -37,9 +37,21 @@ Parts and points:
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field, fields, replace
+from typing import TYPE_CHECKING, Any, Union
 
 from .errors import BadInput
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from .static import Solution
+
+#: a point or vector (x, y) in SI units: m for points, N for forces
+Vec = Sequence[float]
+#: a rod property along the arc length: a number or a Table
+Field = Union[float, "Table"]
 
 GROUND = "ground"
 JOINT_TYPES = ("pin", "weld", "slider", "roller")
@@ -61,19 +73,19 @@ class Table:
     s: tuple
     value: tuple
 
-    def __call__(self, s):
+    def __call__(self, s: float | np.ndarray) -> float | np.ndarray:
         import numpy as np
         return np.interp(s, self.s, self.value)
 
-    def scaled(self, factor):
+    def scaled(self, factor: float) -> Table:
         return Table(self.s, tuple(v * factor for v in self.value))
 
     @property
-    def min(self):
+    def min(self) -> float:
         return min(self.value)
 
     @property
-    def max(self):
+    def max(self) -> float:
         return max(self.value)
 
 
@@ -247,7 +259,7 @@ class Structure:
     >>> r = femslide.solve(s)
     """
 
-    def __init__(self, gravity=(0.0, -9.81)):
+    def __init__(self, gravity: Vec = (0.0, -9.81)) -> None:
         self.gravity = gravity
         self.rods: dict[str, Rod] = {}
         self.bodies: dict[str, Body] = {}
@@ -263,7 +275,8 @@ class Structure:
                 raise BadInput(f"name {name!r} is used twice; every rod, body, joint and load needs its own name")
         return name
 
-    def rod(self, name, start, end, EI, EA=None, rhoA=0.0, elements=None) -> Rod:
+    def rod(self, name: str, start: Vec, end: Vec, EI: Field, EA: Field | None = None, rhoA: Field = 0.0,
+            elements: int | None = None) -> Rod:
         """Declare a flexible rod: a mesh of corotational Euler-Bernoulli beams from ``start`` to ``end``.
 
         Parameters
@@ -287,7 +300,8 @@ class Structure:
         self.rods[name] = r
         return r
 
-    def body(self, name, mass=0.0, centroid=None, inertia=None, outline=None) -> Body:
+    def body(self, name: str, mass: float = 0.0, centroid: Vec | None = None, inertia: float | None = None,
+             outline: Sequence[Vec] | None = None) -> Body:
         """Declare a rigid body.
 
         Parameters
@@ -309,7 +323,7 @@ class Structure:
         self.bodies[name] = b
         return b
 
-    def joint(self, name, type, a, b, **options) -> Joint:
+    def joint(self, name: str, type: str, a: str, b: str, **options: Any) -> Joint:
         """Declare a joint of any ``type``; :meth:`pin`, :meth:`weld`, :meth:`slider` and
         :meth:`roller` are the same with their options named.
 
@@ -336,7 +350,7 @@ class Structure:
         self.joints[name] = j
         return j
 
-    def pin(self, name, a, b, at=None, c=0.0) -> Joint:
+    def pin(self, name: str, a: str, b: str, at: Vec | None = None, c: float = 0.0) -> Joint:
         """A pin: a's point and b's point stay together; rotations are free relative to each other.
 
         Parameters
@@ -350,7 +364,7 @@ class Structure:
         """
         return self.joint(name, "pin", a, b, at=at, c=c)
 
-    def weld(self, name, a, b, at=None) -> Joint:
+    def weld(self, name: str, a: str, b: str, at: Vec | None = None) -> Joint:
         """A weld: a's point and rotation stay those of b.
 
         Parameters
@@ -362,7 +376,9 @@ class Structure:
         """
         return self.joint(name, "weld", a, b, at=at)
 
-    def slider(self, name, a, b, axis, at=None, k=0.0, preload=0.0, mu=None, mu0=None, bearing=None) -> Joint:
+    def slider(self, name: str, a: str, b: str, axis: Vec, at: Vec | None = None, k: float = 0.0,
+               preload: float = 0.0, mu: float | None = None, mu0: float | None = None,
+               bearing: float | None = None) -> Joint:
         """A slider (a sliding clamp, a prismatic joint): a's point stays on the line through ``at``
         along ``axis``, carried by b, and a's rotation equals b's; the slide along the line is free.
 
@@ -387,7 +403,8 @@ class Structure:
         return self.joint(name, "slider", a, b, at=at, axis=axis, k=k, preload=preload, mu=mu, mu0=mu0,
                           bearing=bearing)
 
-    def roller(self, name, a, b, axis, at=None, k=0.0, preload=0.0, mu=None, mu0=None) -> Joint:
+    def roller(self, name: str, a: str, b: str, axis: Vec, at: Vec | None = None, k: float = 0.0,
+               preload: float = 0.0, mu: float | None = None, mu0: float | None = None) -> Joint:
         """A roller: a's point stays on the line through ``at`` along ``axis``, carried by b; the
         rotation is free.
 
@@ -404,7 +421,8 @@ class Structure:
         """
         return self.joint(name, "roller", a, b, at=at, axis=axis, k=k, preload=preload, mu=mu, mu0=mu0)
 
-    def force(self, name, on, force=(0.0, 0.0), moment=0.0, at=None) -> Load:
+    def force(self, name: str, on: str, force: Vec = (0.0, 0.0), moment: float = 0.0,
+              at: Vec | None = None) -> Load:
         """A dead force (and moment) on a body or a rod end, applied together with gravity.
 
         Parameters
@@ -424,7 +442,7 @@ class Structure:
         self.loads[name] = ld
         return ld
 
-    def distributed(self, name, on, force) -> Load:
+    def distributed(self, name: str, on: str, force: Vec) -> Load:
         """A dead load distributed uniformly along a whole rod.
 
         Parameters
@@ -440,7 +458,7 @@ class Structure:
         self.loads[name] = ld
         return ld
 
-    def set(self, path: str, value) -> None:
+    def set(self, path: str, value: Any) -> None:
         """Change one declared field by its dotted name.
 
         Parameters
@@ -469,13 +487,13 @@ class Structure:
                 return
         raise BadInput(f"{path}: no rod, body, joint or load is named {name!r}")
 
-    def copy(self) -> "Structure":
+    def copy(self) -> Structure:
         """An independent copy of the declaration (the declared objects themselves are immutable)."""
         s = Structure(self.gravity)
         s.rods, s.bodies, s.joints, s.loads = dict(self.rods), dict(self.bodies), dict(self.joints), dict(self.loads)
         return s
 
-    def freeze(self) -> "Frozen":
+    def freeze(self) -> Frozen:
         """Check the whole declaration and return it frozen: immutable, every name resolved.
 
         Raises
@@ -486,7 +504,7 @@ class Structure:
         """
         return Frozen.from_structure(self)
 
-    def solve(self, **options):
+    def solve(self, **options: Any) -> Solution:
         """Static equilibrium (see :func:`femslide.static.solve`)."""
         from .static import solve
         return solve(self.freeze(), **options)
@@ -569,7 +587,8 @@ class Frozen:
             n = r.elements
             if n is not None:
                 if isinstance(n, bool) or not isinstance(n, (int, float)) or n != int(n) or not 1 <= n <= MAX_ELEMENTS:
-                    raise BadInput(f"{w}: elements = {n!r}; allowed: an integer in [1, {MAX_ELEMENTS}] (or absent: adaptive)")
+                    raise BadInput(f"{w}: elements = {n!r}; allowed: an integer in [1, {MAX_ELEMENTS}] "
+                                   f"(or absent: adaptive)")
                 n = int(n)
             rods.append(Rod(r.name, start, end, EI, EA, rhoA, n))
         rodnames = {r.name for r in rods}
@@ -669,7 +688,8 @@ class Frozen:
                 raise BadInput(f"{w}: give the joint point `at` (neither a nor b is a rod end)")
             scale = max(1.0, max(abs(v) for v in at))
             for ref, side in ((ra, "a"), (rb, "b")):
-                if ref.kind == "rod_end" and math.dist(pos(ref), at) > 1e-9 * scale and (side == "b" or j.type in ("pin", "weld")):
+                if ref.kind == "rod_end" and math.dist(pos(ref), at) > 1e-9 * scale \
+                        and (side == "b" or j.type in ("pin", "weld")):
                     raise BadInput(f"{w}: at = {list(at)} is not the position of the rod end {side} = "
                                    f"{getattr(j, side)!r} {list(pos(ref))}")
             axis = None

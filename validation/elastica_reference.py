@@ -144,8 +144,8 @@ def _solve(fun, z0, maxiter=15, fallback=True):
     convergence makes the next one negligible), or the residual (nondimensional positions and
     angles) is below RES_FLOOR = 1e-13, the integration's own accuracy, or no step decreases the
     residual any more and it is below RES_TOL (an ill-conditioned Jacobian turns the residual's
-    noise into steps above XTOL).  Given up early if the residual has not dropped 100-fold after 4 iterations.  If Newton
-    fails and ``fallback``: scipy.optimize.root (hybr, same Jacobian, xtol XTOL) from z0.
+    noise into steps above XTOL).  Given up early if the residual has not dropped 100-fold after 4
+    iterations.  If Newton fails and ``fallback``: scipy.optimize.root (hybr, same Jacobian, xtol XTOL) from z0.
     Accepted only if max |residual| <= RES_TOL."""
     z = np.atleast_1d(np.asarray(z0, float)).copy()
     nit = 0
@@ -244,13 +244,13 @@ def _continuation(fun_at, z_zero, z_first, angles=None, max_rejects=30):
             try:
                 r_h, _ = fun_at(lam + h)(z_last)    # r(z_last, lam) = 0 (to RES_TOL, ~1e-14)
             except _Budget:
-                raise RuntimeError(f"continuation gave up after {MAX_INTEGRATIONS} integrations")
+                raise RuntimeError(f"continuation gave up after {MAX_INTEGRATIONS} integrations") from None
             guess = z_last - np.linalg.solve(J_last, r_h / h) * (lt - lam)
         try:
             out = _solve(fun_at(lt), guess, maxiter=10, fallback=rejects_in_row >= 3)
         except _Budget:
             raise RuntimeError(f"continuation gave up after {MAX_INTEGRATIONS} integrations at load "
-                               f"factor {tau * tau:.6g} (see the module's notes on hard cases)")
+                               f"factor {tau * tau:.6g} (see the module's notes on hard cases)") from None
         ok = False
         if out is not None:
             z, J, nit = out

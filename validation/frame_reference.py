@@ -40,10 +40,10 @@ Supports, pins and the solution
 -------------------------------
 Supports are kinematic constraints built into a basis Z of the admissible displacements (u = Z w),
 no penalty and no Lagrange multiplier: a fixed dof is dropped, a roller's translation is u = w d
-(d its rolling direction).  K_red = Z^T K Z is scaled by its diagonal and solved by numpy.linalg.solve; a condition number above
-``COND_MAX`` is reported as a mechanism (so model a "rigid" member with EA or EI at most ~1e10 times
-the others' scale, not 1e20).  Reactions are the
-residual R = K u - f at the supported nodes (force and moment of the support on the structure),
+(d its rolling direction).  K_red = Z^T K Z is scaled by its diagonal and solved by numpy.linalg.solve;
+a condition number above ``COND_MAX`` is reported as a mechanism (so model a "rigid" member with EA or EI
+at most ~1e10 times the others' scale, not 1e20).  Reactions are the residual R = K u - f at the
+supported nodes (force and moment of the support on the structure),
 projected on the constrained directions.  An internal pin (``hinge``) gives the member end its own
 rotation dof; a node whose rotation is connected to no member (all member ends at it pinned) has no
 rotation dof (``disp`` returns nan for its theta).

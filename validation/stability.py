@@ -678,7 +678,8 @@ def write_md(rows, t_total, note=""):
         L += [note, ""]
     L += [
          "Outcomes: `solved` (check passed), `solved (energy balance)` (no reference: the exact "
-         "solution's energy balance within 1e-9), `solved (flagged)` (true error > 1e-6 but within 10x of femslide's own "
+         "solution's energy balance within 1e-9), `solved (flagged)` (true error > 1e-6 but within 10x of "
+         "femslide's own "
          "error_estimate - a coarse fixed mesh or the round-off floor of a very stiff model - or N = 1, "
          "which has no estimate), `failed cleanly` "
          "(exit 1 with a reason / exit 2 naming the parameter), `WRONG` (converged but the check fails: a "

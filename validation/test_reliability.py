@@ -12,7 +12,6 @@ from __future__ import annotations
 import contextlib
 import io
 import json
-import math
 import os
 import pathlib
 import subprocess
@@ -64,7 +63,8 @@ SLOW_SWEEP = ("sweep", "sdof-harmonic", "--vary", "t_end=20000,20001", "--quiet"
 
 
 @pytest.mark.parametrize("make, args, option", [
-    (lambda d: (d / "afile").write_text("x") and d / "afile", ("simulate", "sdof-harmonic", "--set", "t_end=20000"), "--out"),
+    (lambda d: (d / "afile").write_text("x") and d / "afile", ("simulate", "sdof-harmonic", "--set", "t_end=20000"),
+     "--out"),
     (lambda d: d / "afile" / "sub", ("simulate", "sdof-harmonic", "--set", "t_end=20000"), "--out"),
     (lambda d: "/proc/femslide-out", ("solve", "beam-slider"), "--out"),
     (lambda d: "/proc/femslide-out", SLOW_SWEEP, "--out"),
