@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from .errors import BadInput, SolverFailure
 from .structure import Structure, Table
+from .plot import plot  # matplotlib diagrams (matplotlib is imported when called)
 
 __all__ = ["Structure", "Table", "solve", "simulate", "load", "list_scenes", "BadInput", "SolverFailure"]
 __version__ = "0.2.0"
