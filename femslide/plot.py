@@ -406,7 +406,10 @@ def plot(result, diagram: str = "M", ax=None, scale: float | None = None, magnif
     direction, N)]}.  A support resting on the ground that pulls the structure down adds a red note
     on the figure and a :class:`LiftOffWarning`.
     """
-    import matplotlib
+    try:
+        import matplotlib
+    except ImportError:  # pragma: no cover - depends on the installation
+        raise ImportError("femslide.plot needs matplotlib: pip install matplotlib (or femslide[plot])") from None
     if ax is None:
         import matplotlib.pyplot as plt
         _, ax = plt.subplots(figsize=(7.5, 6.5))
