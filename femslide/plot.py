@@ -36,8 +36,8 @@ import math
 import os
 import warnings
 
-import numpy as np
-
+# numpy and matplotlib are imported inside the functions: `import femslide` (which exports plot) stays
+# light for the command line's fast paths
 from .errors import BadInput
 
 DIAGRAMS = {"M": ("bending_moment", "N m", "bending moment M"),
@@ -112,6 +112,7 @@ def _text(fd, key):
 
 
 def _from_mesh(points, cells, point_data, cell_data, fd, magnify, name):
+    import numpy as np
     P = np.asarray(points, float)[:, :2]
     disp = np.asarray(point_data["displacement"], float)[:, :2] if "displacement" in point_data \
         else np.zeros_like(P)
@@ -175,6 +176,7 @@ def _from_mesh(points, cells, point_data, cell_data, fd, magnify, name):
 
 def _chain(conn):
     """Node order of a chain of 2-node elements given in any order: (nodes, element order) or None."""
+    import numpy as np
     n = len(conn)
     if n == 0:
         return None
@@ -197,6 +199,7 @@ def _chain(conn):
 
 def size_of(fr) -> float:
     """Largest extent [m] of the drawn structure (undeformed and drawn shapes)."""
+    import numpy as np
     pts = [r[k] for r in fr["rods"] for k in ("X", "X0")] + [b[k] for b in fr["bodies"] + fr["links"]
                                                               for k in ("X", "X0")]
     pts += [np.array([j["X0"]]) for j in fr["joints"]]
@@ -210,6 +213,7 @@ def samples(rod, diagram):
     """(points on the drawn rod (k, 2), unit normals (k, 2), values (k,)) of one rod's diagram: the nodes,
     and for M under a distributed load the parabola inside each element (9 points and its extremum),
     with the zero crossings inserted (so that every piece between two samples has one sign)."""
+    import numpy as np
     X, Xt, X0, v, q = rod["X"], rod["Xt"], rod["X0"], rod[diagram], rod["q"]
     pts, nrm, val = [], [], []
     for e in range(len(X) - 1):
@@ -250,6 +254,7 @@ def samples(rod, diagram):
 
 def auto_scale(fr, diagram, size=None):
     """Diagram scale [m per unit]: the largest |value| over all rods drawn SCALE_FRACTION of the size."""
+    import numpy as np
     vmax = max((float(np.abs(samples(r, diagram)[2]).max()) for r in fr["rods"]), default=0.0)
     size = size_of(fr) if size is None else size
     return SCALE_FRACTION * size / vmax if vmax > 0 else 0.0
@@ -259,6 +264,7 @@ def diagram_geometry(fr, diagram, scale=None):
     """Per rod: {name, base (k, 2), offset (k, 2), value (k,), extremes [(value, base point, offset
     point)]} and the scale used.  Extremes: the largest |value| of the rod and the extreme of the other
     sign when it is at least 1e-3 of it (values exactly as computed, not rounded)."""
+    import numpy as np
     if diagram not in DIAGRAMS:
         raise BadInput(f"diagram = {diagram!r}: allowed 'M', 'V' or 'N'")
     if scale is None:
@@ -293,6 +299,7 @@ def shapes(fr, h=None):
     """Primitives of the supports, guides and ground line: [(kind, points (k, 2), style)] with kind
     'line' (open polyline), 'poly' (closed filled polygon) or 'dash' (dash-dot guide axis); style
     'support', 'ground', 'guide'.  ``h``: symbol size [m] (default SYMBOL_FRACTION of the size)."""
+    import numpy as np
     size = size_of(fr)
     h = SYMBOL_FRACTION * size if h is None else h
     out = []
@@ -352,6 +359,7 @@ def shapes(fr, h=None):
 
 def _hatched(c, along, away, half, thick=False):
     """A line through c along ``along`` (half-length ``half``) hatched on the side ``away``."""
+    import numpy as np
     along = np.asarray(along, float)
     away = np.asarray(away, float)
     out = [("line", np.array([c - half * along, c + half * along]), "wall" if thick else "support")]
@@ -362,6 +370,7 @@ def _hatched(c, along, away, half, thick=False):
 
 
 def _circle(c, r, closed=False, n=16):
+    import numpy as np
     t = np.linspace(0, 2 * np.pi, n + 1 if closed else n, endpoint=closed)
     return np.column_stack([c[0] + r * np.cos(t), c[1] + r * np.sin(t)])
 
@@ -369,6 +378,7 @@ def _circle(c, r, closed=False, n=16):
 def lift_off(fr):
     """[(support name, reaction component along the inward direction [N])] of the pins, rollers and
     sliders on the ground that pull the structure towards the ground."""
+    import numpy as np
     sup = [j for j in fr["joints"] if j["ground"]]
     big = max((float(np.hypot(*j["force"][:2])) for j in sup if np.all(np.isfinite(j["force"]))), default=0.0)
     out = []
@@ -406,6 +416,7 @@ def plot(result, diagram: str = "M", ax=None, scale: float | None = None, magnif
     direction, N)]}.  A support resting on the ground that pulls the structure down adds a red note
     on the figure and a :class:`LiftOffWarning`.
     """
+    import numpy as np
     try:
         import matplotlib
     except ImportError:  # pragma: no cover - depends on the installation
