@@ -183,7 +183,7 @@ def _chain(conn):
     if n == 1 or np.all(conn[1:, 0] == conn[:-1, 1]):
         return np.concatenate([conn[:, 0], conn[-1:, 1]]), np.arange(n)
     nxt = {int(a): i for i, (a, _) in enumerate(conn)}
-    ends = set(int(b) for b in conn[:, 1])
+    ends = {int(b) for b in conn[:, 1]}
     starts = [i for i, (a, _) in enumerate(conn) if int(a) not in ends]
     if len(starts) != 1:
         return None
@@ -276,16 +276,16 @@ def diagram_geometry(fr, diagram, scale=None):
     out = []
     for r in fr["rods"]:
         P, n, v = samples(r, diagram)
-        O = P + SIDE[diagram] * k * v[:, None] * n
+        Off = P + SIDE[diagram] * k * v[:, None] * n
         ext = []
         if v.size:
             i = int(np.argmax(np.abs(v)))
-            ext.append((float(v[i]), P[i], O[i]))
+            ext.append((float(v[i]), P[i], Off[i]))
             other = v * np.sign(v[i]) if v[i] != 0 else v
             j = int(np.argmin(other))
             if other[j] < 0 and abs(v[j]) >= 1e-3 * abs(v[i]):
-                ext.append((float(v[j]), P[j], O[j]))
-        out.append({"name": r["name"], "base": P, "offset": O, "value": v, "extremes": ext})
+                ext.append((float(v[j]), P[j], Off[j]))
+        out.append({"name": r["name"], "base": P, "offset": Off, "value": v, "extremes": ext})
     return out, k
 
 
@@ -452,18 +452,18 @@ def plot(result, diagram: str = "M", ax=None, scale: float | None = None, magnif
             ax.plot([g["base"][i, 0], g["offset"][i, 0]], [g["base"][i, 1], g["offset"][i, 1]], color=colour,
                     lw=0.5, alpha=0.6, zorder=4)
         exts[g["name"]] = []
-        for v, P, O in g["extremes"]:
+        for v, P, Q in g["extremes"]:
             if not labels:
                 continue
-            d = O - P
+            d = Q - P
             nd = math.hypot(*d)
             off = d / nd * 0.02 * size if nd > 0 else np.zeros(2)
-            t = ax.annotate(fmt_value(v, unit), xy=O, xytext=O + off, fontsize=8, color="black",
+            t = ax.annotate(fmt_value(v, unit), xy=Q, xytext=Q + off, fontsize=8, color="black",
                             ha="left" if off[0] >= 0 else "right", va="bottom" if off[1] >= 0 else "top",
-                            zorder=7, bbox=dict(boxstyle="round,pad=0.15", fc="white", ec=colour, lw=0.5,
-                                                alpha=0.85))
+                            zorder=7, bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": colour,
+                                  "lw": 0.5, "alpha": 0.85})
             exts[g["name"]].append((v, t))
-            ax.update_datalim(np.array([O + 4 * off]))   # room for the label
+            ax.update_datalim(np.array([Q + 4 * off]))   # room for the label
     for r in fr["rods"]:
         ax.plot(*r["X"].T, color="black", lw=2.0, zorder=5, solid_capstyle="round")
     for kind, P, style in shapes(fr):
@@ -481,7 +481,7 @@ def plot(result, diagram: str = "M", ax=None, scale: float | None = None, magnif
         warnings.warn(msg, LiftOffWarning, stacklevel=2)
         ax.text(0.01, 0.99, "\n".join(f"lift-off at {n}: the ground pulls with {-r:.4g} N" for n, r in lifts),
                 transform=ax.transAxes, color="red", fontsize=9, va="top", ha="left", zorder=8,
-                bbox=dict(fc="white", ec="red", alpha=0.9))
+                bbox={"fc": "white", "ec": "red", "alpha": 0.9})
     ax.set_aspect("equal", adjustable="datalim")
     ax.autoscale_view()
     ax.set_xlabel("x [m]")

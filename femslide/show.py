@@ -99,11 +99,12 @@ def series_files(path):
 
 
 def value_range(path, diagram=None):
-    """(lo, hi) of the coloured quantity over all frames of a series (bending moment, or the diagram's
-    values including the parabolas of distributed loads), and the largest |value|."""
+    """(lo, hi) of the coloured quantity over all frames of a series (bending moment of the rods, or
+    the diagram's values including the parabolas of distributed loads); None without rods."""
     import numpy as np
+
     from .meshfile import read_meshio
-    from .plot import DIAGRAMS, frame_data, samples
+    from .plot import frame_data, samples
     lo, hi = math.inf, -math.inf
     for f in series_files(path):
         if diagram is None:
@@ -116,7 +117,6 @@ def value_range(path, diagram=None):
         else:
             fr = frame_data(f)
             v = np.concatenate([samples(r, diagram)[2] for r in fr["rods"]] or [np.zeros(0)])
-            assert diagram in DIAGRAMS
         if v.size:
             lo, hi = min(lo, float(v.min())), max(hi, float(v.max()))
     if lo > hi:
@@ -280,7 +280,16 @@ def _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magni
     """The member diagrams of femslide.plot, drawn with pyvista; one colour range and (automatic)
     scale for all frames of a series."""
     import numpy as np
-    from .plot import DIAGRAMS, SCALE_FRACTION, diagram_geometry, fmt_value, frame_data, lift_off, size_of
+
+    from .plot import (
+        DIAGRAMS,
+        SCALE_FRACTION,
+        diagram_geometry,
+        fmt_value,
+        frame_data,
+        lift_off,
+        size_of,
+    )
     fr = frame_data(vtu, magnify=magnify)
     if not fr["rods"]:
         raise BadInput(f"result file {vtu}: has no rods for a --diagram; allowed: a .vtu written by "
@@ -313,9 +322,9 @@ def _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magni
     pts, faces, vals = [], [], []
     n0 = 0
     for g in geo:
-        B, O, v = g["base"], g["offset"], g["value"]
+        B, Q, v = g["base"], g["offset"], g["value"]
         m = len(B)
-        pts += [np.column_stack([B, np.zeros(m)]), np.column_stack([O, np.zeros(m)])]
+        pts += [np.column_stack([B, np.zeros(m)]), np.column_stack([Q, np.zeros(m)])]
         vals += [v, v]
         i = np.arange(m - 1)
         faces.append(np.column_stack([np.full(m - 1, 4), n0 + i, n0 + i + 1, n0 + m + i + 1, n0 + m + i]).ravel())
@@ -339,8 +348,8 @@ def _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magni
     _add_shapes(pv, pl, fr, depth)
     lp, lt = [], []
     for g in geo:
-        for v, P, O in g["extremes"]:
-            lp.append([O[0], O[1], 5 * depth])
+        for v, P, Q in g["extremes"]:
+            lp.append([Q[0], Q[1], 5 * depth])
             lt.append(fmt_value(v, unit))
     if lp:
         pl.add_point_labels(np.array(lp), lt, font_size=13, point_size=1, shape_opacity=0.6,
@@ -367,7 +376,7 @@ def _colour_of(x):
     try:
         from matplotlib import colormaps
         return tuple(colormaps[_cmap() or "viridis"](x)[:3])
-    except Exception:  # no matplotlib: pyvista's default
+    except (ImportError, KeyError):  # no matplotlib: pyvista's default
         return "steelblue"
 
 

@@ -188,6 +188,7 @@ def friction_series(tmp_path_factory):
 def test_pvd_colour_range_is_global(friction_series):
     """The colour range of a series is min/max over all its frames (read here with meshio)."""
     import meshio
+
     from femslide.show import pvd_frames, value_range
     lo, hi = math.inf, -math.inf
     for _, f in pvd_frames(str(friction_series)):

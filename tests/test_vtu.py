@@ -188,6 +188,7 @@ def test_static_vtu_field_data_units_conventions_joints(tmp_path):
     """Units, conventions and names as text; the joints' types, positions, axes and forces as arrays;
     checked against the sidecar (this mesh's results) and the geometry of the deck."""
     import meshio
+
     from femslide.vtu import text
     res, path = solve("beam-slider", tmp_path, "n_elements=16")
     m = meshio.read(path)
@@ -220,6 +221,7 @@ def test_dynamic_frames_carry_time_and_global_values(tmp_path):
     """Every frame of a simulate series: its time (= the .pvd timestep), phi, F2, slide ... (= the
     history.csv row at that time), units; the telescopic guide link reaches the rod's top end."""
     import meshio
+
     from femslide.show import pvd_frames
     from femslide.vtu import text
     env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
