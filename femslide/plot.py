@@ -28,7 +28,10 @@ hatched wall, a slider as a sleeve along its guide.  Pins, rollers and sliders o
 taken as resting on it: a reaction that pulls the structure towards the ground (its component along
 the direction from the ground into the structure is negative: a real support resting on the ground
 would lift off) is reported by a :class:`LiftOffWarning` and a red note on the figure.  Welds are
-taken as anchored.
+taken as anchored.  When all supports stand on level ground, a structure that reaches more than 5 %
+of its size below their level (the paper's structure falling over at a tiny EI; not a beam sagging
+between its supports) is reported by a :class:`BelowGroundWarning` and a note: the model has no
+contact with the ground.
 """
 from __future__ import annotations
 
@@ -48,11 +51,16 @@ COLOURS = {"M": "tab:red", "V": "tab:green", "N": "tab:blue"}
 SCALE_FRACTION = 0.15      # auto scale: the largest |value| is drawn this fraction of the structure's size
 SYMBOL_FRACTION = 0.035    # supports: symbol size as a fraction of the structure's size
 LIFT_OFF_RTOL = 1e-6       # a pull below this fraction of the largest reaction is round-off
+BELOW_GROUND_FRACTION = 0.05   # a structure this far (fraction of its size) below its supports' level: a note
 JOINT_TYPES = ("pin", "weld", "slider", "roller")
 
 
 class LiftOffWarning(UserWarning):
     """A support resting on the ground pulls the structure down (it would lift off)."""
+
+
+class BelowGroundWarning(UserWarning):
+    """A part of the structure lies below the ground line (the model has no contact with the ground)."""
 
 
 # -- the data of a picture -----------------------------------------------------------------------------
@@ -391,9 +399,45 @@ def lift_off(fr):
     return out
 
 
-def lift_off_text(lifts):
-    return "; ".join(f"lift-off at {n}: the ground pulls the structure with {-r:.4g} N (a support resting "
-                     f"on the ground cannot)" for n, r in lifts)
+def ground_level(fr):
+    """y [m] of the ground when every support rests on level ground (pins, rollers, sliders and welds
+    with the ground below them, all at one height), else None."""
+    sup = [j for j in fr["joints"] if j["ground"]]
+    if not sup or any(j["inward"][1] < 0.99 for j in sup):
+        return None
+    ys = [float(j["X0"][1]) for j in sup]
+    return ys[0] if max(ys) - min(ys) <= 1e-9 * size_of(fr) else None
+
+
+def below_ground(fr):
+    """How far [m] the deformed structure (true displacements) reaches below the level of its supports
+    on level ground, when that is more than BELOW_GROUND_FRACTION of the structure's size (a beam
+    sagging between its supports is not meant), else 0."""
+    import numpy as np
+    y0 = ground_level(fr)
+    pts = [r["Xt"] for r in fr["rods"]] + [b["Xt"] for b in fr["bodies"] + fr["links"]]
+    if y0 is None or not pts:
+        return 0.0
+    depth = y0 - float(np.concatenate(pts)[:, 1].min())
+    return depth if depth > BELOW_GROUND_FRACTION * size_of(fr) else 0.0
+
+
+def notes(fr):
+    """[(warning class, one-line note)] of a picture: lift-off at supports, parts below the ground."""
+    out = [(LiftOffWarning, f"lift-off at {n}: the ground pulls with {-r:.4g} N") for n, r in lift_off(fr)]
+    d = below_ground(fr)
+    if d:
+        out.append((BelowGroundWarning, f"the structure reaches {d:.4g} m below the ground line of its supports "
+                                        f"(no contact in the model)"))
+    return out
+
+
+def warn_notes(found, stacklevel=3):
+    """Issue the Python warnings of :func:`notes` (the lift-off one with its full explanation)."""
+    for cls, text in found:
+        if cls is LiftOffWarning:
+            text += " (a support resting on the ground cannot pull; it would lift off)"
+        warnings.warn(text, cls, stacklevel=stacklevel)
 
 
 # -- matplotlib ----------------------------------------------------------------------------------------
@@ -413,8 +457,9 @@ def plot(result, diagram: str = "M", ax=None, scale: float | None = None, magnif
 
     The Axes gets an attribute ``femslide_diagram``: {``polygons``: {rod: Polygon}, ``extremes``:
     {rod: [(value, Text)]}, ``scale``, ``lift_off``: [(support, reaction along the inward
-    direction, N)]}.  A support resting on the ground that pulls the structure down adds a red note
-    on the figure and a :class:`LiftOffWarning`.
+    direction, N)], ``below_ground``: m}.  A support resting on the ground that pulls the structure
+    down adds a red note on the figure and a :class:`LiftOffWarning`; a structure reaching below the
+    level ground of its supports a note and a :class:`BelowGroundWarning`.
     """
     import numpy as np
     try:
@@ -476,12 +521,11 @@ def plot(result, diagram: str = "M", ax=None, scale: float | None = None, magnif
         else:
             ax.plot(*P.T, color=c, lw=lw, zorder=6 if style != "ground" else 0)
     lifts = lift_off(fr)
-    if lifts:
-        msg = lift_off_text(lifts)
-        warnings.warn(msg, LiftOffWarning, stacklevel=2)
-        ax.text(0.01, 0.99, "\n".join(f"lift-off at {n}: the ground pulls with {-r:.4g} N" for n, r in lifts),
-                transform=ax.transAxes, color="red", fontsize=9, va="top", ha="left", zorder=8,
-                bbox={"fc": "white", "ec": "red", "alpha": 0.9})
+    found = notes(fr)
+    if found:
+        warn_notes(found)
+        ax.text(0.01, 0.99, "\n".join(t for _, t in found), transform=ax.transAxes, color="red", fontsize=9,
+                va="top", ha="left", zorder=8, bbox={"fc": "white", "ec": "red", "alpha": 0.9})
     ax.set_aspect("equal", adjustable="datalim")
     ax.autoscale_view()
     ax.set_xlabel("x [m]")
@@ -493,5 +537,5 @@ def plot(result, diagram: str = "M", ax=None, scale: float | None = None, magnif
                  f"scale {k:.3g} m/{unit}{mag})", fontsize=9)
     ax.grid(True, lw=0.3, alpha=0.5)
     ax.femslide_diagram = {"polygons": polys, "extremes": exts, "scale": k, "lift_off": lifts,
-                           "matplotlib": matplotlib.__version__}
+                           "below_ground": below_ground(fr), "matplotlib": matplotlib.__version__}
     return ax

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import math
 import os
-import warnings
 import xml.etree.ElementTree as ET
 
 from .errors import BadInput
@@ -146,6 +145,8 @@ def render(path, screenshot=None, frame=None, window_size=WINDOW, diagram=None, 
     import numpy as np
     if diagram is not None and diagram not in ("M", "V", "N"):
         raise BadInput(f"--diagram {diagram}: allowed M, V or N")
+    if scale is not None and diagram is None:
+        raise BadInput("--scale applies to --diagram M|V|N only")
     if scale is not None and not (math.isfinite(scale) and scale > 0):
         raise BadInput(f"--scale {scale:g}: allowed a number > 0 (m per N m for M, m per N for V, N)")
     if not (math.isfinite(magnify) and magnify >= 0):
@@ -214,10 +215,10 @@ def render(path, screenshot=None, frame=None, window_size=WINDOW, diagram=None, 
                     lighting=False)
     lifts = []
     if "joint_type" in grid.field_data:
-        from .plot import frame_data, lift_off
+        from .plot import frame_data
         fr = frame_data(vtu, magnify=magnify)
         _add_shapes(pv, pl, fr, depth)
-        lifts = _lift_off_note(pl, lift_off(fr))
+        lifts = _notes(pl, fr)
 
     pl.add_text(_title(vtu, grid, t, magnify), position="upper_left", font_size=10, color="black")
     return _finish(pl, screenshot, window_size, {"file": vtu, "time": t, "clim": clim, "lift_off": lifts},
@@ -267,13 +268,14 @@ def _add_shapes(pv, pl, fr, depth):
                         line_width=widths.get(style, 2.5), lighting=False)
 
 
-def _lift_off_note(pl, lifts):
-    if lifts:
-        from .plot import LiftOffWarning, lift_off_text
-        warnings.warn(lift_off_text(lifts), LiftOffWarning, stacklevel=3)
-        pl.add_text("\n".join(f"lift-off at {n}: the ground pulls with {-r:.4g} N" for n, r in lifts),
-                    position="lower_left", font_size=11, color="red")
-    return lifts
+def _notes(pl, fr):
+    """Red notes (and Python warnings) for lift-off and parts below the ground; returns the lift-offs."""
+    from .plot import lift_off, notes, warn_notes
+    found = notes(fr)
+    if found:
+        warn_notes(found, stacklevel=4)
+        pl.add_text("\n".join(t for _, t in found), position="lower_left", font_size=11, color="red")
+    return lift_off(fr)
 
 
 def _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magnify):
@@ -287,7 +289,6 @@ def _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magni
         diagram_geometry,
         fmt_value,
         frame_data,
-        lift_off,
         size_of,
     )
     fr = frame_data(vtu, magnify=magnify)
@@ -354,7 +355,7 @@ def _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magni
     if lp:
         pl.add_point_labels(np.array(lp), lt, font_size=13, point_size=1, shape_opacity=0.6,
                             always_visible=True, text_color="black")
-    lifts = _lift_off_note(pl, lift_off(fr))
+    lifts = _notes(pl, fr)
     fd = fr["values"]
     title = [os.path.splitext(os.path.basename(vtu))[0], f"{DIAGRAMS[diagram][2]} [{unit}]"]
     if t is not None:

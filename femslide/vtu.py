@@ -42,8 +42,8 @@ array, read with :func:`text`): ``units`` (the unit of every array), ``conventio
 state, ``joint_axis`` (unit guide direction now, carried by b; zero for pins and welds),
 ``joint_force`` (Fx [N], Fy [N], M [N m]: what b exerts on a, springs included; for a support the
 reaction of the ground), ``joint_inward`` (supports: unit vector from the ground into the structure:
-across the guide of a slider or roller, along a rod welded to the ground, else +y or -y towards the
-structure's centre (+x or -x when the centre is nearly level with the support);
+across the guide of a slider or roller, along a rod welded to the ground, else +y (-y when the
+structure's centre lies clearly below the support: a hanging structure);
 pictures draw the ground on the other side and call a reaction along -inward a lift-off).
 Series frames add their time ``time`` [s] and the run's global values at that time.
 """
@@ -234,9 +234,8 @@ def joint_data(model, y) -> dict:
                 r = fs.rod(ra.name)
                 t = np.subtract(r.end, r.start) / r.length
                 inward[i, :2] = t if ra.end == 0 else -t
-            else:   # the ground below the structure (or above, or beside it when level with it)
-                k = 1 if abs(d[1]) > 0.1 * abs(d[0]) or not np.any(d) else 0
-                inward[i, k] = 1.0 if d[k] >= 0 else -1.0
+            else:   # the ground below the structure (above it when the structure hangs from the support)
+                inward[i, 1] = -1.0 if d[1] < -0.1 * abs(d[0]) else 1.0
     return {"joint_names": "\n".join(j.name for j in fs.joints), "joint_type": types, "joint_ground": ground,
             "joint_position": pos, "joint_reference": ref, "joint_axis": axis, "joint_force": force,
             "joint_inward": inward}

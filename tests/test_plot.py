@@ -153,7 +153,33 @@ def test_lift_off_warning_beam_slider_ei10():
     # the finest mesh's value; the result's reaction is extrapolated (they differ by ~1e-6)
     assert ax.femslide_diagram["lift_off"][0][1] == pytest.approx(r["reactions"]["A1"]["Fy"], rel=1e-4)
     assert any("lift-off at A1" in t.get_text() and t.get_color() == "red" for t in ax.texts)
+    # the deck passes below the ground line y = 0 (the model has no contact): said too
+    low = min(float(np.min(b["Xt"][:, 1])) for b in femslide_frame(r)["bodies"])
+    assert low < 0 and ax.femslide_diagram["below_ground"] == pytest.approx(-low, rel=1e-12)
+    assert any("below the ground" in t.get_text() for t in ax.texts)
     plt.close(ax.figure)
+
+
+def femslide_frame(r):
+    from femslide.plot import frame_data
+    return frame_data(r)
+
+
+def test_no_notes_for_a_structure_standing_on_the_ground():
+    """The simple beam (pin and roller at y = 0, the ground drawn below both) and the portal frame: no
+    lift-off and nothing below the ground."""
+    from femslide.plot import BelowGroundWarning, frame_data, ground_level
+    for s in (simple_beam(), portal()):
+        r = femslide.solve(s)
+        fr = frame_data(r)
+        assert ground_level(fr) == 0.0
+        assert all(j["inward"].tolist() == [0.0, 1.0] for j in fr["joints"] if j["ground"])
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", LiftOffWarning)
+            warnings.simplefilter("error", BelowGroundWarning)
+            ax = femslide.plot(r)
+        assert ax.femslide_diagram["below_ground"] == 0.0 and not ax.femslide_diagram["lift_off"]
+        plt.close(ax.figure)
 
 
 def test_bad_input():
