@@ -8,6 +8,7 @@ context can be made (the probe of tests/test_show.py).
 """
 from __future__ import annotations
 
+import json
 import math
 import os
 import pathlib
@@ -271,3 +272,32 @@ def test_show_diagram_screenshot(can_render, tmp_path, friction_series):
     assert r.returncode == 2
     r = run("show", str(friction_series), "--diagram", "M", "--scale", "-1", "--screenshot", str(tmp_path / "x.png"))
     assert r.returncode == 2 and "--scale" in r.stderr
+
+
+def test_magnify_scales_the_displacements():
+    """Drawn points = undeformed + K (deformed - undeformed), for rods, bodies and joints."""
+    from femslide.plot import frame_data
+    r = femslide.solve("beam-slider", EI=1e5)
+    f1, f10 = frame_data(r), frame_data(r, magnify=10.0)
+    for a, b in zip(f1["rods"] + f1["bodies"] + f1["links"], f10["rods"] + f10["bodies"] + f10["links"]):
+        assert np.allclose(b["X"], a["X0"] + 10.0 * (a["X"] - a["X0"]), rtol=0, atol=1e-12)
+    for a, b in zip(f1["joints"], f10["joints"]):
+        assert np.allclose(b["X"], a["X0"] + 10.0 * (a["X"] - a["X0"]), rtol=0, atol=1e-12)
+
+
+@pytest.mark.render
+def test_show_series_colour_range_is_global(can_render, friction_series):
+    """The colour range that show uses for a frame of a series is the range over all frames."""
+    from femslide.show import value_range
+    from tests.test_show import run_py
+    code = ("import json\nfrom femslide.show import render\n"
+            f"info = render({str(friction_series)!r}, frame=0, screenshot={str(friction_series.parent / 'f0.png')!r})\n"
+            "print(json.dumps(info['clim']))")
+    r = run_py(code)
+    assert r.returncode == 0, r.stderr
+    clim = json.loads(r.stdout.strip().splitlines()[-1])
+    assert clim == pytest.approx(list(value_range(str(friction_series))), rel=1e-12)
+    import meshio
+    from femslide.show import pvd_frames
+    M0 = meshio.read(pvd_frames(str(friction_series))[0][1]).point_data["bending_moment"]
+    assert np.ptp(M0) < 0.9 * (clim[1] - clim[0])   # not frame 0's own range
