@@ -105,7 +105,7 @@ def _from_file(path, magnify, frame):
     m = read_meshio(vtu, "result file" if vtu == path else f"{path}: frame file")
     cells = [(c.type, c.data) for c in m.cells]
     name = os.path.splitext(os.path.basename(vtu))[0]
-    out = _from_mesh(m.points, cells, m.point_data, m.cell_data, m.field_data, magnify, name)
+    out = _from_mesh(m.points, cells, m.point_data, m.cell_data, m.field_data, magnify, name, where=vtu)
     if t is not None:
         out["values"].setdefault("time", t)
     return out
@@ -119,7 +119,7 @@ def _text(fd, key):
     return v if isinstance(v, str) else text(fd, key)
 
 
-def _from_mesh(points, cells, point_data, cell_data, fd, magnify, name):
+def _from_mesh(points, cells, point_data, cell_data, fd, magnify, name, where=None):
     import numpy as np
     P = np.asarray(points, float)[:, :2]
     disp = np.asarray(point_data["displacement"], float)[:, :2] if "displacement" in point_data \
@@ -127,7 +127,7 @@ def _from_mesh(points, cells, point_data, cell_data, fd, magnify, name):
     P0 = P - disp
     Pd = P0 + magnify * disp
     if "part" not in cell_data:
-        raise BadInput(f"{name}: not a femslide result (no cell data 'part'); allowed: a .vtu written by "
+        raise BadInput(f"{where or name}: not a femslide result (no cell data 'part'); allowed: a .vtu written by "
                        f"femslide solve/simulate --out")
     rod_names = (_text(fd, "rod_names") or "").split("\n")
     rods, bodies, links = {}, [], []
@@ -151,7 +151,7 @@ def _from_mesh(points, cells, point_data, cell_data, fd, magnify, name):
         conn = np.array([e[0] for e in els])
         order = _chain(conn)
         if order is None:
-            raise BadInput(f"{name}: the elements of rod {r} do not form one chain")
+            raise BadInput(f"{where or name}: the elements of rod {r} do not form one chain")
         nodes, qs = order
         qel = np.array([els[i][1] for i in qs])
         nm = rod_names[r] if r < len(rod_names) and rod_names[r] else f"rod {r}"
