@@ -27,6 +27,7 @@ from .errors import BadInput, SolverFailure
 from .structure import Structure, Table
 from .run import Result
 from . import sweep as _sweep_module  # noqa: F401  (loaded now, so that femslide.sweep stays the function)
+from .plot import plot  # matplotlib diagrams (matplotlib is imported when called)
 
 if TYPE_CHECKING:
     import pandas
@@ -36,7 +37,7 @@ if TYPE_CHECKING:
 #: what solve and sweep take: a Structure, a structure or scene file path, or a built-in scene name
 Target = Union[Structure, "Frozen", str, os.PathLike]
 
-__all__ = ["Structure", "Table", "solve", "simulate", "sweep", "load", "list_scenes", "Result", "BadInput",
+__all__ = ["Structure", "Table", "solve", "simulate", "sweep", "load", "list_scenes", "plot", "Result", "BadInput",
            "SolverFailure"]
 __version__ = "0.2.0"
 

@@ -114,6 +114,15 @@ def _build_parser() -> argparse.ArgumentParser:
     sh.add_argument("result", metavar="RESULT", help="a .vtu file, or a .pvd series written by --out")
     sh.add_argument("--frame", type=int, metavar="K", help="frame K of a .pvd series (default: the last)")
     sh.add_argument("--screenshot", metavar="FILE.png", help="render off-screen to this image instead of a window")
+    sh.add_argument("--diagram", choices=("M", "V", "N"),
+                    help="member diagrams on the deformed structure: M bending moment [N m] on the "
+                         "tension side, V shear force or N axial force [N] (positive to the left of "
+                         "the rod from start to end); extremes labelled, supports and guides drawn")
+    sh.add_argument("--scale", type=float, metavar="K",
+                    help="diagram scale in m per N m (M) or m per N (V, N); default: the largest "
+                         "|value| of the series drawn at 15%% of the structure's size")
+    sh.add_argument("--magnify", type=float, default=1.0, metavar="K",
+                    help="multiply the displacements by K (default 1; the undeformed shape is drawn grey)")
     it = sub.add_parser("init", help="copy a scene's template file (and its mesh) to edit",
                         description="Copy the template of a built-in scene into DIR: its scene file NAME.toml "
                         "and the reference mesh it names, or with structures/NAME the scene declared as a "
@@ -237,7 +246,8 @@ def _mesh(args):
 
 def _show(args):
     from .show import render
-    info = render(args.result, screenshot=args.screenshot, frame=args.frame)
+    info = render(args.result, screenshot=args.screenshot, frame=args.frame, diagram=args.diagram,
+                  scale=args.scale, magnify=args.magnify)
     if args.screenshot:
         print(args.screenshot)
     return 0 if info else 1

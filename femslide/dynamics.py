@@ -779,8 +779,18 @@ def history_table(hist) -> dict:
     return out
 
 
+FRAME_VALUES = ("time", "phi", "phi_dot", "F2", "slide", "stuck", "F1", "N1", "N2", "F_ax", "N")
+FRAME_UNITS = ("time: s; phi: rad (body rotation, > 0 leaning towards B1); phi_dot: rad/s; "
+               "F1, N1 / F2, N2: N (horizontal, vertical reaction at A1 / B1, forces of the ground on the "
+               "structure, d'Alembert); slide: m; stuck: 1 stuck, 0 sliding or free; F_ax: N (guide axial "
+               "force); N: N (|transverse clamp force|)")
+
+
 def _write(out_dir, name, hist, st):
-    from .vtu import mesh_data, write_series
+    """history.csv and a PVD series of VTU frames (at most 200), each frame with its time and the run's
+    global values at that time (FRAME_VALUES) as field data, plus the joints' positions, axes and
+    forces (femslide.vtu)."""
+    from .vtu import UNITS, describe, joint_data, mesh_data, write_series
     H = hist["rows"]
     path = os.path.join(out_dir, "history.csv")
     if not np.isfinite(H).all():
@@ -796,8 +806,10 @@ def _write(out_dir, name, hist, st):
     for k in idx:
         y, alpha = hist["states"][k]
         pts, cells, pdata, cdata = mesh_data(st.model, y, alpha)
-        frames.append((float(H[k, 0]), pts, cells, pdata, cdata))
-    files = write_series(frames, out_dir, name)
+        fd = {key: float(H[k, c]) for key, c in zip(FRAME_VALUES, (0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10))}
+        fd.update(joint_data(st.model, y))
+        frames.append((float(H[k, 0]), pts, cells, pdata, cdata, fd))
+    files = write_series(frames, out_dir, name, {**describe(st.model), "units": UNITS + "; " + FRAME_UNITS})
     return [path] + files
 
 
