@@ -28,6 +28,7 @@ from .structure import Frozen, Table
 
 _ONE = np.ones(1)
 DENSE_LIMIT = 100  # unknowns; above it a banded LU is faster when the band is narrow
+RCM_LOCAL_LIMIT = 5000  # unknowns; up to it the banded ordering is computed without scipy
 SPARSE_LIMIT = 600  # unknowns; above it a wide-band system goes to sparse LU
 
 
@@ -40,11 +41,13 @@ class Banded:
     """
 
     def __init__(self, rows, cols, size):
-        import scipy.sparse as sp   # large models only: small ones never import scipy
-        from scipy.sparse.csgraph import reverse_cuthill_mckee
-        pat = sp.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(size, size)).tocsr()
-        pat = pat + pat.T
-        perm = reverse_cuthill_mckee(pat.tocsr(), symmetric_mode=True).astype(np.intp)
+        if size <= RCM_LOCAL_LIMIT:
+            perm = reverse_cuthill_mckee(rows, cols, size)
+        else:   # large: scipy's compiled RCM (its import is small against the solve)
+            import scipy.sparse as sp
+            from scipy.sparse.csgraph import reverse_cuthill_mckee as rcm
+            pat = sp.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(size, size)).tocsr()
+            perm = rcm((pat + pat.T).tocsr(), symmetric_mode=True).astype(np.intp)
         inv = np.empty_like(perm)
         inv[perm] = np.arange(size)
         pr, pc = inv[rows], inv[cols]
@@ -61,14 +64,71 @@ class Banded:
         return BandMatrix(self, ab.reshape(self.shape))
 
 
+def reverse_cuthill_mckee(rows, cols, size):
+    """Reverse Cuthill-McKee ordering of the symmetrised pattern (rows, cols) of a size x size matrix:
+    breadth-first from a node of least degree in each connected part, neighbours by increasing
+    degree, reversed.  numpy and one Python pass over the edges (a few ms per 1e4 unknowns), so that
+    banded models need not import scipy.sparse."""
+    r = np.concatenate([rows, cols])
+    c = np.concatenate([cols, rows])
+    key = np.unique(r * size + c)
+    r, c = key // size, key % size
+    off = r != c
+    r, c = r[off], c[off]
+    ptr = np.searchsorted(r, np.arange(size + 1)).tolist()
+    deg = np.diff(ptr)
+    nbrs = c[np.lexsort((c, deg[c], r))].tolist()
+    seen = bytearray(size)
+    perm = []
+    for s in np.argsort(deg, kind="stable").tolist():
+        if seen[s]:
+            continue
+        seen[s] = 1
+        perm.append(s)
+        i = len(perm) - 1
+        while i < len(perm):
+            v = perm[i]
+            i += 1
+            for w in nbrs[ptr[v]:ptr[v + 1]]:
+                if not seen[w]:
+                    seen[w] = 1
+                    perm.append(w)
+    return np.array(perm[::-1], np.intp)
+
+
+_GBSV = []
+
+
+def _dgbsv():
+    """LAPACK's banded solver dgbsv from scipy's compiled LAPACK wrappers.  Loaded as that one
+    extension module (a few ms) rather than through ``scipy.linalg``, whose import chain costs ten
+    times a whole small solve; falls back to the regular import when scipy's layout differs."""
+    if not _GBSV:
+        try:
+            import importlib.machinery
+            import importlib.util
+            import os
+            spec = importlib.util.find_spec("scipy")
+            d = os.path.join(os.path.dirname(spec.origin), "linalg")
+            name = next(f for f in os.listdir(d) if f.startswith("_flapack.")
+                        and f.endswith(tuple(importlib.machinery.EXTENSION_SUFFIXES)))
+            sp_ = importlib.util.spec_from_file_location("scipy.linalg._flapack", os.path.join(d, name))
+            mod = importlib.util.module_from_spec(sp_)
+            sp_.loader.exec_module(mod)
+            _GBSV.append(mod.dgbsv)
+        except Exception:  # noqa: BLE001 - any surprise: the documented import
+            from scipy.linalg.lapack import dgbsv
+            _GBSV.append(dgbsv)
+    return _GBSV[0]
+
+
 class BandMatrix:
     def __init__(self, pattern, ab):
         self.pattern, self.ab = pattern, ab
 
     def solve(self, b):
         p = self.pattern
-        from scipy.linalg.lapack import dgbsv
-        _, _, x, info = dgbsv(p.kl, p.ku, self.ab, b[p.perm], overwrite_ab=1, overwrite_b=1)
+        _, _, x, info = _dgbsv()(p.kl, p.ku, self.ab, b[p.perm], overwrite_ab=1, overwrite_b=1)
         if info != 0:
             raise np.linalg.LinAlgError(f"singular matrix (LAPACK gbsv info {info})")
         out = np.empty_like(x)
