@@ -639,8 +639,12 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
         if not cache_lv:
             check_stable(model, y, a)
         its[0] += k
-        cache_lv[n] = Level(n, model, y, a)
-        return cache_lv[n]
+        cache_lv[n] = lv = Level(n, model, y, a)
+        # meshes coarser than the next coarser one are used up (started this one): drop them, so that
+        # a fine solve holds two levels, not the whole hierarchy
+        for k in [k for k in cache_lv if k < (n + 1) // 2]:
+            del cache_lv[k]
+        return lv
 
     def values(lv):
         if lv._watched is None:
