@@ -245,9 +245,15 @@ def _mesh(args):
 
 
 def _show(args):
+    import warnings
+
     from .show import render
-    info = render(args.result, screenshot=args.screenshot, frame=args.frame, diagram=args.diagram,
-                  scale=args.scale, magnify=args.magnify)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        info = render(args.result, screenshot=args.screenshot, frame=args.frame, diagram=args.diagram,
+                      scale=args.scale, magnify=args.magnify)
+    for w in caught:   # the picture's notes (lift-off, below ground) as plain messages
+        print(f"femslide: note: {w.message}", file=sys.stderr)
     if args.screenshot:
         print(args.screenshot)
     return 0 if info else 1
