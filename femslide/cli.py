@@ -1,12 +1,13 @@
 """The command line: ``femslide COMMAND ...`` (``femslide --help``, ``femslide COMMAND --help``).
 
-    femslide scenes
+    femslide scenes [--json]
     femslide solve SCENE [--set NAME=VALUE]... [--json] [--out DIR]
     femslide simulate SCENE [--set NAME=VALUE]... [--json] [--out DIR]
     femslide sweep SCENE --vary NAME=V1,V2,... [--set NAME=VALUE]... [--json] [--out DIR]
                    [--jobs N] [--dask ADDRESS] [--resume] [--plot FILE]
     femslide mesh SCENE [--set NAME=VALUE]... [--out FILE]
     femslide show RESULT.vtu|RESULT.pvd [--frame K] [--screenshot FILE.png]
+                  [--diagram M|V|N] [--scale K] [--magnify K]
     femslide init SCENE [DIR]
     femslide --version
 
