@@ -26,7 +26,6 @@ from typing import TYPE_CHECKING, Any, Union
 from .errors import BadInput, SolverFailure
 from .structure import Structure, Table
 from .run import Result
-from . import sweep as _sweep_module  # noqa: F401  (loaded now, so that femslide.sweep stays the function)
 from .plot import plot  # matplotlib diagrams (matplotlib is imported when called)
 
 if TYPE_CHECKING:

@@ -225,7 +225,7 @@ def _parse_vary(text):
 
 
 def _sweep(args):
-    from .sweep import run_sweep
+    from .sweeps import run_sweep
     name, items = _parse_vary(args.vary)
     return run_sweep(_target(args.scene), name, items, parse_assignments(args.set), as_json=args.json,
                      out=args.out, jobs=args.jobs, dask=args.dask, resume=args.resume, plot=args.plot,

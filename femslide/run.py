@@ -9,7 +9,7 @@ runner hands these over in private keys of its dict, which never reach the resul
 history: a dict of arrays, or a callable returning one when asked for).
 
 :func:`sweep_table` is ``femslide.sweep``: a table of cases run by the command line's sweep
-executors (femslide/sweep.py).
+executors (femslide/sweeps.py).
 """
 from __future__ import annotations
 
@@ -381,7 +381,7 @@ def sweep_table(target, varied: dict, fixed: dict | None = None, jobs: int = 1, 
     (BadInput, nothing run).
 
     Every case is solved from scratch exactly as ``femslide solve``/``simulate`` solves it alone,
-    through the command line's sweep executors (femslide/sweep.py): in this process, or in a pool of
+    through the command line's sweep executors (femslide/sweeps.py): in this process, or in a pool of
     ``jobs`` processes.  A declared :class:`~femslide.Structure` is written to a temporary structure
     file first, so that worker processes can load it.
     """
@@ -392,7 +392,7 @@ def sweep_table(target, varied: dict, fixed: dict | None = None, jobs: int = 1, 
 
     from .progress import progress
     from .structure import Frozen, Structure
-    from .sweep import _run_pool, _run_serial
+    from .sweeps import run_pool, run_serial
 
     if not varied:
         raise BadInput("sweep: no varied parameter; give one or more as name=[values...], e.g. EI=[1e4, 1e6]")
@@ -431,9 +431,9 @@ def sweep_table(target, varied: dict, fixed: dict | None = None, jobs: int = 1, 
         bar = progress(n, f"sweep {label}", quiet, unit="case")
         try:
             if jobs > 1 and n > 1:
-                runs = _run_pool(spec, cases, range(n), out_dirs, min(jobs, n))
+                runs = run_pool(spec, cases, range(n), out_dirs, min(jobs, n))
             else:
-                runs = _run_serial(spec, cases, range(n), out_dirs)
+                runs = run_serial(spec, cases, range(n), out_dirs)
             for i, row, status in runs:
                 rows[i] = {**{nm: cases[i].get(nm, combos[i][nm]) for nm in names},
                            "converged": bool(row.get("converged", True)), "status": status,

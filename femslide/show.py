@@ -24,50 +24,12 @@ from __future__ import annotations
 
 import math
 import os
-import xml.etree.ElementTree as ET
 
 from .errors import BadInput
+from .vtu import pick_file, pvd_frames
 
 BACKGROUND = "white"
 WINDOW = (900, 700)
-
-
-def pvd_frames(path):
-    """[(time, vtu path)] of a PVD collection, in file order."""
-    try:
-        root = ET.parse(path).getroot()
-    except (ET.ParseError, OSError) as exc:
-        raise BadInput(f"{path}: not a readable PVD file: {exc}") from None
-    base = os.path.dirname(os.path.abspath(path))
-    out = []
-    for ds in root.iter("DataSet"):
-        f = ds.get("file")
-        if f:
-            out.append((float(ds.get("timestep", "nan")), os.path.join(base, f)))
-    if not out:
-        raise BadInput(f"{path}: the PVD collection lists no data sets")
-    return out
-
-
-def pick_file(path, frame=None):
-    """The VTU to draw: ``path`` itself, or frame ``frame`` (default: the last) of a PVD."""
-    if not os.path.isfile(path):
-        raise BadInput(f"result file {path} not found")
-    ext = os.path.splitext(path)[1].lower()
-    if ext == ".pvd":
-        frames = pvd_frames(path)
-        k = len(frames) - 1 if frame is None else frame
-        if not -len(frames) <= k < len(frames):
-            raise BadInput(f"--frame {frame}: {path} has {len(frames)} frames; allowed 0 ... {len(frames) - 1}")
-        t, f = frames[k]
-        if not os.path.isfile(f):
-            raise BadInput(f"{path}: frame {k} file {f} not found")
-        return f, t
-    if frame is not None:
-        raise BadInput("--frame applies to a .pvd series only")
-    if ext != ".vtu":
-        raise BadInput(f"{path}: expected a .vtu or .pvd file")
-    return path, None
 
 
 def _check_readable(vtu, given):

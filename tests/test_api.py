@@ -262,7 +262,7 @@ def test_sweep_bad_input(args, kwargs, match):
 
 
 def test_sweep_stays_the_function_after_the_cli_module_loads():
-    from femslide.sweep import run_sweep  # noqa: F401  (the command line's sweep module)
+    from femslide.sweeps import run_sweep  # noqa: F401  (the command line's sweep module)
     assert callable(femslide.sweep) and femslide.sweep.__module__ == "femslide"
 
 

@@ -216,7 +216,8 @@ def test_pvd_colour_range_is_global(friction_series):
     """The colour range of a series is min/max over all its frames (read here with meshio)."""
     import meshio
 
-    from femslide.show import pvd_frames, value_range
+    from femslide.show import value_range
+    from femslide.vtu import pvd_frames
     lo, hi = math.inf, -math.inf
     for _, f in pvd_frames(str(friction_series)):
         m = meshio.read(f)
@@ -298,6 +299,6 @@ def test_show_series_colour_range_is_global(can_render, friction_series):
     clim = json.loads(r.stdout.strip().splitlines()[-1])
     assert clim == pytest.approx(list(value_range(str(friction_series))), rel=1e-12)
     import meshio
-    from femslide.show import pvd_frames
+    from femslide.vtu import pvd_frames
     M0 = meshio.read(pvd_frames(str(friction_series))[0][1]).point_data["bending_moment"]
     assert np.ptp(M0) < 0.9 * (clim[1] - clim[0])   # not frame 0's own range

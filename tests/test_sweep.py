@@ -164,7 +164,7 @@ def test_dask_local_jobs_sets_the_workers(monkeypatch):
     """`--dask local --jobs N`: a LocalCluster of N worker processes (N = 2 for 3 cases), rows as in
     process."""
     pytest.importorskip("dask.distributed")
-    sweep = importlib.import_module("femslide.sweep")  # femslide.sweep is also the API function
+    sweep = importlib.import_module("femslide.sweeps")
     seen = []
     real = sweep.dask_client
 
@@ -237,7 +237,7 @@ def test_dask_relative_paths_are_made_absolute(tmp_path, monkeypatch):
 
 
 def test_absolute_case_makes_paths_absolute(tmp_path, monkeypatch):
-    from femslide.sweep import absolute_case
+    from femslide.sweeps import absolute_case
     monkeypatch.chdir(tmp_path)
     name, values, out = absolute_case("sdof-harmonic", {"record": "a/rec.csv", "mu": 0.1}, "o/case_000")
     assert name == "sdof-harmonic" and values == {"record": str(tmp_path / "a" / "rec.csv"), "mu": 0.1}

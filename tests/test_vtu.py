@@ -222,7 +222,7 @@ def test_dynamic_frames_carry_time_and_global_values(tmp_path):
     history.csv row at that time), units; the telescopic guide link reaches the rod's top end."""
     import meshio
 
-    from femslide.show import pvd_frames
+    from femslide.vtu import pvd_frames
     from femslide.vtu import text
     env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
     r = subprocess.run([sys.executable, "-m", "femslide", "simulate", "beam-friction", "--set", "t_end=0.4",

@@ -190,7 +190,7 @@ def _open_stream(path):
 
 # -- executors: each yields (case index, row, status) as cases finish ------------------------------------
 
-def _run_serial(scene_name, cases, todo, out_dirs):
+def run_serial(scene_name, cases, todo, out_dirs):
     from .patterns import PatternCache
     cache = PatternCache()
     for i in todo:
@@ -198,7 +198,7 @@ def _run_serial(scene_name, cases, todo, out_dirs):
         yield i, row, status
 
 
-def _run_pool(scene_name, cases, todo, out_dirs, jobs):
+def run_pool(scene_name, cases, todo, out_dirs, jobs):
     from concurrent.futures import ProcessPoolExecutor, as_completed
     with ProcessPoolExecutor(max_workers=jobs) as pool:
         futs = {pool.submit(solve_case, scene_name, cases[i], out_dirs[i]): i for i in todo}
@@ -368,9 +368,9 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, 
         elif dask:
             runs = _run_dask(spec, cases, todo, out_dirs, dask, jobs)
         elif jobs is not None and jobs > 1 and len(todo) > 1:
-            runs = _run_pool(spec, cases, todo, out_dirs, min(jobs, len(todo)))
+            runs = run_pool(spec, cases, todo, out_dirs, min(jobs, len(todo)))
         else:
-            runs = _run_serial(spec, cases, todo, out_dirs)
+            runs = run_serial(spec, cases, todo, out_dirs)
         for i, row, status in runs:
             values = cases[i]
             row = {name: values[name], **row}
