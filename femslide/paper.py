@@ -19,7 +19,7 @@ import math
 from . import hinge, static
 from .errors import BadInput, SolverFailure
 from .predictor import mechanism_state
-from .results import joint_forces, largest_moment
+from .results import joint_forces
 from .structure import Structure
 
 STRUCTURES = ("beam-slider", "beam-fixed", "beam-both", "beam-spring", "beam-extra-mass")
@@ -137,7 +137,7 @@ def watch(scene):
         def w(lv, fs):
             m = lv.model
             tip = m.nodal(lv.y[:m.n_q])[m.node("cantilever", -1)]
-            return ([largest_moment(m, lv.y, lv.alpha), tip[0] * m.Lref, tip[1] * m.Lref, float(tip[2])],
+            return ([lv.largest_moment(), tip[0] * m.Lref, tip[1] * m.Lref, float(tip[2])],
                     ["moment", "length", "length", "angle"])
         return w
 
@@ -148,7 +148,7 @@ def watch(scene):
         s = (float(clamp.slide(y[clamp.dofs])[0]) - m.slide0["clamp"]) * m.Lref
         A = joint_forces(m, y, "A1")
         B = joint_forces(m, y, "B1")
-        return ([largest_moment(m, y, lv.alpha), -float(y[m.body_dof("deck") + 2]), s,
+        return ([lv.largest_moment(), -float(y[m.body_dof("deck") + 2]), s,
                  A[0] * F, A[1] * F, B[0] * F, B[1] * F],
                 ["moment", "angle", "length", "force", "force", "force", "force"])
     return w

@@ -26,9 +26,10 @@ from __future__ import annotations
 import numpy as np
 
 
-def rod_arrays(model, y, alpha):
+def rod_arrays(model, y, alpha, moments=None):
     """Per rod (by name): node arrays s, x, y, u, v, theta, N, V, M (SI) and the largest |M| along
-    the rod including interior extrema (``M_max``)."""
+    the rod including interior extrema (``M_max``).  ``moments``: :func:`end_moments` of this state
+    if already computed."""
     L, F = model.Lref, model.Fref
     q = y[:model.n_q]
     U = model.nodal(q)
@@ -37,7 +38,7 @@ def rod_arrays(model, y, alpha):
         return out
     es = model.elements
     X = model.X0 + U[:, :2]
-    qb = end_moments(model, y, X)
+    qb = end_moments(model, y, X) if moments is None else moments
     D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
     Ln = np.hypot(D[:, 0], D[:, 1])
     t = D / Ln[:, None]
@@ -132,13 +133,16 @@ def _start_force(model, y, rod):
     return F
 
 
-def largest_moment(model, y, alpha) -> float:
-    """Largest |bending moment| [N m] over all rods (cheap when no rod carries a distributed load)."""
+def largest_moment(model, y, alpha, moments=None) -> float:
+    """Largest |bending moment| [N m] over all rods (cheap when no rod carries a distributed load).
+    ``moments``: :func:`end_moments` of this state if already computed."""
     if model.elements is None:
         return 0.0
+    if moments is None:
+        moments = end_moments(model, y)
     if model.elem_q.any():
-        return max(a["M_max"] for a in rod_arrays(model, y, alpha).values())
-    return float(np.abs(end_moments(model, y)).max()) * model.Fref * model.Lref
+        return max(a["M_max"] for a in rod_arrays(model, y, alpha, moments).values())
+    return float(np.abs(moments).max()) * model.Fref * model.Lref
 
 
 def joint_forces(model, y, name):

@@ -45,7 +45,7 @@ from . import corotational
 from .errors import BadInput, SolverFailure
 from .model import Model, PatternCache, solve_linear
 from .newton import newton, principal_branch
-from .results import end_moments, extract, flatten, rod_arrays, unflatten
+from .results import end_moments, extract, flatten, largest_moment, rod_arrays, unflatten
 from .structure import Frozen
 
 TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (10x below 1e-6)
@@ -470,13 +470,24 @@ class Level:
 
     def __init__(self, n, model, y, alpha):
         self.n, self.model, self.y, self.alpha = n, model, y, alpha
-        self._arrays = self._res = self._watched = self._noise = self._scatter = None
+        self._arrays = self._res = self._watched = self._noise = self._scatter = self._moments = None
+
+    @property
+    def moments(self):
+        """The elements' end moments from equilibrium (:func:`femslide.results.end_moments`)."""
+        if self._moments is None:
+            self._moments = end_moments(self.model, self.y)
+        return self._moments
 
     @property
     def arrays(self):
         if self._arrays is None:
-            self._arrays = rod_arrays(self.model, self.y, self.alpha)
+            self._arrays = rod_arrays(self.model, self.y, self.alpha, self.moments)
         return self._arrays
+
+    def largest_moment(self) -> float:
+        """Largest |bending moment| [N m] over all rods."""
+        return largest_moment(self.model, self.y, self.alpha, self.moments)
 
     @property
     def res(self):
@@ -555,7 +566,7 @@ def _scatter(lv: Level) -> float:
         return 0.0
     if not np.all(np.isfinite(y)):
         return 0.0
-    M0 = np.abs(end_moments(m, lv.y)).max()
+    M0 = np.abs(lv.moments).max()
     M1 = np.abs(end_moments(m, y)).max()
     # relative to the moment, or to 1e-6 of the loads' moment scale (model unit) when the rods carry
     # (almost) none: the noise of a zero moment is no relative error of anything
