@@ -115,8 +115,7 @@ def _solve(args, command):
     tgt = _target(args.scene)
     scene = tgt.scene
     if command == "simulate" and getattr(scene, "spec", None):
-        raise BadInput(f"{args.scene} is a structure file: `femslide simulate` of declared structures (the FE "
-                       f"dynamics) is not in this version; `femslide solve {args.scene}` gives its statics")
+        tgt = scene = scene.for_simulate()   # a structure file (target and scene): its [simulate] table
     if scene.command != command:
         raise BadInput(f"scene {scene.name} is a '{scene.command}' scene; run: femslide {scene.command} {args.scene}")
     values = tgt.resolve(parse_assignments(args.set))

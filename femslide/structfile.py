@@ -182,6 +182,15 @@ class StructureFile:
     description: str = ""
     command: str = "solve"
     _frozen_ok: dict = field(default_factory=dict)
+    simulate_table: dict | None = None   # the file's [simulate] table (femslide/simulation.py)
+
+    def for_simulate(self) -> "StructureFile":
+        """The same file as a `simulate` target (its [simulate] table checked now)."""
+        from .simulation import parse_spec
+        parse_spec(self.simulate_table, os.path.dirname(os.path.abspath(self.path)),
+                   f"structure file {self.path}: [simulate]")
+        return StructureFile(self.path, self.structure, self.description, "simulate",
+                             simulate_table=self.simulate_table)
 
     @property
     def name(self):
@@ -211,6 +220,14 @@ class StructureFile:
         return values
 
     def run(self, values: dict) -> dict:
+        if self.command == "simulate":
+            from .simulation import parse_spec, simulate
+            s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
+            spec = parse_spec(self.simulate_table, os.path.dirname(os.path.abspath(self.path)),
+                              f"structure file {self.path}: [simulate]")
+            if elements is not None:
+                spec.elements = elements
+            return simulate(s.freeze(), spec, name=self.name)
         from .run import solve_structure
         s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
         return solve_structure(s.freeze(), elements=elements, name=self.name, cache=values.get("_cache"))
@@ -259,4 +276,4 @@ def load(path: str, data: dict | None = None) -> StructureFile:
         s.freeze()
     except BadInput as exc:
         raise BadInput(f"structure file {path}: {exc}") from None
-    return StructureFile(path, s, desc if isinstance(desc, str) else "")
+    return StructureFile(path, s, desc if isinstance(desc, str) else "", simulate_table=data.get("simulate"))

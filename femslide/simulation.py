@@ -1,0 +1,405 @@
+"""`femslide simulate` of a declared structure: a structure file's ``[simulate]`` table run in time.
+
+    [simulate]
+    t_end = 10.0                                   # s
+    tolerance = 1e-6                               # local error tolerance (relative), 1e-12 .. 1e-2
+    damping = {alpha = 0.0, beta = 0.0}            # Rayleigh: C = alpha M + beta K0 [1/s, s]
+    ground = {direction = [1.0, 0.0], amplitude = 1.0, frequency = 2.0}   # or {direction, record, scale}
+    initial = {body = "deck", rotation = -0.01}    # or u = [dx, dy]; or {joint = "belt", slide = 0.07}
+    elements = 8                                   # elements per rod without its own `elements`
+
+The run: the static equilibrium under the loads (femslide.static, on the fixed mesh), held - if
+``initial`` says so - at a body's rotation [rad] and/or centroid displacement [m] or at a slider's
+slide [m] (an extra exact constraint, walked there in small steps), then released at rest and
+integrated to ``t_end`` (femslide/transient.py: generalized-alpha, adaptive step).  The lowest natural
+frequencies of the frictionless structure about the static equilibrium (femslide/modes.py) are
+reported as ``frequencies_hz``.
+
+Result (SI): ``converged``, ``steps``, ``t_end``, ``energy_balance`` (kinetic + potential +
+dissipated - work in, relative to the largest of them over the run), ``events`` ({} : no friction),
+``frequencies_hz``, ``peaks`` {``reactions``: {NAME: {Fx, Fy, M}} largest |value| over time,
+``rods``: {NAME: {M_max}}, ``joints``: {NAME: {slide_min, slide_max}}}, ``wall_time_s``; ``--out DIR``
+writes ``history.csv`` (every reported quantity at every accepted step) and a PVD series of VTU
+frames (each frame's time and global values as field data).
+
+Work is bounded a priori: the number of steps is estimated from the lowest frequency and the
+tolerance (second-order local error control: about 2 pi (c3 / tolerance)^(1/3) steps per period)
+and a run estimated to need more than WORK_BUDGET_S seconds is bad input naming t_end and its
+usable range; the step count and the wall time are limited at run time as a safety net.
+Coulomb friction (mu, mu0) in the FE dynamics is not available in this version: a structure with
+friction is bad input for simulate (the statics ignore friction).
+"""
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import dataclass, replace
+
+from . import transient  # noqa: F401  (sets the BLAS threads before numpy is imported)
+
+import numpy as np  # noqa: E402
+import scipy.sparse as sp  # noqa: E402
+
+from .errors import BadInput, SolverFailure  # noqa: E402
+from .ground import Ground, parse as parse_ground  # noqa: E402
+
+DEFAULT_ELEMENTS = 8
+WORK_BUDGET_S = 60.0
+STEP_SECONDS = 1.2e-3       # measured cost of one step (2-3 Newton iterations) of a small model ...
+STEP_SECONDS_PER_DOF = 1e-5  # ... plus this per frame dof (2-core development machine, one BLAS thread)
+WALL_LIMIT_S = 110.0
+MODES = 6
+FRAMES = 200                 # at most this many VTU frames in --out
+SIM_KEYS = ("t_end", "tolerance", "damping", "ground", "initial", "elements")
+
+
+@dataclass
+class Spec:
+    t_end: float = 1.0
+    tolerance: float = 1e-6
+    alpha: float = 0.0
+    beta: float = 0.0
+    ground: Ground | None = None
+    initial: dict | None = None
+    elements: int = DEFAULT_ELEMENTS
+
+
+def _num(where, x, lo, hi, lo_open=False):
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        raise BadInput(f"{where} = {x!r} is not a number; allowed: [{lo:g}, {hi:g}]") from None
+    if not math.isfinite(v) or v < lo or v > hi or (lo_open and v == lo):
+        raise BadInput(f"{where} = {x!r}; allowed: {'(' if lo_open else '['}{lo:g}, {hi:g}]")
+    return v
+
+
+def parse_spec(table, base_dir=".", where="[simulate]") -> Spec:
+    """A :class:`Spec` from a structure file's ``[simulate]`` table (see the module docstring)."""
+    if table is None:
+        raise BadInput(f"{where}: a structure file needs a [simulate] table (t_end, tolerance, ...) to be simulated")
+    if not isinstance(table, dict):
+        raise BadInput(f"{where}: must be a table")
+    bad = sorted(set(table) - set(SIM_KEYS))
+    if bad:
+        raise BadInput(f"{where}: unknown key {bad[0]!r}; allowed: {', '.join(SIM_KEYS)}")
+    sp_ = Spec()
+    sp_.t_end = _num(f"{where} t_end", table.get("t_end", 1.0), 0.0, 1e7, lo_open=True)
+    sp_.tolerance = _num(f"{where} tolerance", table.get("tolerance", 1e-6), 1e-12, 1e-2)
+    damp = table.get("damping", {}) or {}
+    if not isinstance(damp, dict) or set(damp) - {"alpha", "beta"}:
+        raise BadInput(f"{where} damping: a table {{alpha = ..., beta = ...}} (Rayleigh, C = alpha M + beta K)")
+    sp_.alpha = _num(f"{where} damping.alpha", damp.get("alpha", 0.0), 0.0, 1e6)
+    sp_.beta = _num(f"{where} damping.beta", damp.get("beta", 0.0), 0.0, 1e3)
+    sp_.ground = parse_ground(table.get("ground"), base_dir, f"{where} ground")
+    ini = table.get("initial")
+    if ini is not None:
+        if not isinstance(ini, dict):
+            raise BadInput(f"{where} initial: a table {{body, rotation, u}} or {{joint, slide}}")
+        if "body" in ini:
+            bad = sorted(set(ini) - {"body", "rotation", "u"})
+            if bad or not ({"rotation", "u"} & set(ini)):
+                raise BadInput(f"{where} initial: a body's hold needs rotation [rad] and/or u = [dx, dy] [m] "
+                               f"(and nothing else{'; got ' + bad[0] if bad else ''})")
+            ini = dict(ini)
+            if "rotation" in ini:
+                ini["rotation"] = _num(f"{where} initial.rotation", ini["rotation"], -math.pi, math.pi)
+            if "u" in ini:
+                u = ini["u"]
+                if not isinstance(u, (list, tuple)) or len(u) != 2:
+                    raise BadInput(f"{where} initial.u = {u!r}; allowed: [dx, dy] in m")
+                ini["u"] = [_num(f"{where} initial.u", x, -1e6, 1e6) for x in u]
+        elif "joint" in ini:
+            if set(ini) != {"joint", "slide"}:
+                raise BadInput(f"{where} initial: a joint's hold is {{joint = NAME, slide = VALUE [m]}}")
+            ini = {"joint": ini["joint"], "slide": _num(f"{where} initial.slide", ini["slide"], -1e6, 1e6)}
+        else:
+            raise BadInput(f"{where} initial: name a body (rotation, u) or a slider/roller joint (slide)")
+    sp_.initial = ini
+    if "elements" in table:
+        n = table["elements"]
+        if isinstance(n, bool) or not isinstance(n, (int, float)) or n != int(n) or not 1 <= n <= 512:
+            raise BadInput(f"{where} elements = {n!r}; allowed: an integer in [1, 512]")
+        sp_.elements = int(n)
+    return sp_
+
+
+# -- holding the initial state ------------------------------------------------------------------------
+
+class _BodyHold:
+    """Exact constraint holding a body's rotation and/or centroid displacement (joints.py protocol)."""
+
+    def __init__(self, d, r, what):
+        self.d, self.r, self.what = d, r, what   # what: list of 'x', 'y', 'rot'
+        self.size = len(what)
+        self.dofs = np.arange(d, d + 3, dtype=np.intp)
+        self.target = np.zeros(self.size)
+
+    def value(self, z):
+        c, s = math.cos(z[2]), math.sin(z[2])
+        rx, ry = self.r
+        vals = {"x": z[0] + c * rx - s * ry - rx, "y": z[1] + s * rx + c * ry - ry, "rot": z[2]}
+        return np.array([vals[w] for w in self.what])
+
+    def eval(self, z, mu=None):
+        c, s = math.cos(z[2]), math.sin(z[2])
+        rx, ry = self.r
+        Rx, Ry = c * rx - s * ry, s * rx + c * ry
+        rows = {"x": [1.0, 0.0, -Ry], "y": [0.0, 1.0, Rx], "rot": [0.0, 0.0, 1.0]}
+        hrow = {"x": -Rx, "y": -Ry, "rot": 0.0}
+        g = self.value(z) - self.target
+        G = np.array([rows[w] for w in self.what])
+        H = np.zeros((self.size, 3, 3))
+        for i, w in enumerate(self.what):
+            H[i, 2, 2] = hrow[w]
+        if mu is not None:
+            return g, G, np.einsum("i,ijk->jk", mu, H)
+        return g, G, H
+
+
+class _SlideHold:
+    """Exact constraint holding a slider's or roller's slide."""
+
+    size = 1
+
+    def __init__(self, link, s0):
+        self.link, self.s0 = link, s0
+        self.dofs = link.dofs
+        self.target = np.zeros(1)
+
+    def value(self, z):
+        return np.array([self.link.slide(z)[0] - self.s0])
+
+    def eval(self, z, mu=None):
+        s, ds, H = self.link.slide(z)
+        g = np.array([s - self.s0 - self.target[0]])
+        if mu is not None:
+            return g, ds[None, :], mu[0] * H
+        return g, ds[None, :], H[None]
+
+
+def _held_start(fs, counts, L, F, y, alpha, ini):
+    """The static state held at the ``initial`` values (model units), walked there in small steps."""
+    from .model import Model
+    from .newton import newton
+    m = Model(fs, counts, L, F, finalize=False)
+    if "body" in ini:
+        name = ini["body"]
+        if name not in m.body_index:
+            raise BadInput(f"[simulate] initial.body = {name!r}: no such body; bodies: "
+                           f"{', '.join(m.body_index) or 'none'}")
+        b = fs.body(name)
+        d = m.body_dof(name)
+        r = tuple(np.asarray(b.centroid, float) / L - m.body_X0[m.body_index[name]])
+        what, target = [], []
+        if "u" in ini:
+            what += ["x", "y"]
+            target += [ini["u"][0] / L, ini["u"][1] / L]
+        if "rotation" in ini:
+            what.append("rot")
+            target.append(ini["rotation"])
+        hold = _BodyHold(d, r, what)
+    else:
+        name = ini["joint"]
+        j = next((j for j in fs.joints if j.name == name), None)
+        if j is None or j.type not in ("slider", "roller"):
+            raise BadInput(f"[simulate] initial.joint = {name!r}: not a slider or roller of the structure")
+        hold = _SlideHold(m.joint[name], m.slide0[name])
+        target = [ini["slide"] / L]
+    m.add_constraint(hold)
+    m.finalize()
+    target = np.array(target)
+    z = np.concatenate([y, np.zeros(hold.size)])
+    start = hold.value(z[hold.dofs])
+    steps = max(1, int(math.ceil(float(np.abs(target - start).max()) / 0.02)))
+    a = alpha
+    k = 0
+    frac = 0.0
+    dfrac = 1.0 / steps
+    while frac < 1.0:
+        f1 = min(1.0, frac + dfrac)
+        hold.target = start + f1 * (target - start)
+        z1, info = newton(m, z, a)
+        if not info.converged:
+            dfrac *= 0.5
+            k += 1
+            if k > 30:
+                raise SolverFailure(f"the initial state (held at {ini}) could not be reached: {info.reason}")
+            continue
+        z, a, frac = z1, info.alpha, f1
+    return z[:-hold.size], a
+
+
+# -- the run ----------------------------------------------------------------------------------------
+
+def _fixed_mesh(fs, n):
+    """The frozen structure with every rod's mesh fixed (``n`` elements unless the rod has its own)."""
+    rods = tuple(r if r.elements else replace(r, elements=n) for r in fs.rods)
+    return replace(fs, rods=rods, derived={})
+
+
+def check_work(spec: Spec, f1: float, n_q: int):
+    """Bad input (naming t_end and the usable range) when the run would take more than WORK_BUDGET_S."""
+    c3 = 0.084
+    per_period = 2 * math.pi * (c3 / spec.tolerance) ** (1.0 / 3.0) * 1.5
+    periods = spec.t_end * max(f1, spec.ground.frequency if spec.ground is not None and spec.ground.times is None else 0.0)
+    steps = periods * per_period
+    if spec.ground is not None and spec.ground.times is not None and spec.ground.dt:
+        steps = max(steps, min(spec.t_end, float(spec.ground.times[-1])) / spec.ground.dt)
+    cost = STEP_SECONDS + STEP_SECONDS_PER_DOF * n_q
+    if steps * cost > WORK_BUDGET_S:
+        t_max = spec.t_end * WORK_BUDGET_S / (steps * cost)
+        raise BadInput(f"[simulate] t_end = {spec.t_end:g} s: about {steps:.3g} steps of ~{cost * 1e3:.2g} ms "
+                       f"({per_period:.0f} per period of the lowest mode, {1 / f1:.4g} s, at tolerance "
+                       f"{spec.tolerance:g}) would take ~{steps * cost:.3g} s; allowed: t_end <= {t_max:.4g} s "
+                       f"({WORK_BUDGET_S:g} s of work; a looser tolerance allows more)")
+    return int(3 * max(steps, 1000)) + 1000
+
+
+def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
+    """Run the dynamics of a frozen structure (see the module docstring); returns the JSON dict,
+    with ``_write(out_dir)`` writing the history and the VTU frames, ``_history`` (columns, array)."""
+    from . import static
+    from .mass import Masses
+    from .modes import modes
+    from .results import joint_forces
+    from .transient import integrate
+
+    t_wall = time.perf_counter()
+    for j in fs.joints:
+        if j.mu is not None:
+            raise BadInput(f"joint {j.name}: Coulomb friction (mu, mu0) in the FE dynamics of declared structures "
+                           f"is not available in this version; remove mu/mu0 to simulate it frictionless")
+    fs = _fixed_mesh(fs, spec.elements)
+    sol = static.solve(fs)
+    model, y_s, a_s = sol.level.model, sol.level.y, sol.level.alpha
+    L, F = model.Lref, model.Fref
+    masses = Masses(model)
+    if masses.massive_dofs().size == 0:
+        raise BadInput("simulate: nothing in the structure has mass (give a body a mass or a rod a rhoA)")
+    freq, _ = modes(model, y_s, a_s, masses, MODES)
+    max_steps = check_work(spec, float(freq[0]), model.n_q)
+    C = None
+    if spec.alpha or spec.beta:
+        from .modes import tangent
+        K0, _, _ = tangent(model, y_s, a_s)
+        r, c, v = masses.matrix(y_s[:model.n_q])
+        M0 = sp.coo_matrix((v, (r, c)), shape=(model.n_q, model.n_q))
+        C = (spec.alpha * M0 + spec.beta * K0).tocoo()
+        C.sum_duplicates()
+    counts = {r.name: r.elements for r in fs.rods}
+    y0, a0 = (y_s, a_s) if spec.initial is None else _held_start(fs, counts, L, F, y_s, a_s, spec.initial)
+
+    reac = [j.name for j in fs.joints if j.b == "ground"]
+    slides = [j.name for j in fs.joints if j.type in ("slider", "roller")]
+    rods = [r.name for r in fs.rods]
+    bodies = [b.name for b in fs.bodies]
+    cols = ["t"] + [f"reactions.{n}.{k}" for n in reac for k in ("Fx", "Fy", "M")] \
+        + [f"rods.{n}.M_max" for n in rods] + [f"joints.{n}.slide" for n in slides] \
+        + [f"bodies.{n}.{k}" for n in bodies for k in ("x", "y", "rotation")]
+    frames, frames_rows = [], []   # (t, row index, y, alpha) every t_end / FRAMES
+    next_frame = [0.0]
+
+    def observe(t, y, alpha, v):
+        row = [t]
+        for n in reac:
+            fx, fy, m = joint_forces(model, y, n)
+            row += [fx * F, fy * F, m * F * L]
+        if rods:
+            qb, _ = model.element_forces(y[:model.n_q], alpha)
+            Mabs = np.abs(qb[:, 1:]).max(axis=1) if qb.size else np.zeros(0)
+            for k in range(len(rods)):
+                e = model.elem_rod == k
+                row.append(float(Mabs[e].max()) * F * L if e.any() else 0.0)
+        q = y[:model.n_q]
+        for n in slides:
+            link = model.joint[n]
+            row.append((float(link.slide(q[link.dofs])[0]) - model.slide0[n]) * L)
+        for n in bodies:
+            x, yy = model.body_point(n, q, fs.body(n).centroid)
+            row += [float(x), float(yy), float(q[model.body_dof(n) + 2])]
+        if t >= next_frame[0] or t >= spec.t_end * (1 - 1e-12):
+            frames.append((t, len(frames_rows), y.copy(), alpha.copy()))
+            next_frame[0] = t + spec.t_end / FRAMES
+        frames_rows.append(None)
+        return row
+
+    f_top = float(freq[0])
+    h0 = 0.02 / f_top * spec.tolerance ** (1.0 / 3.0)
+    h_max = spec.t_end / 20.0
+    if spec.ground is not None:
+        if spec.ground.times is not None and spec.ground.dt:
+            h_max = min(h_max, spec.ground.dt)
+        elif spec.ground.times is None:
+            h_max = min(h_max, 0.05 / spec.ground.frequency)
+    run = integrate(model, masses, y0, a0, spec.t_end, spec.tolerance, C=C, ground=spec.ground,
+                    observe=observe, h0=h0, h_max=h_max, max_steps=max_steps,
+                    wall_limit=WALL_LIMIT_S, progress=progress, q_ref=y_s)
+    H = np.array(run.rows)
+    if not np.all(np.isfinite(H)):
+        raise SolverFailure("simulate: the history holds NaN or inf values")
+    peaks = {"reactions": {}, "rods": {}, "joints": {}}
+    col = {c: i for i, c in enumerate(cols)}
+    T = H[:, 0]
+    for n in reac:
+        peaks["reactions"][n] = {k: _peak(T, np.abs(H[:, col[f"reactions.{n}.{k}"]])) for k in ("Fx", "Fy", "M")}
+    for n in rods:
+        peaks["rods"][n] = {"M_max": _peak(T, H[:, col[f"rods.{n}.M_max"]])}
+    for n in slides:
+        s = H[:, col[f"joints.{n}.slide"]]
+        peaks["joints"][n] = {"slide_min": -_peak(T, -s), "slide_max": _peak(T, s)}
+    res = {"converged": True, "steps": run.steps, "rejected_steps": run.rejected,
+           "newton_iterations": run.newton_iterations, "t_end": spec.t_end,
+           "energy_balance": run.energy_balance, "energy": run.energy, "events": {},
+           "frequencies_hz": [float(f) for f in freq], "peaks": peaks,
+           "elements": {r.name: r.elements for r in fs.rods}}
+    res["_write"] = lambda d: _write(d, name, cols, H, frames, model)
+    res["wall_time_s"] = time.perf_counter() - t_wall
+    res["_history"] = (cols, H)
+    return res
+
+
+def _peak(t, x):
+    """Largest value of the sampled x(t), refined by the parabola through the largest sample and its
+    neighbours (the samples are the integrator's steps)."""
+    i = int(np.argmax(x))
+    if 0 < i < x.size - 1:
+        t0, t1, t2 = t[i - 1], t[i], t[i + 1]
+        x0, x1, x2 = x[i - 1], x[i], x[i + 1]
+        d1, d2 = (x1 - x0) / (t1 - t0), (x2 - x1) / (t2 - t1)
+        c = (d2 - d1) / (t2 - t0)
+        if c < 0:
+            b = d1 - c * (t0 + t1)   # x = x0 + d1 (s - t0) + c (s - t0)(s - t1) -> x' = b + 2 c s
+            s = -b / (2 * c)
+            if t0 <= s <= t2:
+                return float(x0 + d1 * (s - t0) + c * (s - t0) * (s - t1))
+    return float(x[i])
+
+
+def _write(out_dir, name, cols, H, frames, model):
+    """history.csv and the PVD series of VTU frames (about FRAMES, evenly spread in time)."""
+    from .vtu import _write_vtu, mesh_data
+    os.makedirs(out_dir, exist_ok=True)
+    files = []
+    path = os.path.join(out_dir, "history.csv")
+    np.savetxt(path, H, delimiter=",", header=",".join(cols), comments="")
+    files.append(path)
+    if frames:
+        entries = []
+        for k, (t, i, y, alpha) in enumerate(frames):
+            points, cells, pdata, cdata = mesh_data(model, y, alpha)
+            fd = {"time": t, **{c: H[i, j] for j, c in enumerate(cols) if j > 0}}
+            fname = f"{name}_{k:04d}.vtu"
+            _write_vtu(os.path.join(out_dir, fname), points, cells, pdata, cdata, fd)
+            files.append(os.path.join(out_dir, fname))
+            entries.append((t, fname))
+        pvd = os.path.join(out_dir, f"{name}.pvd")
+        with open(pvd, "w") as fh:
+            fh.write('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">\n'
+                     '<Collection>\n')
+            for t, fname in entries:
+                fh.write(f'<DataSet timestep="{t!r}" group="" part="0" file="{fname}"/>\n')
+            fh.write("</Collection>\n</VTKFile>\n")
+        files.append(pvd)
+    return files

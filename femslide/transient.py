@@ -1,0 +1,303 @@
+"""Implicit time integration of a declared structure: the constrained (index-3) equations of motion
+
+    M(q) q'' + C q' + f(q) + G(q)^T mu = -M a_g(t) e,     g(q) = 0,
+
+on the model's own assembly (:meth:`femslide.model.Model.system`: f the internal forces, springs and
+dead loads, G the exact joint constraints) and solved by the statics' Newton loop
+(:func:`femslide.newton.newton`) once per step.  Units: the model's (lengths by Lref, forces by Fref),
+time in seconds.
+
+Integrator: generalized-alpha for constrained mechanical systems (Arnold & Bruls 2007; the
+Chung-Hulbert parameters of spectral radius ``RHO_INF`` at infinite frequency): the equations hold
+exactly at t_{n+1} (positions on the constraint manifold, no drift; massless dofs - rods with
+rhoA = 0, node rotations - in static equilibrium at every step), with an acceleration-like variable a,
+
+    q_{n+1} = q_n + h v_n + h^2 ((1/2 - beta) a_n + beta a_{n+1}),
+    v_{n+1} = v_n + h ((1 - gamma) a_n + gamma a_{n+1}),
+    (1 - alpha_m) a_{n+1} + alpha_m a_n = (1 - alpha_f) q''_{n+1} + alpha_f q''_n.
+
+Second order in q, v and the multipliers.  Newton's unknowns are q_{n+1} and mu_{n+1}; the iteration
+matrix is [[M beta' + C gamma' + K, G^T], [G, 0]] with beta' = (1 - alpha_m)/((1 - alpha_f) beta h^2),
+gamma' = gamma / (beta h), plus the derivatives of a body's inertia when its frame origin is not its
+centroid (femslide/mass.py).  Step size: adaptive, with the local error estimate of the positions
+e = c3 h^2 (a_{n+1} - a_n), c3 = (alpha_m - alpha_f)/2 + beta - 1/6 (Taylor expansion of the
+position update), over the dofs with mass, kept below ``tolerance`` times the largest displacement
+from the static state seen so far (floor 1e-6 Lref): a step with a larger error is repeated with a
+smaller h, the next step is h (0.9 / err)^(1/3) (between 0.2 h and 2 h).
+
+Damping: Rayleigh, C = alpha M0 + beta K0 with M0 and K0 the mass matrix and the tangent at the
+static state (constant).  Energy balance: kinetic + potential (strain, springs, dead loads including
+gravity) + dissipated (integral of v.C v) - work of the ground-motion inertia loads (integral of
+F_g . v), both integrals by the trapezoidal rule per step; reported relative to the largest energy
+of the run.
+"""
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import dataclass, field
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # small LUs: threads only cost (see dynamics.py)
+
+import numpy as np  # noqa: E402
+import scipy.sparse as sp  # noqa: E402
+
+from .corotational import strain_energy  # noqa: E402
+from .errors import BadInput, SolverFailure  # noqa: E402
+from .model import BandMatrix  # noqa: E402
+from .newton import newton  # noqa: E402
+
+RHO_INF = 0.9          # spectral radius at infinite frequency (a little numerical damping of the
+                       # highest modes, needed by the multipliers of index-3 constraints)
+NEWTON_TOL = 1e-10
+MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/simulation.py comes first)
+
+
+def parameters(rho_inf=RHO_INF):
+    """(alpha_m, alpha_f, gamma, beta) of Chung & Hulbert for the spectral radius rho_inf."""
+    am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
+    af = rho_inf / (rho_inf + 1.0)
+    gamma = 0.5 + af - am
+    beta = 0.25 * (gamma + 0.5) ** 2
+    return am, af, gamma, beta
+
+
+def add_coo(model, A, rows, cols, vals):
+    """A + the COO entries (which must lie in the Jacobian's pattern), for A dense, banded or sparse."""
+    if isinstance(A, np.ndarray):
+        np.add.at(A, (rows, cols), vals)
+        return A
+    if isinstance(A, BandMatrix):
+        p = A.pattern
+        inv = getattr(p, "_inv", None)
+        if inv is None:
+            inv = p._inv = np.argsort(p.perm)
+        pr, pc = inv[rows], inv[cols]
+        np.add.at(A.ab, (p.kl + p.ku + pr - pc, pc), vals)
+        return A
+    return (A + sp.csc_matrix((vals, (rows, cols)), shape=A.shape)).tocsc()
+
+
+@dataclass
+class State:
+    """The integrator's state at t: y = [q, mu], velocities v, accelerations acc (q''), the
+    acceleration-like variable a, chord rotations alpha (the corotational reference)."""
+
+    t: float
+    y: np.ndarray
+    v: np.ndarray
+    acc: np.ndarray
+    a: np.ndarray
+    alpha: np.ndarray
+
+
+class StepSystem:
+    """The model's equations with the inertia, damping and ground terms of one step, in the interface
+    :func:`femslide.newton.newton` expects (``n_q``, ``rotation_dofs``, ``system``)."""
+
+    def __init__(self, model, masses, C, ground, extra=None):
+        self.model, self.masses, self.C, self.ground = model, masses, C, ground
+        self.n_q, self.n = model.n_q, model.n
+        self.Crows, self.Ccols, self.Cvals = (C.row, C.col, C.data) if C is not None else (None, None, None)
+        self.Csr = C.tocsr() if C is not None else None
+        self.extra = extra or []   # callables (q, v, coef) -> (f, (rows, cols, vals)) (friction)
+        self.params = parameters()
+
+    def rotation_dofs(self):
+        return self.model.rotation_dofs()
+
+    def prepare(self, s: State, h: float):
+        """Set the step from state s with step h."""
+        am, af, gamma, beta = self.params
+        self.s, self.h, self.t1 = s, h, s.t + h
+        self.qn = s.y[:self.n_q]
+        self.base = self.qn + h * s.v + h * h * (0.5 - beta) * s.a
+        self.c_a = 1.0 / (beta * h * h)       # d a_{n+1} / d q_{n+1}
+        self.c_acc = (1.0 - am) / (1.0 - af) * self.c_a
+        self.c_vel = gamma * h * self.c_a
+        ag = self.ground.accel(self.t1) if self.ground is not None else 0.0
+        # m/s^2 -> model lengths / s^2
+        self.ag_vec = None if self.ground is None else ag * self.ground.direction / self.model.Lref
+
+    def kinematics(self, q):
+        """(a, v, acc) at t_{n+1} for the trial positions q."""
+        am, af, gamma, beta = self.params
+        s, h = self.s, self.h
+        a1 = (q - self.base) * self.c_a
+        v1 = s.v + h * ((1.0 - gamma) * s.a + gamma * a1)
+        acc1 = ((1.0 - am) * a1 + am * s.a - af * s.acc) / (1.0 - af)
+        return a1, v1, acc1
+
+    def predictor(self):
+        """Start of Newton: q'' as at t_n."""
+        am, af, gamma, beta = self.params
+        s, h = self.s, self.h
+        a1 = (s.acc - am * s.a) / (1.0 - am)
+        y = s.y.copy()
+        y[:self.n_q] = self.base + h * h * beta * a1
+        return y
+
+    def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
+        r, A, info = self.model.system(y, alpha_ref, 1.0, None, jacobian)
+        q = y[:self.n_q]
+        _, v1, acc1 = self.kinematics(q)
+        f, (rows, cols, vals) = self.masses.inertia(q, v1, acc1, self.c_acc, self.c_vel, self.ag_vec)
+        r[:self.n_q] += f
+        if self.Csr is not None:
+            r[:self.n_q] += self.Csr @ v1
+        for ex in self.extra:
+            fe, coo = ex(q, v1, self.c_vel)
+            r[:self.n_q] += fe
+            if jacobian:
+                A = add_coo(self.model, A, *coo)
+        if jacobian:
+            A = add_coo(self.model, A, rows, cols, vals)
+            if self.Csr is not None:
+                A = add_coo(self.model, A, self.Crows, self.Ccols, self.c_vel * self.Cvals)
+        return r, A, info
+
+
+def potential(model, y, alpha):
+    """Potential energy (model units): strain energy of the rods, springs and dead loads (gravity)."""
+    q = y[:model.n_q]
+    V = strain_energy(model.elements, model.nodal(q), alpha) if model.elements is not None else 0.0
+    V += float(np.dot(model.p_lin, q))
+    for t, d in zip(model.terms, model._term_dofs):
+        V += float(t.eval(q[d], 1.0)[0])
+    return V
+
+
+def _consistent_start(sysm, s: State, h_s: float) -> State:
+    """The state at rest with consistent accelerations and multipliers: one tiny step h_s from
+    a = q'' = 0 gives q''(h_s) = q''(0) + O(h_s), massless dofs included (they follow the masses
+    quasi-statically), and the multipliers that hold the released structure (Arnold & Bruls start
+    the integrator with a_0 = q''_0; a start with a_0 = 0 leaves a non-decaying jump in a that the
+    error estimate would see at every step)."""
+    for _ in range(8):
+        sysm.prepare(s, h_s)
+        y, info = newton(sysm, sysm.predictor(), s.alpha, tol=NEWTON_TOL, maxit=20)
+        if info.converged:
+            _, _, acc = sysm.kinematics(y[:sysm.n_q])
+            y0 = s.y.copy()
+            y0[sysm.n_q:] = y[sysm.n_q:]
+            return State(s.t, y0, s.v, acc.copy(), acc.copy(), s.alpha)
+        h_s *= 4.0
+    raise SolverFailure("simulate: no consistent initial acceleration (Newton failed on the start step)",
+                        info.history)
+
+
+@dataclass
+class Integration:
+    """Outcome of :func:`integrate`: accepted states' times, the record rows of ``observe``, step
+    counts, the energy balance and why it stopped."""
+
+    times: list = field(default_factory=list)
+    rows: list = field(default_factory=list)
+    steps: int = 0
+    rejected: int = 0
+    newton_iterations: int = 0
+    energy_balance: float = 0.0
+    energy: dict = field(default_factory=dict)
+    final: State | None = None
+
+
+def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, observe=None,
+              h0=None, h_max=None, max_steps=MAX_STEPS, wall_limit=None, progress=None, q_ref=None):
+    """Integrate from rest at the state (y0, alpha0) (model units) to ``t_end`` [s].
+
+    ``C``: Rayleigh damping matrix (scipy COO, model units) or None; ``ground``: a
+    :class:`femslide.ground.Ground` or None; ``observe(t, y, alpha, v)`` -> a row recorded at every
+    accepted step (t = 0 included); ``h0``: first step [s]; ``h_max``: largest step; ``q_ref``: the
+    static equilibrium (default: the start), from which the displacements that scale the error are
+    measured.
+    Raises SolverFailure when a step cannot be completed (Newton fails at the smallest step) or the
+    step count or wall time runs out."""
+    am, af, gamma, beta = parameters()
+    c3 = abs(0.5 * (am - af) + beta - 1.0 / 6.0)
+    n_q = model.n_q
+    sysm = StepSystem(model, masses, C, ground)
+    heavy = masses.massive_dofs()
+    if heavy.size == 0:
+        raise BadInput("simulate: nothing in the structure has mass (give bodies a mass or rods a rhoA)")
+    zero = np.zeros(n_q)
+    s = State(0.0, y0.copy(), zero.copy(), zero.copy(), zero.copy(), alpha0.copy())
+    q_static = (y0[:n_q] if q_ref is None else q_ref[:n_q]).copy()
+    amp = max(1e-6, float(np.abs(y0[heavy] - q_static[heavy]).max()))
+    h = h0 or 1e-3 * t_end
+    h_max = h_max or t_end
+    h_min = 1e-12 * max(t_end, 1.0)
+    out = Integration()
+    V0 = potential(model, y0, alpha0)
+    T0 = masses.kinetic(y0[:n_q], s.v)
+    D = W = 0.0
+    Emax = 0.0
+    bal = 0.0
+    Csr = C.tocsr() if C is not None else None
+
+    def ground_power(q, v, t):
+        if ground is None:
+            return 0.0
+        g = ground.accel(t) * ground.direction / model.Lref
+        return float(np.dot(masses.ground_load(q, g), v))
+
+    def damping_power(v):
+        return float(v @ (Csr @ v)) if Csr is not None else 0.0
+
+    s = _consistent_start(sysm, s, 1e-4 * h)
+    Pg, Pd = ground_power(y0[:n_q], s.v, 0.0), 0.0
+    if observe:
+        out.times.append(0.0)
+        out.rows.append(observe(0.0, s.y, s.alpha, s.v))
+    t0 = time.perf_counter()
+    while s.t < t_end * (1 - 1e-14):
+        if out.steps + out.rejected >= max_steps:
+            raise SolverFailure(f"simulate: the step count limit {max_steps} was reached at t = {s.t:.6g} s "
+                                f"(tolerance too tight or the motion too fast for this t_end)")
+        if wall_limit and time.perf_counter() - t0 > wall_limit:
+            raise SolverFailure(f"simulate: the wall-time limit {wall_limit:g} s was reached at t = {s.t:.6g} s")
+        h = min(h, h_max, t_end - s.t)
+        sysm.prepare(s, h)
+        y, info = newton(sysm, sysm.predictor(), s.alpha, tol=NEWTON_TOL, maxit=12)
+        out.newton_iterations += info.iterations
+        if not info.converged:
+            out.rejected += 1
+            if h <= h_min:
+                raise SolverFailure(f"simulate: Newton failed at t = {s.t:.6g} s with the smallest step "
+                                    f"{h:.3g} s: {info.reason}", info.history)
+            h *= 0.25
+            continue
+        q = y[:n_q]
+        a1, v1, acc1 = sysm.kinematics(q)
+        est = c3 * h * h * np.abs(a1[heavy] - s.a[heavy])
+        disp = float(np.abs(q[heavy] - q_static[heavy]).max())
+        scale = max(amp, disp)
+        err = float(est.max()) / (tolerance * scale) if est.size else 0.0
+        if err > 1.0 and h > h_min:
+            out.rejected += 1
+            h *= max(0.2, 0.9 * err ** (-1.0 / 3.0))
+            continue
+        amp = max(amp, disp)
+        t1 = s.t + h
+        Pg1, Pd1 = ground_power(q, v1, t1), damping_power(v1)
+        W += 0.5 * h * (Pg + Pg1)
+        D += 0.5 * h * (Pd + Pd1)
+        Pg, Pd = Pg1, Pd1
+        s = State(t1, y, v1, acc1, a1, info.alpha)
+        out.steps += 1
+        T = masses.kinetic(q, v1)
+        V = potential(model, y, s.alpha) - V0
+        Emax = max(Emax, abs(T), abs(V), abs(D), abs(W))
+        bal = max(bal, abs(T + V + D - W - T0))
+        if observe:
+            out.times.append(t1)
+            out.rows.append(observe(t1, y, s.alpha, v1))
+        if progress:
+            progress(t1)
+        h *= min(2.0, max(0.2, 0.9 * max(err, 1e-12) ** (-1.0 / 3.0)))
+    out.energy_balance = bal / Emax if Emax > 0 else 0.0
+    out.energy = {"kinetic": masses.kinetic(s.y[:n_q], s.v) * model.Fref * model.Lref,
+                  "potential": (potential(model, s.y, s.alpha) - V0) * model.Fref * model.Lref,
+                  "dissipated": D * model.Fref * model.Lref, "work_in": W * model.Fref * model.Lref}
+    out.final = s
+    return out
