@@ -58,6 +58,8 @@ class Masses:
         d = self.body_d[:, None] + np.arange(3)[None, :]
         self.block_rows = np.repeat(d, 3, axis=1).ravel()
         self.block_cols = np.tile(d, (1, 3)).ravel()
+        self.coo_rows = np.concatenate([self.node_dofs, self.block_rows])
+        self.coo_cols = np.concatenate([self.node_dofs, self.block_cols])
         self.total_mass = float(node_m.sum() + sum(b.mass for b in bodies))  # kg
 
     # -- which dofs carry inertia ------------------------------------------------------------------
@@ -100,37 +102,43 @@ class Masses:
         """Generalised inertia force f (n_q,) at positions q, velocities v, accelerations acc, minus
         the inertia load of a base acceleration ``ground`` (a (2,) vector, model units, or None), and
         its derivative with respect to q along a step in which acc and v change by ``c_acc`` and
-        ``c_vel`` times the change of q: COO (rows, cols, values)."""
+        ``c_vel`` times the change of q: COO (rows, cols, values) (rows and cols are fixed arrays)."""
         f = np.zeros(self.n_q)
         nd = self.node_dofs
-        f[nd] = self.node_vals * acc[nd]
-        rows, cols, vals = [nd], [nd], [c_acc * self.node_vals]
+        if nd.size:
+            f[nd] = self.node_vals * acc[nd]
+            if ground is not None:
+                k = nd.size // 2
+                f[nd[:k]] += self.node_vals[:k] * ground[0]
+                f[nd[k:]] += self.node_vals[k:] * ground[1]
+        if not self.body_d.size:
+            return f, (self.coo_rows, self.coo_cols, c_acc * self.node_vals)
+        d = self.body_d
+        m, J = self.body_m, self.body_J
+        px, py, _ = self._rho(q)
+        ux, uy, tdd = acc[d], acc[d + 1], acc[d + 2]
+        td = v[d + 2]
+        td2 = td * td
         if ground is not None:
-            k = nd.size // 2
-            f[nd[:k]] += self.node_vals[:k] * ground[0]
-            f[nd[k:]] += self.node_vals[k:] * ground[1]
-        if self.body_d.size:
-            d = self.body_d
-            m, J = self.body_m, self.body_J
-            px, py, _ = self._rho(q)
-            ux, uy, tdd = acc[d], acc[d + 1], acc[d + 2]
-            td = v[d + 2]
-            gx, gy = (ground[0], ground[1]) if ground is not None else (0.0, 0.0)
-            # a_C (+ the base acceleration: the inertia load -m a_g moved to the left-hand side)
-            ax = ux - tdd * py - td * td * px + gx
-            ay = uy + tdd * px - td * td * py + gy
-            f[d] += m * ax
-            f[d + 1] += m * ay
-            f[d + 2] += J * tdd + m * (-py * ax + px * ay)
-            B = c_acc * self._blocks(q)
-            # d/dtheta' (centripetal) and d/dtheta (the lever turns)
-            B[:, 0, 2] += m * (c_vel * (-2.0 * td * px) + (-tdd * px + td * td * py))
-            B[:, 1, 2] += m * (c_vel * (-2.0 * td * py) + (-tdd * py - td * td * px))
-            B[:, 2, 2] += -m * (px * (ux + gx) + py * (uy + gy))
-            rows.append(self.block_rows)
-            cols.append(self.block_cols)
-            vals.append(B.ravel())
-        return f, (np.concatenate(rows), np.concatenate(cols), np.concatenate(vals))
+            ux = ux + ground[0]
+            uy = uy + ground[1]
+        # a_C (+ the base acceleration: the inertia load -m a_g moved to the left-hand side)
+        ax = ux - tdd * py - td2 * px
+        ay = uy + tdd * px - td2 * py
+        f[d] += m * ax
+        f[d + 1] += m * ay
+        f[d + 2] += J * tdd + m * (px * ay - py * ax)
+        B = np.empty((m.size, 9))
+        mc = c_acc * m
+        B[:, 0] = B[:, 4] = mc
+        B[:, 1] = B[:, 3] = 0.0
+        B[:, 6] = -mc * py
+        B[:, 7] = mc * px
+        # d/dtheta' (centripetal) and d/dtheta (the lever turns) in the theta column
+        B[:, 2] = -mc * py + m * (-2.0 * c_vel * td * px - tdd * px + td2 * py)
+        B[:, 5] = mc * px + m * (-2.0 * c_vel * td * py - tdd * py - td2 * px)
+        B[:, 8] = c_acc * (J + m * (px * px + py * py)) - m * (px * ux + py * uy)
+        return f, (self.coo_rows, self.coo_cols, np.concatenate([c_acc * self.node_vals, B.ravel()]))
 
     def kinetic(self, q, v):
         """Kinetic energy (model units: Fref Lref)."""
