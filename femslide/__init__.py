@@ -73,5 +73,18 @@ def solve(target, **params):
 
 
 def simulate(target, **params):
-    """Run a dynamic scene (a built-in name or a scene file); keyword arguments are its parameters."""
+    """Dynamics.  ``target``: a :class:`Structure` or a structure file (FE dynamics: keyword arguments
+    ``t_end``, ``tolerance``, ``damping``, ``ground``, ``initial``, ``elements`` as in a file's
+    ``[simulate]`` table, and ``NAME.FIELD`` overrides), or a dynamic scene (a built-in name or a
+    scene file) with its parameters.  Returns a dict-like :class:`femslide.run.Result`."""
+    from .structure import Frozen
+    if isinstance(target, (Structure, Frozen)) or (isinstance(target, str) and target.endswith(".toml")
+                                                   and _is_structure_file(target)):
+        from .simulation import run_api
+        return run_api(target, dict(params))
     return _run("simulate", target, dict(params))
+
+
+def _is_structure_file(path):
+    from .structfile import is_structure_data, read_toml
+    return is_structure_data(read_toml(path))

@@ -5,6 +5,7 @@
     femslide simulate SCENE [--set NAME=VALUE]... [--json] [--out DIR]
     femslide sweep SCENE --vary NAME=V1,V2,... [--set NAME=VALUE]... [--json] [--out DIR]
                    [--jobs N | --dask ADDRESS] [--resume] [--plot FILE]
+    femslide modes FILE.toml [--count N] [--set NAME=VALUE]... [--json] [--out DIR]
     femslide mesh SCENE [--set NAME=VALUE]... [--out FILE]
     femslide show RESULT.vtu|RESULT.pvd [--frame K] [--screenshot FILE.png]
 
@@ -55,6 +56,15 @@ def _build_parser() -> argparse.ArgumentParser:
             s.add_argument("--resume", action="store_true",
                            help="skip the cases already in DIR/sweep.jsonl (rerunning with the same --out does too)")
             s.add_argument("--plot", metavar="FILE", help="M_max against the varied parameter (matplotlib)")
+    mo = sub.add_parser("modes", help="natural frequencies and mode shapes (VTU) of a structure file about its "
+                                      "static equilibrium (frictionless, linearised)")
+    mo.add_argument("scene", metavar="FILE.toml", help="a structure file")
+    mo.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                    help="change a field of the file, e.g. right.EI=1e8, or elements=N (every rod's mesh)")
+    mo.add_argument("--count", type=int, default=6, help="how many of the lowest frequencies (default 6)")
+    mo.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    mo.add_argument("--out", metavar="DIR", help="write one VTU per mode shape and result.json here")
+    mo.add_argument("--quiet", action="store_true", help="no progress bar")
     m = sub.add_parser("mesh", help="write the reference mesh of an FE scene (meshio format by extension)")
     m.add_argument("scene")
     m.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
@@ -105,6 +115,8 @@ def _print_result(res: dict):
         elif isinstance(val, dict):
             if val:
                 print(f"{key:>24}: {', '.join(flat(val))}")
+        elif isinstance(val, list) and len(val) <= 20 and all(isinstance(x, (int, float)) for x in val):
+            print(f"{key:>24}: {', '.join(_fmt(x) for x in val)}")
         elif isinstance(val, list):
             print(f"{key:>24}: [{len(val)} entries]")
         else:
@@ -162,6 +174,22 @@ def _sweep(args):
                      quiet=args.quiet)
 
 
+def _modes(args):
+    tgt = _target(args.scene)
+    if not getattr(tgt.scene, "spec", None) or not hasattr(tgt.scene, "for_modes"):
+        raise BadInput(f"{args.scene}: `femslide modes` takes a structure file (rods, bodies, joints)")
+    if not 1 <= args.count <= 100:
+        raise BadInput(f"--count = {args.count}; allowed: an integer in [1, 100]")
+    scene = tgt.scene.for_modes()
+    values = scene.resolve(parse_assignments(args.set))
+    res = run_case(scene, {**values, "_count": args.count}, out=args.out, quiet=args.quiet)
+    if args.json:
+        print(json.dumps(_clean(res)))
+    else:
+        _print_result(_clean(res))
+    return 0
+
+
 def _mesh(args):
     from .scenefile import is_fe, no_mesh_reason
     tgt = _target(args.scene)
@@ -200,6 +228,8 @@ def main(argv=None) -> int:
             return _solve(args, args.cmd)
         if args.cmd == "mesh":
             return _mesh(args)
+        if args.cmd == "modes":
+            return _modes(args)
         if args.cmd == "show":
             return _show(args)
         return _sweep(args)

@@ -403,3 +403,78 @@ def _write(out_dir, name, cols, H, frames, model):
             fh.write("</Collection>\n</VTKFile>\n")
         files.append(pvd)
     return files
+
+
+def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
+    """`femslide modes`: the ``count`` lowest natural frequencies [Hz] of the frictionless structure
+    about its static equilibrium (rods without their own `elements` meshed with ``elements``), and a
+    writer of the mode shapes as VTU files (each the structure displaced along the mode, largest
+    translation 5 % of the structure's size, with the frequency as field data)."""
+    from . import static
+    from .mass import Masses
+    from .modes import modes
+    t0 = time.perf_counter()
+    fs = _fixed_mesh(fs, elements)
+    sol = static.solve(fs)
+    model, y, alpha = sol.level.model, sol.level.y, sol.level.alpha
+    masses = Masses(model)
+    if masses.massive_dofs().size == 0:
+        raise BadInput("modes: nothing in the structure has mass (give a body a mass or a rod a rhoA)")
+    freq, shapes = modes(model, y, alpha, masses, count)
+    res = {"converged": True, "frequencies_hz": [float(f) for f in freq],
+           "periods_s": [float(1.0 / f) for f in freq], "elements": {r.name: r.elements for r in fs.rods}}
+
+    def write(out_dir):
+        from .newton import newton  # noqa: F401
+        from .vtu import _write_vtu, mesh_data
+        os.makedirs(out_dir, exist_ok=True)
+        files = []
+        for k, (f, phi) in enumerate(zip(freq, shapes)):
+            yk = y.copy()
+            yk[:model.n_q] += 0.05 * phi
+            _, alpha_k = model.element_forces(yk[:model.n_q], alpha)
+            points, cells, pdata, cdata = mesh_data(model, yk, alpha_k)
+            path = os.path.join(out_dir, f"{name}_mode{k + 1}.vtu")
+            _write_vtu(path, points, cells, pdata, cdata, {"mode": k + 1, "frequency_hz": float(f)})
+            files.append(path)
+        return files
+
+    res["_write"] = write
+    res["wall_time_s"] = time.perf_counter() - t0
+    return res
+
+
+def run_api(target, params: dict):
+    """``femslide.simulate`` of a Structure, a Frozen structure or a structure file: keyword
+    arguments named like the [simulate] keys (t_end, tolerance, damping, ground, initial, elements)
+    set or override them; ``NAME.FIELD`` ones change the structure (a Structure or a file)."""
+    from .run import Result
+    from .structfile import apply, load
+    from .structure import Frozen, Structure
+    table, base = {}, "."
+    if isinstance(target, str):
+        sf = load(target)
+        table = dict(sf.simulate_table or {})
+        base = os.path.dirname(os.path.abspath(target))
+        target, name = sf.structure, sf.name
+    else:
+        name = "structure"
+    sim = {k: params.pop(k) for k in list(params) if k in SIM_KEYS}
+    table.update(sim)
+    if isinstance(target, Structure):
+        s, elements = apply(target, params)
+        fs = s.freeze()
+    elif isinstance(target, Frozen):
+        if params:
+            raise BadInput("overrides of fields need a Structure, not a frozen one")
+        fs, elements = target, None
+    else:
+        raise BadInput(f"simulate: {target!r} is not a Structure or a structure file")
+    spec = parse_spec(table, base)
+    if elements is not None:
+        spec.elements = elements
+    raw = simulate(fs, spec, name=name)
+    res = Result({k: v for k, v in raw.items() if not k.startswith("_")})
+    res._writer = raw["_write"]
+    res.history = raw["_history"]
+    return res

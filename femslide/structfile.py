@@ -184,6 +184,15 @@ class StructureFile:
     _frozen_ok: dict = field(default_factory=dict)
     simulate_table: dict | None = None   # the file's [simulate] table (femslide/simulation.py)
 
+    def _sim_elements(self, default):
+        t = self.simulate_table if isinstance(self.simulate_table, dict) else {}
+        return t.get("elements", default)
+
+    def for_modes(self) -> "StructureFile":
+        """The same file as a `modes` target."""
+        return StructureFile(self.path, self.structure, self.description, "modes",
+                             simulate_table=self.simulate_table)
+
     def for_simulate(self) -> "StructureFile":
         """The same file as a `simulate` target (its [simulate] table checked now)."""
         from .simulation import parse_spec
@@ -220,6 +229,11 @@ class StructureFile:
         return values
 
     def run(self, values: dict) -> dict:
+        if self.command == "modes":
+            from .simulation import DEFAULT_ELEMENTS, MODES, natural_modes
+            s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
+            return natural_modes(s.freeze(), values.get("_count") or MODES,
+                                 elements or self._sim_elements(DEFAULT_ELEMENTS), name=self.name)
         if self.command == "simulate":
             from .simulation import parse_spec, simulate
             s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
