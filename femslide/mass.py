@@ -24,6 +24,8 @@ centripetal term.  A body with m = 0 (a rigid link) has no inertia.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 
@@ -58,6 +60,8 @@ class Masses:
         d = self.body_d[:, None] + np.arange(3)[None, :]
         self.block_rows = np.repeat(d, 3, axis=1).ravel()
         self.block_cols = np.tile(d, (1, 3)).ravel()
+        self._body_list = [(int(d), float(m), float(J), (float(r[0]), float(r[1])))
+                           for d, m, J, r in zip(self.body_d, self.body_m, self.body_J, self.body_r)]
         self.coo_rows = np.concatenate([self.node_dofs, self.block_rows])
         self.coo_cols = np.concatenate([self.node_dofs, self.block_cols])
         self.total_mass = float(node_m.sum() + sum(b.mass for b in bodies))  # kg
@@ -113,6 +117,25 @@ class Masses:
                 f[nd[k:]] += self.node_vals[k:] * ground[1]
         if not self.body_d.size:
             return f, (self.coo_rows, self.coo_cols, c_acc * self.node_vals)
+        if self.body_d.size <= 8:   # a few bodies: scalar arithmetic is faster than numpy's per-call cost
+            vals = [c_acc * self.node_vals]
+            gx, gy = (float(ground[0]), float(ground[1])) if ground is not None else (0.0, 0.0)
+            for d, m, J, (rx, ry) in self._body_list:
+                th = float(q[d + 2])
+                c, s_ = math.cos(th), math.sin(th)
+                px, py = c * rx - s_ * ry, s_ * rx + c * ry
+                ux, uy, tdd = float(acc[d]) + gx, float(acc[d + 1]) + gy, float(acc[d + 2])
+                td = float(v[d + 2])
+                td2 = td * td
+                ax = ux - tdd * py - td2 * px
+                ay = uy + tdd * px - td2 * py
+                f[d:d + 3] += (m * ax, m * ay, J * tdd + m * (px * ay - py * ax))
+                mc = c_acc * m
+                vals.append(np.array([
+                    mc, 0.0, -mc * py + m * (-2.0 * c_vel * td * px - tdd * px + td2 * py),
+                    0.0, mc, mc * px + m * (-2.0 * c_vel * td * py - tdd * py - td2 * px),
+                    -mc * py, mc * px, c_acc * (J + m * (px * px + py * py)) - m * (px * ux + py * uy)]))
+            return f, (self.coo_rows, self.coo_cols, np.concatenate(vals))
         d = self.body_d
         m, J = self.body_m, self.body_J
         px, py, _ = self._rho(q)

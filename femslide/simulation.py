@@ -16,7 +16,8 @@ frequencies of the frictionless structure about the static equilibrium (femslide
 reported as ``frequencies_hz``.
 
 Result (SI): ``converged``, ``steps``, ``t_end``, ``energy_balance`` (kinetic + potential +
-dissipated - work in, relative to the largest of them over the run), ``events`` ({} : no friction),
+dissipated - work in, relative to the largest of them over the run), ``events`` (per friction joint:
+[{t, kind}], kind "stick", "slip+" or "slip-"; femslide/friction.py),
 ``frequencies_hz``, ``peaks`` {``reactions``: {NAME: {Fx, Fy, M}} largest |value| over time,
 ``rods``: {NAME: {M_max}}, ``joints``: {NAME: {slide_min, slide_max}}}, ``wall_time_s``; ``--out DIR``
 writes ``history.csv`` (every reported quantity at every accepted step) and a PVD series of VTU
@@ -26,8 +27,8 @@ Work is bounded a priori: the number of steps is estimated from the lowest frequ
 tolerance (second-order local error control: about 2 pi (c3 / tolerance)^(1/3) steps per period)
 and a run estimated to need more than WORK_BUDGET_S seconds is bad input naming t_end and its
 usable range; the step count and the wall time are limited at run time as a safety net.
-Coulomb friction (mu, mu0) in the FE dynamics is not available in this version: a structure with
-friction is bad input for simulate (the statics ignore friction).
+Sliders and rollers with ``mu`` carry Coulomb friction (femslide/friction.py: exact stick, events
+located in time); the static start ignores friction.
 """
 from __future__ import annotations
 
@@ -267,10 +268,6 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
     from .transient import integrate
 
     t_wall = time.perf_counter()
-    for j in fs.joints:
-        if j.mu is not None:
-            raise BadInput(f"joint {j.name}: Coulomb friction (mu, mu0) in the FE dynamics of declared structures "
-                           f"is not available in this version; remove mu/mu0 to simulate it frictionless")
     fs = _fixed_mesh(fs, spec.elements)
     sol = static.solve(fs)
     model, y_s, a_s = sol.level.model, sol.level.y, sol.level.alpha
@@ -291,6 +288,22 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
     counts = {r.name: r.elements for r in fs.rods}
     y0, a0 = (y_s, a_s) if spec.initial is None else _held_start(fs, counts, L, F, y_s, a_s, spec.initial)
 
+    fric_joints = [j for j in fs.joints if j.mu is not None]
+    fr = None
+    if fric_joints:
+        from .friction import Friction
+        from .transient import StepSystem
+        fr = Friction(model, fric_joints, lambda m, extras: StepSystem(m, masses, C, spec.ground, extras), counts)
+    fric_names = {j.name for j in fric_joints}
+
+    def forces(y, n):
+        fx, fy, m = joint_forces(model, y, n)
+        if n in fric_names:
+            from .friction import joint_friction_force
+            gx, gy, gm = joint_friction_force(model.joint[n], fr.coefficient(n, y), y[:model.n_q])
+            fx, fy, m = fx + gx, fy + gy, m + gm
+        return fx, fy, m
+
     reac = [j.name for j in fs.joints if j.b == "ground"]
     slides = [j.name for j in fs.joints if j.type in ("slider", "roller")]
     rods = [r.name for r in fs.rods]
@@ -304,7 +317,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
     def observe(t, y, alpha, v):
         row = [t]
         for n in reac:
-            fx, fy, m = joint_forces(model, y, n)
+            fx, fy, m = forces(y, n)
             row += [fx * F, fy * F, m * F * L]
         if rods:
             qb, _ = model.element_forces(y[:model.n_q], alpha)
@@ -335,7 +348,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
             h_max = min(h_max, 0.05 / spec.ground.frequency)
     run = integrate(model, masses, y0, a0, spec.t_end, spec.tolerance, C=C, ground=spec.ground,
                     observe=observe, h0=h0, h_max=h_max, max_steps=max_steps,
-                    wall_limit=WALL_LIMIT_S, progress=progress, q_ref=y_s)
+                    wall_limit=WALL_LIMIT_S, progress=progress, q_ref=y_s, friction=fr,
+                    period=1.0 / float(freq[0]))
     H = np.array(run.rows)
     if not np.all(np.isfinite(H)):
         raise SolverFailure("simulate: the history holds NaN or inf values")
@@ -351,7 +365,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
         peaks["joints"][n] = {"slide_min": -_peak(T, -s), "slide_max": _peak(T, s)}
     res = {"converged": True, "steps": run.steps, "rejected_steps": run.rejected,
            "newton_iterations": run.newton_iterations, "t_end": spec.t_end,
-           "energy_balance": run.energy_balance, "energy": run.energy, "events": {},
+           "energy_balance": run.energy_balance, "energy": run.energy,
+           "events": fr.events if fr is not None else {},
            "frequencies_hz": [float(f) for f in freq], "peaks": peaks,
            "elements": {r.name: r.elements for r in fs.rods}}
     res["_write"] = lambda d: _write(d, name, cols, H, frames, model)

@@ -101,7 +101,7 @@ class StepSystem:
         self.n_q, self.n = model.n_q, model.n
         self.Crows, self.Ccols, self.Cvals = (C.row, C.col, C.data) if C is not None else (None, None, None)
         self.Csr = C.tocsr() if C is not None else None
-        self.extra = extra or []   # callables (q, v, coef) -> (f, (rows, cols, vals)) (friction)
+        self.extra = extra or []   # callables (y, v, c_vel) -> (f, (rows, cols, vals)) (friction)
         self.params = parameters()
 
     def rotation_dofs(self):
@@ -147,7 +147,7 @@ class StepSystem:
         if self.Csr is not None:
             r[:self.n_q] += self.Csr @ v1
         for ex in self.extra:
-            fe, coo = ex(q, v1, self.c_vel)
+            fe, coo = ex(y, v1, self.c_vel)
             r[:self.n_q] += fe
             if jacobian:
                 A = add_coo(self.model, A, *coo)
@@ -174,6 +174,10 @@ def _consistent_start(sysm, s: State, h_s: float) -> State:
     quasi-statically), and the multipliers that hold the released structure (Arnold & Bruls start
     the integrator with a_0 = q''_0; a start with a_0 = 0 leaves a non-decaying jump in a that the
     error estimate would see at every step)."""
+    # from a = q'' = 0: a dof held by a constraint then gets q'' = 0 and its multiplier the force
+    # that holds it (the stick test needs that), the free massive dofs get the q'' the equations give
+    z = np.zeros_like(s.v)
+    s = State(s.t, s.y, s.v, z, z.copy(), s.alpha)
     for _ in range(8):
         sysm.prepare(s, h_s)
         y, info = newton(sysm, sysm.predictor(), s.alpha, tol=NEWTON_TOL, maxit=20)
@@ -185,6 +189,86 @@ def _consistent_start(sysm, s: State, h_s: float) -> State:
         h_s *= 4.0
     raise SolverFailure("simulate: no consistent initial acceleration (Newton failed on the start step)",
                         info.history)
+
+
+def _locate(attempt, fr, phi0, cross, h, cand, max_iter=60):
+    """The step size at which the first event function of the crossing joints reaches zero (Illinois
+    on h in (0, h], each trial a step from the same state); returns (h_event, candidate)."""
+    def Phi(c):
+        return float(np.min(np.where(cross, fr.phi(c[0], c[3]), np.inf)))
+
+    lo, f_lo = 0.0, float(np.min(phi0[cross]))
+    hi, f_hi = h, Phi(cand)
+    best = (hi, cand)
+    side = 0
+    for _ in range(max_iter):
+        if hi - lo <= 1e-14 * max(1.0, h) * 100 or f_hi == 0.0:
+            break
+        x = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
+        if not lo < x < hi:
+            x = 0.5 * (lo + hi)
+        c, _ = attempt(x)
+        if c is None:
+            x = 0.5 * (lo + hi)
+            c, _ = attempt(x)
+            if c is None:
+                break
+        fx = Phi(c)
+        if fx < 0.0:
+            hi, f_hi, best = x, fx, (x, c)
+            if side == -1:
+                f_lo *= 0.5
+            side = -1
+        else:
+            lo, f_lo = x, fx
+            best_lo = (x, c)
+            if side == 1:
+                f_hi *= 0.5
+            side = 1
+            if fx == 0.0:
+                return best_lo
+        if abs(fx) <= 1e-15 * (1.0 + abs(f_lo)):
+            return (x, c)
+    return best
+
+
+def _settle(fr, s: State, h_s, pending, old_stuck):
+    """Stick test of the joints ``pending`` (at rest along their guides, or all joints at t = 0):
+    each is locked where it is, the consistent start gives its lock multiplier lam, and it stays
+    stuck if |lam| <= mu0 N, else slips towards sign(lam).  Returns the state (with the new modes'
+    layout) and the step system."""
+    n_q = fr.base.n_q
+    q = s.y[:n_q]
+    v = s.v.copy()
+    for i in pending:
+        fj = fr.joints[i]
+        fr.mode[i] = 0
+        fr.stick_at[i] = fj.slide_rate(q, v)[0]
+        _, ds, _ = fj.link.slide(q[fj.dofs])
+        rate = float(ds @ v[fj.dofs])
+        v[fj.dofs] -= ds * rate / float(ds @ ds)     # exactly at rest along the guide
+    y = fr.convert(s.y, old_stuck, fr.stuck(), {})
+    s = State(s.t, y, v, s.acc, s.a, s.alpha)
+    sysm = fr.system()
+    s = _consistent_start(sysm, s, h_s)
+    slip = []
+    for i in pending:
+        fj = fr.joints[i]
+        N, _ = fj.normal(s.y)
+        lam = fr.lock_multiplier(s.y, i)
+        if abs(lam) <= fj.mu0 * N:
+            fr.events[fj.name].append({"t": s.t, "kind": "stick"})
+        else:
+            slip.append((i, 1 if lam > 0 else -1))
+    if slip:
+        old = fr.stuck()
+        for i, sg in slip:
+            fr.mode[i] = sg
+            fr.events[fr.joints[i].name].append({"t": s.t, "kind": "slip+" if sg > 0 else "slip-"})
+        s = State(s.t, fr.convert(s.y, old, fr.stuck(), {}), s.v, s.acc, s.a, s.alpha)
+        sysm = fr.system()
+        s = _consistent_start(sysm, s, h_s)
+    return s, sysm
 
 
 @dataclass
@@ -203,20 +287,21 @@ class Integration:
 
 
 def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, observe=None,
-              h0=None, h_max=None, max_steps=MAX_STEPS, wall_limit=None, progress=None, q_ref=None):
+              h0=None, h_max=None, max_steps=MAX_STEPS, wall_limit=None, progress=None, q_ref=None,
+              friction=None, period=None):
     """Integrate from rest at the state (y0, alpha0) (model units) to ``t_end`` [s].
 
     ``C``: Rayleigh damping matrix (scipy COO, model units) or None; ``ground``: a
     :class:`femslide.ground.Ground` or None; ``observe(t, y, alpha, v)`` -> a row recorded at every
     accepted step (t = 0 included); ``h0``: first step [s]; ``h_max``: largest step; ``q_ref``: the
     static equilibrium (default: the start), from which the displacements that scale the error are
-    measured.
-    Raises SolverFailure when a step cannot be completed (Newton fails at the smallest step) or the
-    step count or wall time runs out."""
+    measured; ``friction``: a :class:`femslide.friction.Friction` (stick/slip modes and events) or
+    None; ``period`` [s]: the time over which the error scale (the motion's amplitude) is
+    remembered (default: the whole run).  Raises SolverFailure when a step cannot be completed (Newton fails at the smallest step)
+    or the step count or wall time runs out."""
     am, af, gamma, beta = parameters()
     c3 = abs(0.5 * (am - af) + beta - 1.0 / 6.0)
     n_q = model.n_q
-    sysm = StepSystem(model, masses, C, ground)
     heavy = masses.massive_dofs()
     if heavy.size == 0:
         raise BadInput("simulate: nothing in the structure has mass (give bodies a mass or rods a rhoA)")
@@ -224,6 +309,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
     s = State(0.0, y0.copy(), zero.copy(), zero.copy(), zero.copy(), alpha0.copy())
     q_static = (y0[:n_q] if q_ref is None else q_ref[:n_q]).copy()
     amp = max(1e-6, float(np.abs(y0[heavy] - q_static[heavy]).max()))
+    amp_all = amp
     h = h0 or 1e-3 * t_end
     h_max = h_max or t_end
     h_min = 1e-12 * max(t_end, 1.0)
@@ -234,6 +320,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
     Emax = 0.0
     bal = 0.0
     Csr = C.tocsr() if C is not None else None
+    fr = friction
 
     def ground_power(q, v, t):
         if ground is None:
@@ -241,11 +328,26 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         g = ground.accel(t) * ground.direction / model.Lref
         return float(np.dot(masses.ground_load(q, g), v))
 
-    def damping_power(v):
-        return float(v @ (Csr @ v)) if Csr is not None else 0.0
+    def loss_power(y, v):
+        P = float(v @ (Csr @ v)) if Csr is not None else 0.0
+        return P + (fr.power(y, v) if fr is not None else 0.0)
 
-    s = _consistent_start(sysm, s, 1e-4 * h)
-    Pg, Pd = ground_power(y0[:n_q], s.v, 0.0), 0.0
+    def attempt(sysm, s, h):
+        sysm.prepare(s, h)
+        y, info = newton(sysm, sysm.predictor(), s.alpha, tol=NEWTON_TOL, maxit=12)
+        out.newton_iterations += info.iterations
+        if not info.converged:
+            return None, info
+        a1, v1, acc1 = sysm.kinematics(y[:n_q])
+        return (y, info.alpha, a1, v1, acc1), info
+
+    h_s = 1e-4 * h
+    if fr is None:
+        sysm = StepSystem(model, masses, C, ground)
+        s = _consistent_start(sysm, s, h_s)
+    else:
+        s, sysm = _settle(fr, s, h_s, list(range(len(fr.joints))), ())
+    Pg, Pd = ground_power(s.y[:n_q], s.v, 0.0), loss_power(s.y, s.v)
     if observe:
         out.times.append(0.0)
         out.rows.append(observe(0.0, s.y, s.alpha, s.v))
@@ -257,44 +359,70 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         if wall_limit and time.perf_counter() - t0 > wall_limit:
             raise SolverFailure(f"simulate: the wall-time limit {wall_limit:g} s was reached at t = {s.t:.6g} s")
         h = min(h, h_max, t_end - s.t)
-        sysm.prepare(s, h)
-        y, info = newton(sysm, sysm.predictor(), s.alpha, tol=NEWTON_TOL, maxit=12)
-        out.newton_iterations += info.iterations
-        if not info.converged:
+        cand, info = attempt(sysm, s, h)
+        if cand is None:
             out.rejected += 1
             if h <= h_min:
                 raise SolverFailure(f"simulate: Newton failed at t = {s.t:.6g} s with the smallest step "
                                     f"{h:.3g} s: {info.reason}", info.history)
             h *= 0.25
             continue
+        y, alpha1, a1, v1, acc1 = cand
         q = y[:n_q]
-        a1, v1, acc1 = sysm.kinematics(q)
         est = c3 * h * h * np.abs(a1[heavy] - s.a[heavy])
         disp = float(np.abs(q[heavy] - q_static[heavy]).max())
-        scale = max(amp, disp)
-        err = float(est.max()) / (tolerance * scale) if est.size else 0.0
+        err = float(est.max()) / (tolerance * max(amp, disp, 1e-3 * amp_all)) if est.size else 0.0
         if err > 1.0 and h > h_min:
             out.rejected += 1
             h *= max(0.2, 0.9 * err ** (-1.0 / 3.0))
             continue
-        amp = max(amp, disp)
+        event = None
+        h_next = h * min(2.0, max(0.2, 0.9 * max(err, 1e-12) ** (-1.0 / 3.0)))
+        if fr is not None:
+            phi0, phi1 = fr.phi(s.y, s.v), fr.phi(y, v1)
+            cross = (phi1 < 0.0) & (phi0 >= 0.0)
+            if cross.any():
+                h_ev, cand = _locate(lambda hh: attempt(sysm, s, hh), fr, phi0, cross, h, cand)
+                y, alpha1, a1, v1, acc1 = cand
+                q = y[:n_q]
+                event = int(np.argmin(np.where(cross, fr.phi(y, v1), np.inf)))
+                h_next = max(h, 10 * h_ev) if h_ev < 0.1 * h else h
+                h = h_ev
+        disp = float(np.abs(q[heavy] - q_static[heavy]).max())
+        amp_all = max(amp_all, disp)
+        # the amplitude of the recent motion (a decaying memory of one period): a decaying or
+        # growing motion keeps its relative accuracy
+        amp = max(disp, amp * math.exp(-h / period) if period else amp, 1e-6)
         t1 = s.t + h
-        Pg1, Pd1 = ground_power(q, v1, t1), damping_power(v1)
+        Pg1, Pd1 = ground_power(q, v1, t1), loss_power(y, v1)
         W += 0.5 * h * (Pg + Pg1)
         D += 0.5 * h * (Pd + Pd1)
-        Pg, Pd = Pg1, Pd1
-        s = State(t1, y, v1, acc1, a1, info.alpha)
+        s = State(t1, y, v1, acc1, a1, alpha1)
         out.steps += 1
+        if event is not None:
+            i = event
+            if fr.mode[i] != 0:      # slip ended (s' = 0): the stick test decides
+                s, sysm = _settle(fr, s, 1e-4 * h_next, [i], fr.stuck())
+            else:                    # breakaway towards the net force
+                old = fr.stuck()
+                lam = fr.lock_multiplier(s.y, i)
+                fr.mode[i] = 1 if lam > 0 else -1
+                fr.events[fr.joints[i].name].append({"t": t1, "kind": "slip+" if lam > 0 else "slip-"})
+                s = State(s.t, fr.convert(s.y, old, fr.stuck(), {}), s.v, s.acc, s.a, s.alpha)
+                sysm = fr.system()
+                s = _consistent_start(sysm, s, 1e-4 * h_next)
+            Pd1 = loss_power(s.y, s.v)
+        Pg, Pd = Pg1, Pd1
         T = masses.kinetic(q, v1)
         V = potential(model, y, s.alpha) - V0
         Emax = max(Emax, abs(T), abs(V), abs(D), abs(W))
         bal = max(bal, abs(T + V + D - W - T0))
         if observe:
             out.times.append(t1)
-            out.rows.append(observe(t1, y, s.alpha, v1))
+            out.rows.append(observe(t1, s.y, s.alpha, s.v))
         if progress:
             progress(t1)
-        h *= min(2.0, max(0.2, 0.9 * max(err, 1e-12) ** (-1.0 / 3.0)))
+        h = h_next
     out.energy_balance = bal / Emax if Emax > 0 else 0.0
     out.energy = {"kinetic": masses.kinetic(s.y[:n_q], s.v) * model.Fref * model.Lref,
                   "potential": (potential(model, s.y, s.alpha) - V0) * model.Fref * model.Lref,

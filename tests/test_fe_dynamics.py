@@ -194,9 +194,8 @@ def test_cli_simulate_and_modes_of_a_structure_file(tmp_path, capsys):
 
 
 def test_bad_inputs_exit_2_naming_the_parameter(tmp_path, capsys):
-    """A t_end beyond the work budget names t_end and the largest allowed value; friction (not in
-    this version of the FE dynamics) names the joint; an unknown [simulate] key is named; modes of
-    a built-in scene is refused."""
+    """A t_end beyond the work budget names t_end and the largest allowed value; mu0 < mu names the
+    joint; an unknown [simulate] key is named; modes of a built-in scene is refused."""
     from femslide.cli import main
     src = open("meshes/structures/sliding-belt.toml").read()
     p = tmp_path / "long.toml"
@@ -204,7 +203,8 @@ def test_bad_inputs_exit_2_naming_the_parameter(tmp_path, capsys):
     assert main(["simulate", str(p)]) == 2
     err = capsys.readouterr().err
     assert "t_end" in err and "allowed: t_end <=" in err
-    assert main(["simulate", "meshes/structures/sliding-belt.toml", "--set", "belt.mu=0.2"]) == 2
+    assert main(["simulate", "meshes/structures/sliding-belt.toml", "--set", "belt.mu=0.2",
+                 "--set", "belt.mu0=0.1"]) == 2
     assert "belt" in capsys.readouterr().err
     p.write_text(src.replace("t_end = 1.0", "t_end = 1.0\nsteps = 3"))
     assert main(["simulate", str(p)]) == 2
