@@ -222,3 +222,79 @@ def test_python_api_simulate():
     assert r1["peaks"]["joints"]["belt"]["slide_min"] == pytest.approx(
         r2["peaks"]["joints"]["belt"]["slide_min"], rel=1e-9)
     assert r1["converged"] and r1["steps"] > 10
+
+
+# -- friction ---------------------------------------------------------------------------------------
+
+def _turning_points(res, hist):
+    """(t, slide) at the ends of slip phases (stick, or a reversal: a slip event after a slip)."""
+    out, prev = [], ""
+    for e in res["events"]["belt"]:
+        if e["t"] > 0 and (e["kind"] == "stick" or prev.startswith("slip")):
+            out.append((e["t"], float(np.interp(e["t"], hist["t"], hist["joints.belt.slide"]))))
+        prev = e["kind"]
+    return out
+
+
+def test_paper_003_example_1_as_a_structure_against_the_exact_oscillator():
+    """meshes/structures/belt-ex1.toml (block on a frictional ground slider, paper 003 ex. 1) at
+    tolerance 1e-9: its turning points and stop agree with femslide.sdof's exact solution (scene
+    sdof-free: -5.038, +3.076 cm, stop at -1.114 cm) within 1e-6 m and 1e-6 s; the first event is
+    slip- (the spring pulls back), the last a stick; the energy balance closes to 1e-7."""
+    from femslide import structfile
+    from femslide.simulation import parse_spec, simulate
+    ref = femslide.simulate("sdof-free")
+    sf = structfile.load("meshes/structures/belt-ex1.toml")
+    spec = parse_spec(sf.simulate_table)
+    spec.t_end = 0.7
+    res = simulate(sf.structure.freeze(), spec)
+    cols, H = res["_history"]
+    tp = _turning_points(res, {c: H[:, i] for i, c in enumerate(cols)})
+    exact = [(p["t"], p["w"]) for p in ref["turning_points"]]
+    assert len(tp) == len(exact) == 3
+    for (t, w), (te, we) in zip(tp, exact):
+        assert abs(t - te) < 1e-6 and abs(w - we) < 1e-6
+    kinds = [e["kind"] for e in res["events"]["belt"]]
+    assert kinds[0] == "slip-" and kinds[-1] == "stick"
+    assert res["energy_balance"] < 1e-7
+    # stuck: exactly at rest, no drift
+    after = H[:, 0] > tp[-1][0]
+    assert np.all(H[after, cols.index("joints.belt.slide")] == H[after, cols.index("joints.belt.slide")][0])
+
+
+def test_zero_friction_reproduces_the_frictionless_run():
+    """mu = mu0 = 0: the joint slips with zero friction force; the history (peaks, final slide)
+    equals the frictionless run's to 1e-7 m (event steps aside, the same integrator)."""
+    r0, h0 = _run(_belt(), t_end=0.3, tolerance=1e-7, initial={"joint": "belt", "slide": 0.07})
+    r1, h1 = _run(_belt(mu=0.0), t_end=0.3, tolerance=1e-7, initial={"joint": "belt", "slide": 0.07})
+    assert r1["events"]["belt"][0]["kind"] == "slip-"
+    for key in ("slide_min", "slide_max"):
+        assert r1["peaks"]["joints"]["belt"][key] == pytest.approx(r0["peaks"]["joints"]["belt"][key], abs=1e-7)
+    assert h1["joints.belt.slide"][-1] == pytest.approx(h0["joints.belt.slide"][-1], abs=1e-7)
+
+
+def test_large_friction_locks():
+    """mu = mu0 = 10 (mu0 N = 98 N > k w0 = 14 N): the block sticks at release and never moves - the
+    slide stays exactly at 7 cm, one stick event, nothing dissipated; the reaction holds the spring
+    (|Fx| = 0: the friction force equals the spring force)."""
+    res, h = _run(_belt(mu=10.0), t_end=0.3, tolerance=1e-7, initial={"joint": "belt", "slide": 0.07})
+    assert [e["kind"] for e in res["events"]["belt"]] == ["stick"]
+    assert np.abs(h["joints.belt.slide"] - 0.07).max() < 1e-14
+    assert abs(res["energy"]["dissipated"]) < 1e-12
+    assert np.abs(h["reactions.belt.Fx"]).max() < 1e-9
+
+
+def test_bearing_normal_force_from_both_contact_forces():
+    """N of a slider with bearings h apart: |Q/2 + M/h| + |Q/2 - M/h| (the moment dominates when
+    |M| > |Q| h / 2); without bearings N = |Q|; dN/d(Q, M) the signs."""
+    from femslide.friction import FrictionJoint
+    fj = FrictionJoint.__new__(FrictionJoint)
+    fj.mu_idx, fj.slider = np.array([0, 1]), True
+    fj.h = 0.5
+    N, dN = fj.normal(np.array([2.0, 3.0]))
+    assert N == pytest.approx(abs(1.0 + 6.0) + abs(1.0 - 6.0))
+    assert np.allclose(dN, [0.0, 4.0])
+    N, dN = fj.normal(np.array([-4.0, 0.5]))
+    assert N == pytest.approx(4.0) and np.allclose(dN, [-1.0, 0.0])
+    fj.h = None
+    assert fj.normal(np.array([-4.0, 30.0]))[0] == pytest.approx(4.0)
