@@ -346,10 +346,12 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
             h_max = min(h_max, spec.ground.dt)
         elif spec.ground.times is None:
             h_max = min(h_max, 0.05 / spec.ground.frequency)
+    t_int = time.perf_counter()
     run = integrate(model, masses, y0, a0, spec.t_end, spec.tolerance, C=C, ground=spec.ground,
                     observe=observe, h0=h0, h_max=h_max, max_steps=max_steps,
                     wall_limit=WALL_LIMIT_S, progress=progress, q_ref=y_s, friction=fr,
                     period=1.0 / float(freq[0]))
+    t_int = time.perf_counter() - t_int
     H = np.array(run.rows)
     if not np.all(np.isfinite(H)):
         raise SolverFailure("simulate: the history holds NaN or inf values")
@@ -368,7 +370,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
            "energy_balance": run.energy_balance, "energy": run.energy,
            "events": fr.events if fr is not None else {},
            "frequencies_hz": [float(f) for f in freq], "peaks": peaks,
-           "elements": {r.name: r.elements for r in fs.rods}}
+           "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
     res["_write"] = lambda d: _write(d, name, cols, H, frames, model)
     res["wall_time_s"] = time.perf_counter() - t_wall
     res["_history"] = (cols, H)
@@ -376,20 +378,23 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
 
 
 def _peak(t, x):
-    """Largest value of the sampled x(t), refined by the parabola through the largest sample and its
-    neighbours (the samples are the integrator's steps)."""
+    """Largest value of the sampled x(t), refined by the interpolating polynomial through the largest
+    sample and its neighbours (up to two on each side: degree 4, exact to O(h^5) for a smooth peak),
+    maximised between the neighbouring samples; the samples are the integrator's steps."""
     i = int(np.argmax(x))
-    if 0 < i < x.size - 1:
-        t0, t1, t2 = t[i - 1], t[i], t[i + 1]
-        x0, x1, x2 = x[i - 1], x[i], x[i + 1]
-        d1, d2 = (x1 - x0) / (t1 - t0), (x2 - x1) / (t2 - t1)
-        c = (d2 - d1) / (t2 - t0)
-        if c < 0:
-            b = d1 - c * (t0 + t1)   # x = x0 + d1 (s - t0) + c (s - t0)(s - t1) -> x' = b + 2 c s
-            s = -b / (2 * c)
-            if t0 <= s <= t2:
-                return float(x0 + d1 * (s - t0) + c * (s - t0) * (s - t1))
-    return float(x[i])
+    lo, hi = max(0, i - 2), min(x.size, i + 3)
+    if hi - lo < 3 or not 0 < i < x.size - 1:
+        return float(x[i])
+    tt, xx = t[lo:hi] - t[i], x[lo:hi]
+    scale = max(abs(tt[0]), abs(tt[-1]))
+    try:
+        c = np.polyfit(tt / scale, xx, hi - lo - 1)
+    except (np.linalg.LinAlgError, ValueError):
+        return float(x[i])
+    s = np.linspace(t[i - 1] - t[i], t[i + 1] - t[i], 401) / scale
+    best = float(np.polyval(c, s).max())
+    # a fit that overshoots far beyond the samples' spread is not trusted
+    return best if best - x[i] <= 0.5 * (x[i] - min(x[i - 1], x[i + 1])) + 1e-300 else float(x[i])
 
 
 def _write(out_dir, name, cols, H, frames, model):
