@@ -9,7 +9,8 @@
     elements = 8                                   # elements per rod without its own `elements`
 
 The run: the static equilibrium under the loads (femslide.static, on the fixed mesh), held - if
-``initial`` says so - at a body's rotation [rad] and/or centroid displacement [m] or at a slider's
+``initial`` says so - at a body's rotation [rad] and/or centroid displacement u [m] (its component
+along u is held, the rest of the structure in equilibrium: the body pulled along u) or at a slider's
 slide [m] (an extra exact constraint, walked there in small steps), then released at rest and
 integrated to ``t_end`` (femslide/transient.py: generalized-alpha, adaptive step).  The lowest natural
 frequencies of the frictionless structure about the static equilibrium (femslide/modes.py) are
@@ -20,8 +21,9 @@ dissipated - work in, relative to the largest of them over the run), ``events`` 
 [{t, kind}], kind "stick", "slip+" or "slip-"; femslide/friction.py),
 ``frequencies_hz``, ``peaks`` {``reactions``: {NAME: {Fx, Fy, M}} largest |value| over time,
 ``rods``: {NAME: {M_max}}, ``joints``: {NAME: {slide_min, slide_max}}}, ``wall_time_s``; ``--out DIR``
-writes ``history.csv`` (every reported quantity at every accepted step) and a PVD series of VTU
-frames (each frame's time and global values as field data).
+writes ``history.csv`` (every reported quantity at every accepted step; friction joints also their
+friction force on a along the axis), a PVD series of VTU frames (each frame's time and global values
+as field data) and, with matplotlib, ``hysteresis_JOINT.png`` (friction force against slide).
 
 Work is bounded a priori: the number of steps is estimated from the lowest frequency and the
 tolerance (second-order local error control: about 2 pi (c3 / tolerance)^(1/3) steps per period)
@@ -129,10 +131,11 @@ def parse_spec(table, base_dir=".", where="[simulate]") -> Spec:
 # -- holding the initial state ------------------------------------------------------------------------
 
 class _BodyHold:
-    """Exact constraint holding a body's rotation and/or centroid displacement (joints.py protocol)."""
+    """Exact constraint holding a body's centroid displacement along a direction e (its component
+    along e) and/or its rotation (joints.py protocol); ``what``: list of "u" (along e), "rot"."""
 
-    def __init__(self, d, r, what):
-        self.d, self.r, self.what = d, r, what   # what: list of 'x', 'y', 'rot'
+    def __init__(self, d, r, what, e=(1.0, 0.0)):
+        self.d, self.r, self.what, self.e = d, r, what, e
         self.size = len(what)
         self.dofs = np.arange(d, d + 3, dtype=np.intp)
         self.target = np.zeros(self.size)
@@ -140,15 +143,17 @@ class _BodyHold:
     def value(self, z):
         c, s = math.cos(z[2]), math.sin(z[2])
         rx, ry = self.r
-        vals = {"x": z[0] + c * rx - s * ry - rx, "y": z[1] + s * rx + c * ry - ry, "rot": z[2]}
+        dx, dy = z[0] + c * rx - s * ry - rx, z[1] + s * rx + c * ry - ry
+        vals = {"u": dx * self.e[0] + dy * self.e[1], "rot": z[2]}
         return np.array([vals[w] for w in self.what])
 
     def eval(self, z, mu=None):
         c, s = math.cos(z[2]), math.sin(z[2])
         rx, ry = self.r
         Rx, Ry = c * rx - s * ry, s * rx + c * ry
-        rows = {"x": [1.0, 0.0, -Ry], "y": [0.0, 1.0, Rx], "rot": [0.0, 0.0, 1.0]}
-        hrow = {"x": -Rx, "y": -Ry, "rot": 0.0}
+        ex, ey = self.e
+        rows = {"u": [ex, ey, -Ry * ex + Rx * ey], "rot": [0.0, 0.0, 1.0]}
+        hrow = {"u": -Rx * ex - Ry * ey, "rot": 0.0}
         g = self.value(z) - self.target
         G = np.array([rows[w] for w in self.what])
         H = np.zeros((self.size, 3, 3))
@@ -193,14 +198,18 @@ def _held_start(fs, counts, L, F, y, alpha, ini):
         b = fs.body(name)
         d = m.body_dof(name)
         r = tuple(np.asarray(b.centroid, float) / L - m.body_X0[m.body_index[name]])
-        what, target = [], []
+        what, target, e = [], [], (1.0, 0.0)
         if "u" in ini:
-            what += ["x", "y"]
-            target += [ini["u"][0] / L, ini["u"][1] / L]
+            size = math.hypot(*ini["u"])
+            if size == 0.0:
+                raise BadInput("[simulate] initial.u = [0, 0]: give a nonzero displacement (or leave it out)")
+            e = (ini["u"][0] / size, ini["u"][1] / size)
+            what.append("u")
+            target.append(size / L)
         if "rotation" in ini:
             what.append("rot")
             target.append(ini["rotation"])
-        hold = _BodyHold(d, r, what)
+        hold = _BodyHold(d, r, what, e)
     else:
         name = ini["joint"]
         j = next((j for j in fs.joints if j.name == name), None)
@@ -240,8 +249,10 @@ def _fixed_mesh(fs, n):
     return replace(fs, rods=rods, derived={})
 
 
-def check_work(spec: Spec, f1: float, n_q: int):
-    """Bad input (naming t_end and the usable range) when the run would take more than WORK_BUDGET_S."""
+def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
+    """Bad input (naming t_end and the usable range) when the run would take more than WORK_BUDGET_S
+    by the steps its lowest frequency f1 needs; returns the step count allowed at run time (the
+    steps of the highest computed frequency f_top, whose modes a release may excite, times 3)."""
     c3 = 0.084
     per_period = 2 * math.pi * (c3 / spec.tolerance) ** (1.0 / 3.0) * 1.5
     periods = spec.t_end * max(f1, spec.ground.frequency if spec.ground is not None and spec.ground.times is None else 0.0)
@@ -255,6 +266,8 @@ def check_work(spec: Spec, f1: float, n_q: int):
                        f"({per_period:.0f} per period of the lowest mode, {1 / f1:.4g} s, at tolerance "
                        f"{spec.tolerance:g}) would take ~{steps * cost:.3g} s; allowed: t_end <= {t_max:.4g} s "
                        f"({WORK_BUDGET_S:g} s of work; a looser tolerance allows more)")
+    if f_top:
+        steps = max(steps, steps * f_top / max(f1, 1e-300))
     return int(3 * max(steps, 1000)) + 1000
 
 
@@ -276,7 +289,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
     if masses.massive_dofs().size == 0:
         raise BadInput("simulate: nothing in the structure has mass (give a body a mass or a rod a rhoA)")
     freq, _ = modes(model, y_s, a_s, masses, MODES)
-    max_steps = check_work(spec, float(freq[0]), model.n_q)
+    max_steps = check_work(spec, float(freq[0]), model.n_q, float(freq[-1]))
     C = None
     if spec.alpha or spec.beta:
         from .modes import tangent
@@ -310,7 +323,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
     bodies = [b.name for b in fs.bodies]
     cols = ["t"] + [f"reactions.{n}.{k}" for n in reac for k in ("Fx", "Fy", "M")] \
         + [f"rods.{n}.M_max" for n in rods] + [f"joints.{n}.slide" for n in slides] \
-        + [f"bodies.{n}.{k}" for n in bodies for k in ("x", "y", "rotation")]
+        + [f"bodies.{n}.{k}" for n in bodies for k in ("x", "y", "rotation")] \
+        + [f"joints.{n}.friction" for n in sorted(fric_names)]
     frames, frames_rows = [], []   # (t, row index, y, alpha) every t_end / FRAMES
     next_frame = [0.0]
 
@@ -332,6 +346,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
         for n in bodies:
             x, yy = model.body_point(n, q, fs.body(n).centroid)
             row += [float(x), float(yy), float(q[model.body_dof(n) + 2])]
+        for n in sorted(fric_names):   # friction force on a along +axis [N]
+            row.append(-fr.coefficient(n, y) * F)
         if t >= next_frame[0] or t >= spec.t_end * (1 - 1e-12):
             frames.append((t, len(frames_rows), y.copy(), alpha.copy()))
             next_frame[0] = t + spec.t_end / FRAMES
@@ -371,7 +387,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
            "events": fr.events if fr is not None else {},
            "frequencies_hz": [float(f) for f in freq], "peaks": peaks,
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
-    res["_write"] = lambda d: _write(d, name, cols, H, frames, model)
+    res["_write"] = lambda d: _write(d, name, cols, H, frames, model) + _hysteresis(d, name, cols, H,
+                                                                                    sorted(fric_names))
     res["wall_time_s"] = time.perf_counter() - t_wall
     res["_history"] = (cols, H)
     return res
@@ -395,6 +412,33 @@ def _peak(t, x):
     best = float(np.polyval(c, s).max())
     # a fit that overshoots far beyond the samples' spread is not trusted
     return best if best - x[i] <= 0.5 * (x[i] - min(x[i - 1], x[i + 1])) + 1e-300 else float(x[i])
+
+
+def _hysteresis(out_dir, name, cols, H, joints):
+    """A PNG per friction joint: its friction force against its slide (the hysteresis loop);
+    nothing without matplotlib."""
+    if not joints:
+        return []
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return []
+    files = []
+    for n in joints:
+        fig, ax = plt.subplots(figsize=(5, 4))
+        ax.plot(H[:, cols.index(f"joints.{n}.slide")], H[:, cols.index(f"joints.{n}.friction")], lw=0.8)
+        ax.set_xlabel(f"slide of {n} [m]")
+        ax.set_ylabel(f"friction force on a along the axis [N]")
+        ax.set_title(f"{name}: {n}")
+        ax.grid(True, alpha=0.3)
+        fig.tight_layout()
+        path = os.path.join(out_dir, f"hysteresis_{n}.png")
+        fig.savefig(path, dpi=100)
+        plt.close(fig)
+        files.append(path)
+    return files
 
 
 def _write(out_dir, name, cols, H, frames, model):

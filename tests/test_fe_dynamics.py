@@ -326,3 +326,37 @@ def test_ground_records_at2_and_csv(tmp_path):
         cols, H = res["_history"]
         w = -0.7 / (omega ** 2 - W ** 2) * (np.sin(W * H[:, 0]) - W / omega * np.sin(omega * H[:, 0]))
         assert np.abs(H[:, cols.index("joints.belt.slide")] - w).max() < 3e-6
+
+
+def test_friction_history_column_and_body_hold():
+    """The history of a friction joint holds its friction force: -mu N sgn(s') while slipping (here
+    mu N = 1.962 N), |f| <= mu0 N while stuck; holding the block's centroid at u = [0.05, 0] is the
+    same start as holding the slide at 0.05 (same turning point to 1e-12 m)."""
+    r1, h1 = _run(_belt(mu=0.2), t_end=0.3, tolerance=1e-7, initial={"body": "block", "u": [0.05, 0.0]})
+    r2, h2 = _run(_belt(mu=0.2), t_end=0.3, tolerance=1e-7, initial={"joint": "belt", "slide": 0.05})
+    assert r1["peaks"]["joints"]["belt"]["slide_min"] == pytest.approx(r2["peaks"]["joints"]["belt"]["slide_min"],
+                                                                       abs=1e-12)
+    f = h1["joints.belt.friction"]
+    slipping = (h1["t"] > 1e-3) & (h1["t"] < 0.2)
+    assert np.allclose(f[slipping], 0.2 * 9.81, rtol=1e-9)    # moving towards -x: friction along +x
+    assert np.abs(f).max() <= 0.2 * 9.81 * (1 + 1e-9)
+
+
+def test_rod_mass_dynamics_period_matches_the_first_mode():
+    """A cantilever (EI = 200) with rhoA = 0.2 kg/m (16 elements) and a tip body of 1 kg, released from a
+    tip held 1 cm aside: the tip's motion (almost all in mode 1) returns to its extreme after one
+    period 1 / f1 of the modes within 1e-3."""
+    s = femslide.Structure(gravity=(0.0, 0.0))
+    s.rod("c", (0.0, 0.0), (1.5, 0.0), EI=200.0, EA=2e8, rhoA=0.2, elements=16)
+    s.weld("clamp", "c.start", "ground")
+    s.body("tip", mass=1.0, centroid=(1.5, 0.0), inertia=0.0)
+    s.weld("w", "tip", "c.end", at=(1.5, 0.0))
+    res, h = _run(s, t_end=0.8, tolerance=1e-7, initial={"body": "tip", "u": [0.0, 0.01]})
+    T1 = 1.0 / res["frequencies_hz"][0]
+    y = h["bodies.tip.y"]
+    t = h["t"]
+    after = t > 0.5 * T1
+    i = int(np.argmax(np.where(after & (t < 1.5 * T1), y, -np.inf)))
+    c = np.polyfit(t[i - 2:i + 3] - t[i], y[i - 2:i + 3], 2)
+    t_max = t[i] - c[1] / (2 * c[0])
+    assert t_max == pytest.approx(T1, rel=1e-3)
