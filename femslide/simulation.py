@@ -430,7 +430,7 @@ def _hysteresis(out_dir, name, cols, H, joints):
         fig, ax = plt.subplots(figsize=(5, 4))
         ax.plot(H[:, cols.index(f"joints.{n}.slide")], H[:, cols.index(f"joints.{n}.friction")], lw=0.8)
         ax.set_xlabel(f"slide of {n} [m]")
-        ax.set_ylabel(f"friction force on a along the axis [N]")
+        ax.set_ylabel("friction force on a along the axis [N]")
         ax.set_title(f"{name}: {n}")
         ax.grid(True, alpha=0.3)
         fig.tight_layout()
@@ -489,7 +489,6 @@ def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
            "periods_s": [float(1.0 / f) for f in freq], "elements": {r.name: r.elements for r in fs.rods}}
 
     def write(out_dir):
-        from .newton import newton  # noqa: F401
         from .vtu import _write_vtu, mesh_data
         os.makedirs(out_dir, exist_ok=True)
         files = []

@@ -241,7 +241,12 @@ class StructureFile:
                               f"structure file {self.path}: [simulate]")
             if elements is not None:
                 spec.elements = elements
-            return simulate(s.freeze(), spec, name=self.name)
+            from .dynamics import _Progress
+            bar = _Progress(spec.t_end, values, f"simulate {self.name}")
+            try:
+                return simulate(s.freeze(), spec, name=self.name, progress=bar.at)
+            finally:
+                bar.close()
         from .run import solve_structure
         s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
         return solve_structure(s.freeze(), elements=elements, name=self.name, cache=values.get("_cache"))

@@ -343,15 +343,15 @@ def test_friction_history_column_and_body_hold():
 
 
 def test_rod_mass_dynamics_period_matches_the_first_mode():
-    """A cantilever (EI = 200) with rhoA = 0.2 kg/m (16 elements) and a tip body of 1 kg, released from a
+    """A cantilever (EI = 200) with rhoA = 0.2 kg/m (8 elements) and a tip body of 1 kg, released from a
     tip held 1 cm aside: the tip's motion (almost all in mode 1) returns to its extreme after one
     period 1 / f1 of the modes within 1e-3."""
     s = femslide.Structure(gravity=(0.0, 0.0))
-    s.rod("c", (0.0, 0.0), (1.5, 0.0), EI=200.0, EA=2e8, rhoA=0.2, elements=16)
+    s.rod("c", (0.0, 0.0), (1.5, 0.0), EI=200.0, EA=2e8, rhoA=0.2, elements=8)
     s.weld("clamp", "c.start", "ground")
     s.body("tip", mass=1.0, centroid=(1.5, 0.0), inertia=0.0)
     s.weld("w", "tip", "c.end", at=(1.5, 0.0))
-    res, h = _run(s, t_end=0.8, tolerance=1e-7, initial={"body": "tip", "u": [0.0, 0.01]})
+    res, h = _run(s, t_end=0.8, tolerance=1e-6, initial={"body": "tip", "u": [0.0, 0.01]})
     T1 = 1.0 / res["frequencies_hz"][0]
     y = h["bodies.tip.y"]
     t = h["t"]

@@ -129,7 +129,9 @@ def main():
     ax[0].loglog(st, 1e-1 * (st / 10) ** -2, "k:", label="slope -2")
     ax[0].set_xlabel("steps")
     ax[1].set_xlabel("run time [s]")
+    from matplotlib.ticker import NullFormatter
     for a in ax:
+        a.xaxis.set_minor_formatter(NullFormatter())
         a.set_ylabel("error (oscillator: m; section 5.2: relative F2 peak)")
         a.grid(True, which="both", alpha=0.3)
         a.legend()
