@@ -254,7 +254,7 @@ def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
     by the steps its lowest frequency f1 needs; returns the step count allowed at run time (the
     steps of the highest computed frequency f_top, whose modes a release may excite, times 3)."""
     c3 = 0.084
-    per_period = 2 * math.pi * (c3 / spec.tolerance) ** (1.0 / 3.0) * 1.5
+    per_period = 2 * math.pi * (c3 / (0.5 * spec.tolerance)) ** (1.0 / 3.0) * 1.5
     periods = spec.t_end * max(f1, spec.ground.frequency if spec.ground is not None and spec.ground.times is None else 0.0)
     steps = periods * per_period
     if spec.ground is not None and spec.ground.times is not None and spec.ground.dt:

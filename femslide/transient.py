@@ -21,8 +21,9 @@ matrix is [[M beta' + C gamma' + K, G^T], [G, 0]] with beta' = (1 - alpha_m)/((1
 gamma' = gamma / (beta h), plus the derivatives of a body's inertia when its frame origin is not its
 centroid (femslide/mass.py).  Step size: adaptive, with the local error estimate of the positions
 e = c3 h^2 (a_{n+1} - a_n), c3 = (alpha_m - alpha_f)/2 + beta - 1/6 (Taylor expansion of the
-position update), over the dofs with mass, kept below ``tolerance`` times the largest displacement
-from the static state seen so far (floor 1e-6 Lref): a step with a larger error is repeated with a
+position update), over the dofs with mass, kept below SAFETY = 0.5 times ``tolerance`` times the
+amplitude of the recent motion (the largest displacement from the static state, remembered over
+about one period of the lowest mode; floor 1e-6 Lref): a step with a larger error is repeated with a
 smaller h, the next step is h (0.9 / err)^(1/3) (between 0.2 h and 2 h).
 
 Damping: Rayleigh, C = alpha M0 + beta K0 with M0 and K0 the mass matrix and the tangent at the
@@ -51,6 +52,7 @@ from .newton import newton  # noqa: E402
 RHO_INF = 0.9          # spectral radius at infinite frequency (a little numerical damping of the
                        # highest modes, needed by the multipliers of index-3 constraints)
 NEWTON_TOL = 1e-10
+SAFETY = 0.5           # the local error estimate is held below SAFETY * tolerance
 MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/simulation.py comes first)
 
 
@@ -371,7 +373,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         q = y[:n_q]
         est = c3 * h * h * np.abs(a1[heavy] - s.a[heavy])
         disp = float(np.abs(q[heavy] - q_static[heavy]).max())
-        err = float(est.max()) / (tolerance * max(amp, disp, 1e-3 * amp_all)) if est.size else 0.0
+        err = float(est.max()) / (SAFETY * tolerance * max(amp, disp, 1e-3 * amp_all)) if est.size else 0.0
         if err > 1.0 and h > h_min:
             out.rejected += 1
             h *= max(0.2, 0.9 * err ** (-1.0 / 3.0))

@@ -4,9 +4,9 @@ validation/test_friction_oscillator.py against closed forms and an independent i
 
 The structure files are meshes/structures/belt-ex2.toml (free decay, 13 half-swings) and
 belt-ex3.toml (ex. 2 from rest, base-excited at theta = omega / 2), run at their tolerance 1e-9.
-Tolerances: turning points (ends of slip: stick or reversal) within 1e-6 m; their times within
-1e-6 s for ex. 3 and 2e-6 s for ex. 2, whose 13 half-swings accumulate the second-order phase error of
-the generalized-alpha integrator (measured 1.3e-6 s at the last stop; the slides agree to 1e-10 m).
+Tolerances (the issue's acceptance): turning points (ends of slip: stick or reversal) within 1e-6 m
+and 1e-6 s.  Measured: ex. 2 8.2e-7 s at the last of its 13 half-swings (the second-order phase error
+of the generalized-alpha integrator accumulates; the slides agree to 1e-10 m), ex. 3 1.2e-7 s, 5e-9 m.
 Run:  pytest -q validation/test_fe_dynamics_friction.py   (slow: ~1 min)
 """
 from __future__ import annotations
@@ -31,7 +31,7 @@ def _turning(res):
 @pytest.mark.slow
 def test_example_2_free_decay():
     """13 half-swings, amplitudes 8 - 0.6 j cm, stop at -0.2 cm (t = 1.84405 s): every turning point
-    within 1e-6 m and 2e-6 s of the exact solution; energy balance below 1e-7."""
+    within 1e-6 m and 1e-6 s of the exact solution; energy balance below 1e-7."""
     res = femslide.simulate("meshes/structures/belt-ex2.toml")
     ref = femslide.simulate("sdof-decay")
     tp = _turning(res)
@@ -39,7 +39,7 @@ def test_example_2_free_decay():
     assert len(tp) == len(ex) == 13
     assert res["events"]["belt"][-1]["kind"] == "stick"
     for (t, w), (te, we) in zip(tp, ex):
-        assert abs(w - we) < 1e-6 and abs(t - te) < 2e-6
+        assert abs(w - we) < 1e-6 and abs(t - te) < 1e-6
     assert res["energy_balance"] < 1e-7
 
 
