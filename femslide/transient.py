@@ -234,6 +234,22 @@ def _locate(attempt, fr, phi0, cross, h, cand, max_iter=60):
     return best
 
 
+def _switch(fr, s: State, i, h_s):
+    """The mode change of friction joint i at the state s: a slipping joint at rest takes the stick
+    test (:func:`_settle`); a stuck one breaks away towards its net force (sign of its lock
+    multiplier).  Returns the state in the new modes' layout with consistent accelerations, and the
+    step system."""
+    if fr.mode[i] != 0:
+        return _settle(fr, s, h_s, [i], fr.stuck())
+    old = fr.stuck()
+    lam = fr.lock_multiplier(s.y, i)
+    fr.mode[i] = 1 if lam > 0 else -1
+    fr.events[fr.joints[i].name].append({"t": s.t, "kind": "slip+" if lam > 0 else "slip-"})
+    s = State(s.t, fr.convert(s.y, old, fr.stuck(), {}), s.v, s.acc, s.a, s.alpha)
+    sysm = fr.system()
+    return _consistent_start(sysm, s, h_s), sysm
+
+
 def _settle(fr, s: State, h_s, pending, old_stuck):
     """Stick test of the joints ``pending`` (at rest along their guides, or all joints at t = 0):
     each is locked where it is, the consistent start gives its lock multiplier lam, and it stays
@@ -354,6 +370,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         out.times.append(0.0)
         out.rows.append(observe(0.0, s.y, s.alpha, s.v))
     t0 = time.perf_counter()
+    switches, t_switch = 0, None
     while s.t < t_end * (1 - 1e-14):
         if out.steps + out.rejected >= max_steps:
             raise SolverFailure(f"simulate: the step count limit {max_steps} was reached at t = {s.t:.6g} s "
@@ -361,6 +378,20 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         if wall_limit and time.perf_counter() - t0 > wall_limit:
             raise SolverFailure(f"simulate: the wall-time limit {wall_limit:g} s was reached at t = {s.t:.6g} s")
         h = min(h, h_max, t_end - s.t)
+        if fr is not None:
+            # a joint whose mode no longer holds at the start of a step (two events at one instant):
+            # switch it now
+            ph = fr.phi(s.y, s.v)
+            late = np.nonzero(ph < -1e-10)[0]
+            if late.size:
+                switches = switches + 1 if s.t == t_switch else 1
+                t_switch = s.t
+                if switches > 2 * len(fr.joints) + 2:
+                    raise SolverFailure(f"simulate: the friction joints' stick/slip modes do not settle at "
+                                        f"t = {s.t:.9g} s")
+                s, sysm = _switch(fr, s, int(late[0]), 1e-4 * h)
+                Pd = loss_power(s.y, s.v)
+                continue
         cand, info = attempt(sysm, s, h)
         if cand is None:
             out.rejected += 1
@@ -402,17 +433,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         s = State(t1, y, v1, acc1, a1, alpha1)
         out.steps += 1
         if event is not None:
-            i = event
-            if fr.mode[i] != 0:      # slip ended (s' = 0): the stick test decides
-                s, sysm = _settle(fr, s, 1e-4 * h_next, [i], fr.stuck())
-            else:                    # breakaway towards the net force
-                old = fr.stuck()
-                lam = fr.lock_multiplier(s.y, i)
-                fr.mode[i] = 1 if lam > 0 else -1
-                fr.events[fr.joints[i].name].append({"t": t1, "kind": "slip+" if lam > 0 else "slip-"})
-                s = State(s.t, fr.convert(s.y, old, fr.stuck(), {}), s.v, s.acc, s.a, s.alpha)
-                sysm = fr.system()
-                s = _consistent_start(sysm, s, 1e-4 * h_next)
+            s, sysm = _switch(fr, s, event, 1e-4 * h_next)
             Pd1 = loss_power(s.y, s.v)
         Pg, Pd = Pg1, Pd1
         T = masses.kinetic(q, v1)

@@ -360,3 +360,4 @@ def test_rod_mass_dynamics_period_matches_the_first_mode():
     c = np.polyfit(t[i - 2:i + 3] - t[i], y[i - 2:i + 3], 2)
     t_max = t[i] - c[1] / (2 * c[0])
     assert t_max == pytest.approx(T1, rel=1e-3)
+
