@@ -194,10 +194,7 @@ class StructureFile:
                              simulate_table=self.simulate_table)
 
     def for_simulate(self) -> "StructureFile":
-        """The same file as a `simulate` target (its [simulate] table checked now)."""
-        from .simulation import parse_spec
-        parse_spec(self.simulate_table, os.path.dirname(os.path.abspath(self.path)),
-                   f"structure file {self.path}: [simulate]")
+        """The same file as a `simulate` target (its [simulate] table is checked by :meth:`resolve`)."""
         return StructureFile(self.path, self.structure, self.description, "simulate",
                              simulate_table=self.simulate_table)
 
@@ -219,14 +216,28 @@ class StructureFile:
         return self.description or f"structure file {self.path}"
 
     def resolve(self, given: dict) -> dict:
-        """Overrides checked now (applied to a copy and frozen), before any run."""
+        """Overrides checked now (applied to a copy and frozen), before any run.  A `simulate`
+        target also takes ``simulate.KEY=VALUE`` (a key of the [simulate] table)."""
         values = {k: parse_value(v) for k, v in given.items()}
-        s, _ = apply(self.structure, values)
+        s, _ = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("simulate.")})
         try:
             s.freeze()
         except BadInput as exc:
             raise BadInput(f"structure file {self.path}: {exc}") from None
+        if self.command == "simulate":
+            self._spec(values)
+        elif any(k.startswith("simulate.") for k in values):
+            raise BadInput(f"{next(k for k in values if k.startswith('simulate.'))}: [simulate] keys are for "
+                           f"`femslide simulate`")
         return values
+
+    def _spec(self, values):
+        """The [simulate] table with the ``simulate.KEY`` overrides, checked."""
+        from .simulation import parse_spec
+        table = dict(self.simulate_table or {})
+        table.update({k.split(".", 1)[1]: v for k, v in values.items() if k.startswith("simulate.")})
+        return parse_spec(table if (self.simulate_table is not None or table) else None,
+                          os.path.dirname(os.path.abspath(self.path)), f"structure file {self.path}: [simulate]")
 
     def run(self, values: dict) -> dict:
         if self.command == "modes":
@@ -235,10 +246,10 @@ class StructureFile:
             return natural_modes(s.freeze(), values.get("_count") or MODES,
                                  elements or self._sim_elements(DEFAULT_ELEMENTS), name=self.name)
         if self.command == "simulate":
-            from .simulation import parse_spec, simulate
-            s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
-            spec = parse_spec(self.simulate_table, os.path.dirname(os.path.abspath(self.path)),
-                              f"structure file {self.path}: [simulate]")
+            from .simulation import simulate
+            s, elements = apply(self.structure, {k: v for k, v in values.items()
+                                                 if not k.startswith(("_", "simulate."))})
+            spec = self._spec(values)
             if elements is not None:
                 spec.elements = elements
             from .dynamics import _Progress

@@ -361,3 +361,18 @@ def test_rod_mass_dynamics_period_matches_the_first_mode():
     t_max = t[i] - c[1] / (2 * c[0])
     assert t_max == pytest.approx(T1, rel=1e-3)
 
+
+
+def test_simulate_keys_set_on_the_command_line(capsys):
+    """`--set simulate.KEY=VALUE` overrides (or supplies) the [simulate] table; out of range is bad
+    input naming the key; `solve` refuses simulate keys."""
+    import json
+    from femslide.cli import main
+    f = "meshes/structures/sliding-belt.toml"
+    assert main(["simulate", f, "--json", "--set", "simulate.t_end=0.25", "--set", "simulate.tolerance=1e-5"]) == 0
+    assert json.loads(capsys.readouterr().out)["t_end"] == 0.25
+    assert main(["simulate", f, "--set", "simulate.t_end=-1"]) == 2
+    assert "t_end" in capsys.readouterr().err
+    assert main(["solve", f, "--set", "simulate.t_end=1"]) == 2
+    assert main(["simulate", "meshes/structures/beam-slider.toml"]) == 2
+    assert "[simulate]" in capsys.readouterr().err
