@@ -51,7 +51,8 @@ from .newton import newton  # noqa: E402
 
 RHO_INF = 0.9          # spectral radius at infinite frequency (a little numerical damping of the
                        # highest modes, needed by the multipliers of index-3 constraints)
-NEWTON_TOL = 1e-10
+NEWTON_TOL = 1e-10     # Newton's tolerance at tight tolerances (and for the consistent starts) ...
+NEWTON_TOL_MAX = 1e-8  # ... and at loose ones: 1e-3 * tolerance in between
 SAFETY = 0.5           # the local error estimate is held below SAFETY * tolerance
 MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/simulation.py comes first)
 
@@ -339,6 +340,8 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
     bal = 0.0
     Csr = C.tocsr() if C is not None else None
     fr = friction
+    # Newton's residual (relative to the internal forces) well below the step's error budget
+    newton_tol = min(NEWTON_TOL_MAX, max(NEWTON_TOL, 1e-3 * tolerance))
 
     def ground_power(q, v, t):
         if ground is None:
@@ -352,7 +355,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
 
     def attempt(sysm, s, h):
         sysm.prepare(s, h)
-        y, info = newton(sysm, sysm.predictor(), s.alpha, tol=NEWTON_TOL, maxit=12)
+        y, info = newton(sysm, sysm.predictor(), s.alpha, tol=newton_tol, maxit=12)
         out.newton_iterations += info.iterations
         if not info.converged:
             return None, info
