@@ -49,6 +49,7 @@ from .errors import BadInput, SolverFailure  # noqa: E402
 from .model import BandMatrix  # noqa: E402
 from .newton import newton  # noqa: E402
 
+EPS = float(np.finfo(float).eps)
 RHO_INF = 0.9          # spectral radius at infinite frequency (a little numerical damping of the
                        # highest modes, needed by the multipliers of index-3 constraints)
 NEWTON_TOL = 1e-10     # Newton's tolerance at tight tolerances (and for the consistent starts) ...
@@ -106,6 +107,7 @@ class StepSystem:
         self.Csr = C.tocsr() if C is not None else None
         self.extra = extra or []   # callables (y, v, c_vel) -> (f, (rows, cols, vals)) (friction)
         self.params = parameters()
+        self.m_max = float(max(np.abs(masses.matrix(np.zeros(model.n_q))[2]).max(initial=0.0), 0.0))
 
     def rotation_dofs(self):
         return self.model.rotation_dofs()
@@ -154,6 +156,10 @@ class StepSystem:
             r[:self.n_q] += fe
             if jacobian:
                 A = add_coo(self.model, A, *coo)
+        # round-off of the inertia term: q'' ~ (q - base) / (beta h^2) cancels digits of q; Newton
+        # accepts a residual at this level (as for the element forces' round-off)
+        info["noise"] = info["noise"] + 8.0 * EPS * self.c_acc * self.m_max * (
+            float(np.abs(q).max()) + float(np.abs(self.base).max()) + 1e-300)
         if jacobian:
             A = add_coo(self.model, A, rows, cols, vals)
             if self.Csr is not None:
