@@ -107,6 +107,7 @@ class StepSystem:
         self.Csr = C.tocsr() if C is not None else None
         self.extra = extra or []   # callables (y, v, c_vel) -> (f, (rows, cols, vals)) (friction)
         self.params = parameters()
+        self.roundoff_floor = True   # off in the consistent starts (their tiny step is solved fully)
         self.m_max = float(max(np.abs(masses.matrix(np.zeros(model.n_q))[2]).max(initial=0.0), 0.0))
 
     def rotation_dofs(self):
@@ -156,10 +157,12 @@ class StepSystem:
             r[:self.n_q] += fe
             if jacobian:
                 A = add_coo(self.model, A, *coo)
-        # round-off of the inertia term: q'' ~ (q - base) / (beta h^2) cancels digits of q; Newton
-        # accepts a residual at this level (as for the element forces' round-off)
-        info["noise"] = info["noise"] + 8.0 * EPS * self.c_acc * self.m_max * (
-            float(np.abs(q).max()) + float(np.abs(self.base).max()) + 1e-300)
+        # round-off of the inertia term: q'' ~ (q - base) / (beta h^2) resolves q only to eps |q|;
+        # when that level is above 1e-6 of the forces (steps far shorter than the motion's time
+        # scale) Newton accepts a residual at this level, as for the element forces' round-off
+        noise_in = EPS * self.c_acc * self.m_max * (float(np.abs(q).max()) + float(np.abs(self.base).max()))
+        if self.roundoff_floor and noise_in > 1e-6 * (1.0 + info["fmax"]):
+            info["noise"] = info["noise"] + noise_in
         if jacobian:
             A = add_coo(self.model, A, rows, cols, vals)
             if self.Csr is not None:
@@ -189,7 +192,11 @@ def _consistent_start(sysm, s: State, h_s: float) -> State:
     s = State(s.t, s.y, s.v, z, z.copy(), s.alpha)
     for _ in range(8):
         sysm.prepare(s, h_s)
-        y, info = newton(sysm, sysm.predictor(), s.alpha, tol=NEWTON_TOL, maxit=20)
+        sysm.roundoff_floor = False
+        try:
+            y, info = newton(sysm, sysm.predictor(), s.alpha, tol=NEWTON_TOL, maxit=20)
+        finally:
+            sysm.roundoff_floor = True
         if info.converged:
             _, _, acc = sysm.kinematics(y[:sysm.n_q])
             y0 = s.y.copy()
