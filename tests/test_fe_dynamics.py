@@ -371,6 +371,8 @@ def test_simulate_keys_set_on_the_command_line(capsys):
     f = "meshes/structures/sliding-belt.toml"
     assert main(["simulate", f, "--json", "--set", "simulate.t_end=0.25", "--set", "simulate.tolerance=1e-5"]) == 0
     assert json.loads(capsys.readouterr().out)["t_end"] == 0.25
+    assert main(["simulate", f, "--set", "simulate.t_end=1e-6"]) == 0   # far shorter than the period
+    capsys.readouterr()
     assert main(["simulate", f, "--set", "simulate.t_end=-1"]) == 2
     assert "t_end" in capsys.readouterr().err
     assert main(["solve", f, "--set", "simulate.t_end=1"]) == 2
