@@ -19,21 +19,60 @@ leaning towards B1, as in the paper).
 """
 from __future__ import annotations
 
+import os
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Any, Union
+
 from .errors import BadInput, SolverFailure
 from .structure import Structure, Table
+from .run import Result
+from . import sweep as _sweep_module  # noqa: F401  (loaded now, so that femslide.sweep stays the function)
+from .plot import plot  # matplotlib diagrams (matplotlib is imported when called)
 
-__all__ = ["Structure", "Table", "solve", "simulate", "load", "list_scenes", "BadInput", "SolverFailure"]
+if TYPE_CHECKING:
+    import pandas
+
+    from .structure import Frozen
+
+#: what solve and sweep take: a Structure, a structure or scene file path, or a built-in scene name
+Target = Union[Structure, "Frozen", str, os.PathLike]
+
+__all__ = ["Structure", "Table", "solve", "simulate", "sweep", "load", "list_scenes", "plot", "Result", "BadInput",
+           "SolverFailure"]
 __version__ = "0.2.0"
 
 
-def list_scenes():
-    """Names of the built-in scenes."""
+def list_scenes() -> list[str]:
+    """Names of the built-in scenes (``femslide scenes`` lists their parameters and defaults).
+
+    Returns
+    -------
+    list of str
+        ``["hinge-slider", ..., "beam-slider", ..., "sdof-harmonic", ...]``.
+    """
     from .scenes import SCENES
     return list(SCENES)
 
 
 def load(path: str) -> Structure:
-    """The structure declared in a structure file (TOML), to inspect, change and solve."""
+    """The structure declared in a structure file (TOML), to inspect, change and solve.
+
+    Parameters
+    ----------
+    path : str
+        A structure file: ``[[rod]]``, ``[[body]]``, ``[[joint]]``, ``[[load]]`` tables and
+        ``gravity`` (a file without a ``scene`` key).
+
+    Returns
+    -------
+    Structure
+        A new, mutable declaration; ``femslide.solve(s)`` solves it.
+
+    Raises
+    ------
+    BadInput
+        A missing or malformed file; the message names the file, the entry and the field.
+    """
     from .structfile import load as _load
     return _load(path).structure
 
@@ -52,39 +91,140 @@ def _run(command, target, params):
                 raise BadInput("overrides need a Structure, not a frozen one")
             s, _ = apply(s, params)
         fs = s.freeze() if s is not None else target
-        from .run import solve_structure
         import time
+        t_imp = time.perf_counter()
+        from . import static  # noqa: F401  (timed apart: import_time_s)
+        from .run import solve_structure
         t0 = time.perf_counter()
         res = solve_structure(fs, elements=elements)
         res["wall_time_s"] = time.perf_counter() - t0
+        res["import_time_s"] = t0 - t_imp
         return res
-    tgt = load_target(target)
+    import os
+    tgt = load_target(os.fspath(target) if isinstance(target, os.PathLike) else target)
     scene = tgt.scene
     if scene.command != command:
         raise BadInput(f"{target} is a '{scene.command}' scene")
     return run_case(scene, tgt.resolve(params))
 
 
-def solve(target, **params):
-    """Static equilibrium.  ``target``: a :class:`Structure`, a structure or scene file path, or a
-    built-in scene name; keyword arguments override parameters (scenes: ``EI=1e8``; structures:
-    ``**{"right.EI": 1e8}``, ``elements=32``).  Returns a dict-like :class:`femslide.run.Result`."""
+def solve(target: Target, **params: Any) -> Result:
+    """Static equilibrium on the principal branch (all loads ramped together from zero).
+
+    Parameters
+    ----------
+    target : Structure, str or os.PathLike
+        A :class:`Structure`, a structure file (TOML), a scene file, or a built-in scene name
+        (``"beam-slider"``; :func:`list_scenes`).
+    **params
+        Overrides.  Scenes: their parameters (``EI=1e8``, SI units).  Structures and structure
+        files: fields by name, ``**{"right.EI": 1e8, "wind.force": [0, -500]}``, ``gravity``,
+        and ``elements=32`` (a fixed mesh for every rod instead of adaptive refinement).
+
+    Returns
+    -------
+    Result
+        A dict of named values (SI units): for declared structures ``converged``, ``M_max``,
+        ``bodies``, ``rods``, ``joints``, ``reactions``, ``iterations``, ``error_estimate``,
+        ``wall_time_s``; for scenes the keys of ``femslide solve SCENE --json``.  FE results also
+        give arrays along the rods (:meth:`Result.rod`) and a table (:meth:`Result.to_dataframe`).
+
+    Raises
+    ------
+    BadInput
+        An unknown name, a value out of range, a structure that is not connected to the ground.
+    SolverFailure
+        The load path ends at a limit point before full load, or the structure is a mechanism.
+    """
     return _run("solve", target, dict(params))
 
 
-def simulate(target, **params):
-    """Dynamics.  ``target``: a :class:`Structure` or a structure file (FE dynamics: keyword arguments
-    ``t_end``, ``tolerance``, ``damping``, ``ground``, ``initial``, ``elements`` as in a file's
-    ``[simulate]`` table, and ``NAME.FIELD`` overrides), or a dynamic scene (a built-in name or a
-    scene file) with its parameters.  Returns a dict-like :class:`femslide.run.Result`."""
+def simulate(target: Target, **params: Any) -> Result:
+    """Motion in time of a dynamic scene or of a declared structure (FE dynamics).
+
+    Parameters
+    ----------
+    target : str, os.PathLike or Structure
+        A built-in dynamic scene (``sdof-free``, ``sdof-decay``, ``sdof-harmonic``,
+        ``beam-oscillation``, ``beam-friction``) or a scene file of one; or a :class:`Structure` or
+        a structure file (the FE dynamics of any declared structure: its ``[simulate]`` table).
+    **params
+        A scene's parameters (``t_end=5.0``, ``mu=0.2``, SI units); for a structure the keys of a
+        ``[simulate]`` table (``t_end``, ``tolerance``, ``damping``, ``ground``, ``initial``,
+        ``elements``) and ``NAME.FIELD`` overrides of the declaration.
+
+    Returns
+    -------
+    Result
+        The keys of ``femslide simulate SCENE --json`` (scenes: ``turning_points``, ``stop``,
+        ``w_max``, ``steady_amplitude``, ``steps``, ``energy_balance``, ``wall_time_s``...;
+        structures: ``steps``, ``energy_balance``, ``events``, ``frequencies_hz``, ``peaks``...) and
+        the time history, :attr:`Result.history`.
+
+    Raises
+    ------
+    BadInput
+        An unknown parameter or a value out of range (also a run whose work would exceed the
+        bounds; the message gives the usable range).
+    SolverFailure
+        The integration failed (scenes: or its energy balance is worse than 1e-6).
+    """
     from .structure import Frozen
-    if isinstance(target, (Structure, Frozen)) or (isinstance(target, str) and target.endswith(".toml")
-                                                   and _is_structure_file(target)):
+    if isinstance(target, (Structure, Frozen)) or (isinstance(target, (str, os.PathLike))
+                                                   and str(target).endswith(".toml")
+                                                   and _is_structure_file(str(target))):
         from .simulation import run_api
-        return run_api(target, dict(params))
+        return run_api(target if not isinstance(target, os.PathLike) else str(target), dict(params))
     return _run("simulate", target, dict(params))
 
 
 def _is_structure_file(path):
     from .structfile import is_structure_data, read_toml
     return is_structure_data(read_toml(path))
+
+
+def sweep(target: Target, *, fixed: dict[str, Any] | None = None, jobs: int = 1, quiet: bool = False,
+          **varied: Iterable[Any]) -> pandas.DataFrame:
+    """Solve (or simulate) every combination of parameter values; one table row per case.
+
+    Parameters
+    ----------
+    target : str, os.PathLike or Structure
+        A built-in scene name (``"beam-slider"``), a scene or structure file, or a
+        :class:`Structure`.
+    fixed : dict, optional
+        Parameters kept constant in every case (as keyword arguments of :func:`solve`).
+    jobs : int, default 1
+        Number of worker processes; 1 runs the cases one after the other in this process.  The
+        rows are the same either way: every case is solved from scratch, as :func:`solve` solves
+        it alone.
+    quiet : bool, default False
+        Switch off the progress bar (shown on stderr only when it is a terminal).
+    **varied : list of values
+        The varied parameters, each with a list (tuple, range, numpy array) of values: scene
+        parameters (``EI=[1e4, 1e6]``) or structure fields (``**{"right.EI": [1e4, 1e6]}``; a vector
+        field takes a list of vectors).  Several varied parameters give the full grid
+        (``itertools.product``, the first name varying slowest).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per case in grid order: the varied parameters, ``converged`` (bool), ``reason``
+        (why a case failed, else None), then every scalar value of the result under dotted names
+        (``M_max``, ``reactions.B1.Fx``, ``rods.right.M_max``, ``wall_time_s``...; see
+        :meth:`Result.flat`; NaN where a case has no value).  A case that fails does not stop the
+        sweep: its row says why.  ``df.attrs`` holds ``target``, ``varied`` and ``fixed``.
+
+    Raises
+    ------
+    BadInput
+        An unknown parameter, a value out of range (every case is checked before any runs), or a
+        varied parameter without a list of values.
+
+    Examples
+    --------
+    >>> df = femslide.sweep("beam-slider", EI=[1e4, 1e6, 1e8])          # doctest: +SKIP
+    >>> df[["EI", "M_max", "reactions.B1.Fx"]]                           # doctest: +SKIP
+    """
+    from .run import sweep_table
+    return sweep_table(target, varied, fixed=fixed, jobs=jobs, quiet=quiet)

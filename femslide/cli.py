@@ -1,13 +1,15 @@
-"""The command-line contract of SPEC section 7.
+"""The command line: ``femslide COMMAND ...`` (``femslide --help``, ``femslide COMMAND --help``).
 
     femslide scenes
     femslide solve SCENE [--set NAME=VALUE]... [--json] [--out DIR]
     femslide simulate SCENE [--set NAME=VALUE]... [--json] [--out DIR]
     femslide sweep SCENE --vary NAME=V1,V2,... [--set NAME=VALUE]... [--json] [--out DIR]
-                   [--jobs N | --dask ADDRESS] [--resume] [--plot FILE]
+                   [--jobs N] [--dask ADDRESS] [--resume] [--plot FILE]
     femslide modes FILE.toml [--count N] [--set NAME=VALUE]... [--json] [--out DIR]
     femslide mesh SCENE [--set NAME=VALUE]... [--out FILE]
     femslide show RESULT.vtu|RESULT.pvd [--frame K] [--screenshot FILE.png]
+    femslide init SCENE [DIR]
+    femslide --version
 
 SCENE is a built-in scene name, a scene file (``*.toml`` with a ``scene`` key, see
 femslide/scenefile.py) or a structure file (``*.toml`` declaring rods, bodies, joints and loads, see
@@ -36,28 +38,76 @@ class _Parser(argparse.ArgumentParser):
         raise BadInput(message)
 
 
+SCENE_HELP = ("a built-in scene name (femslide scenes lists them), a scene file *.toml or a structure "
+              "file *.toml")
+SET_HELP = ("change a parameter: a scene's (EI=1e8) or a structure's field (right.EI=1e8, "
+            "wind.force=[0,-500], elements=32); repeatable, overrides the file")
+EPILOG = "Exit status: 0 converged, 1 failed to converge (reason on stderr), 2 bad input."
+
+
+def _version() -> str:
+    from . import __version__
+    return __version__
+
+
 def _build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="femslide", description="Planar structures on flexible rods with sliding joints.")
-    sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser)
-    sc = sub.add_parser("scenes", help="list the built-in scenes, their parameters and defaults")
-    sc.add_argument("--json", action="store_true")
-    for name in ("solve", "simulate", "sweep"):
-        s = sub.add_parser(name)
-        s.add_argument("scene")
-        s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
-        s.add_argument("--json", action="store_true")
-        s.add_argument("--out", metavar="DIR")
-        s.add_argument("--quiet", action="store_true", help="no progress bar")
+    p = _Parser(prog="femslide", description="Planar structures on flexible rods with sliding joints: "
+                "exact spring-hinge models, corotational beam FE statics and dry-friction dynamics. "
+                "SI units throughout.", epilog=EPILOG)
+    p.add_argument("--version", action="version", version=f"femslide {_version()}",
+                   help="print the femslide version and exit")
+    sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser, metavar="COMMAND",
+                           help="one of the commands below; `femslide COMMAND --help` describes it")
+    sc = sub.add_parser("scenes", help="list the built-in scenes, their parameters and defaults",
+                        description="List the built-in scenes: their command (solve or simulate), model, "
+                        "and every parameter with its default, unit and allowed range.")
+    sc.add_argument("--json", action="store_true", help="print the list as JSON")
+    about = {
+        "solve": ("static equilibrium of a scene or structure",
+                  "Static equilibrium on the principal branch (all loads ramped from zero), with the mesh "
+                  "refined until the named results are accurate to about 1e-7. Prints the named results "
+                  "(reactions, joint forces, rod moments, error_estimate)."),
+        "simulate": ("time history of a dynamic scene or a structure file",
+                     "Time history of a dynamic scene (the dry-friction oscillator or the reduced "
+                     "structure dynamics: turning points, stop, amplitudes) or of a structure file with a "
+                     "[simulate] table (FE dynamics: peaks of the reactions, rod moments and slides, friction "
+                     "events, natural frequencies; --set simulate.KEY=VALUE overrides the table)."),
+        "sweep": ("solve a scene for several values of one parameter",
+                  "Solve a scene once per value of one parameter, each case from the scene's own start "
+                  "(rows equal `femslide solve` of that case), in process, in N processes or on Dask. "
+                  "A failed case is reported in its row and the sweep goes on."),
+    }
+    for name, (short, long) in about.items():
+        s = sub.add_parser(name, help=short, description=long, epilog=EPILOG)
+        s.add_argument("scene", metavar="SCENE", help=SCENE_HELP)
+        s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help=SET_HELP)
+        s.add_argument("--json", action="store_true",
+                       help="print one JSON object on stdout instead of text" if name != "sweep" else
+                       "print the rows on stdout as a JSON list of solve objects instead of text")
+        s.add_argument("--out", metavar="DIR",
+                       help="write VTU files, sidecar JSON and result.json into DIR" if name != "sweep" else
+                       "stream rows to DIR/sweep.jsonl and write each case's files to DIR/case_NNN; "
+                       "rerunning with the same DIR skips the cases already done")
+        s.add_argument("--quiet", action="store_true", help="no progress bar (it is drawn on a terminal only)")
         if name == "sweep":
-            s.add_argument("--vary", required=True, metavar="NAME=V1,V2,...")
-            par = s.add_mutually_exclusive_group()
-            par.add_argument("--jobs", type=int, default=1, help="cases solved in N processes")
-            par.add_argument("--dask", metavar="ADDRESS", help="'local' (a LocalCluster) or tcp://host:port")
+            s.add_argument("--vary", required=True, metavar="NAME=V1,V2,...",
+                           help="the varied parameter and its values (commas inside [...] belong to a value)")
+            s.add_argument("--jobs", type=int, default=None, metavar="N",
+                           help="solve the cases in N processes; with --dask local: N worker processes "
+                           "(default: in this process; --dask local alone: one worker per case, at most the "
+                           "CPU count and 8)")
+            s.add_argument("--dask", metavar="ADDRESS",
+                           help="run the cases on Dask: 'local' (a LocalCluster) or tcp://host:port (a running "
+                           "scheduler whose workers have femslide installed); needs femslide[dask]")
             s.add_argument("--resume", action="store_true",
                            help="skip the cases already in DIR/sweep.jsonl (rerunning with the same --out does too)")
-            s.add_argument("--plot", metavar="FILE", help="M_max against the varied parameter (matplotlib)")
-    mo = sub.add_parser("modes", help="natural frequencies and mode shapes (VTU) of a structure file about its "
-                                      "static equilibrium (frictionless, linearised)")
+            s.add_argument("--plot", metavar="FILE",
+                           help="draw M_max against the varied parameter into FILE (.png, .pdf, .svg; matplotlib)")
+    mo = sub.add_parser("modes", help="natural frequencies and mode shapes of a structure file",
+                        description="Natural frequencies [Hz] and mode shapes (VTU with --out) of a structure "
+                        "file: the lowest eigenvalues of the linearised frictionless structure about its static "
+                        "equilibrium (rod mass rhoA lumped at the nodes, bodies' mass and inertia).",
+                        epilog=EPILOG)
     mo.add_argument("scene", metavar="FILE.toml", help="a structure file")
     mo.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="change a field of the file, e.g. right.EI=1e8, or elements=N (every rod's mesh)")
@@ -65,14 +115,37 @@ def _build_parser() -> argparse.ArgumentParser:
     mo.add_argument("--json", action="store_true", help="print the result as one JSON object")
     mo.add_argument("--out", metavar="DIR", help="write one VTU per mode shape and result.json here")
     mo.add_argument("--quiet", action="store_true", help="no progress bar")
-    m = sub.add_parser("mesh", help="write the reference mesh of an FE scene (meshio format by extension)")
-    m.add_argument("scene")
-    m.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
-    m.add_argument("--out", metavar="FILE", help="default: SCENE.vtu")
-    sh = sub.add_parser("show", help="draw a result (.vtu, or the last frame of a .pvd) with pyvista")
-    sh.add_argument("result")
-    sh.add_argument("--frame", type=int, help="frame of a .pvd series (default: the last)")
-    sh.add_argument("--screenshot", metavar="FILE.png", help="render off-screen to this PNG")
+    m = sub.add_parser("mesh", help="write the reference mesh of an FE scene (meshio format by extension)",
+                       description="Write the reference mesh of a built-in FE statics scene: the undeformed "
+                       "rods as line cells in named groups (rod:NAME), supports, rigid rods and the body.")
+    m.add_argument("scene", metavar="SCENE", help="an FE statics scene: a built-in name or a scene file *.toml")
+    m.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="change a parameter (n_elements=N sets the elements per rod; default 64); repeatable")
+    m.add_argument("--out", metavar="FILE", help="the mesh file, format by extension (default: SCENE.vtu)")
+    sh = sub.add_parser("show", help="draw a result (.vtu, or a frame of a .pvd) with pyvista",
+                        description="Draw a result file with pyvista: the deformed rods coloured by their "
+                        "bending moment, the bodies and the undeformed configuration. Opens a window, or "
+                        "renders off-screen with --screenshot (EGL: no X server needed).")
+    sh.add_argument("result", metavar="RESULT", help="a .vtu file, or a .pvd series written by --out")
+    sh.add_argument("--frame", type=int, metavar="K", help="frame K of a .pvd series (default: the last)")
+    sh.add_argument("--screenshot", metavar="FILE.png", help="render off-screen to this image instead of a window")
+    sh.add_argument("--diagram", choices=("M", "V", "N"),
+                    help="member diagrams on the deformed structure: M bending moment [N m] on the "
+                         "tension side, V shear force or N axial force [N] (positive to the left of "
+                         "the rod from start to end); extremes labelled, supports and guides drawn")
+    sh.add_argument("--scale", type=float, metavar="K",
+                    help="diagram scale in m per N m (M) or m per N (V, N); default: the largest "
+                         "|value| of the series drawn at 15%% of the structure's size")
+    sh.add_argument("--magnify", type=float, default=1.0, metavar="K",
+                    help="multiply the displacements by K (default 1; the undeformed shape is drawn grey)")
+    it = sub.add_parser("init", help="copy a scene's template file (and its mesh) to edit",
+                        description="Copy the template of a built-in scene into DIR: its scene file NAME.toml "
+                        "and the reference mesh it names, or with structures/NAME the scene declared as a "
+                        "structure file. Existing files are never overwritten.")
+    it.add_argument("scene", metavar="SCENE",
+                    help="a built-in scene name (beam-slider) or structures/NAME (the FE scene as a structure file)")
+    it.add_argument("dir", metavar="DIR", nargs="?", default=".",
+                    help="folder to copy into (created if missing; default: the current folder)")
     return p
 
 
@@ -205,10 +278,18 @@ def _mesh(args):
 
 def _show(args):
     from .show import render
-    info = render(args.result, screenshot=args.screenshot, frame=args.frame)
+    info = render(args.result, screenshot=args.screenshot, frame=args.frame, diagram=args.diagram,
+                  scale=args.scale, magnify=args.magnify)
     if args.screenshot:
         print(args.screenshot)
     return 0 if info else 1
+
+
+def _init(args):
+    from .scenefile import copy_template
+    for path in copy_template(args.scene, args.dir):
+        print(path)
+    return 0
 
 
 def _check_outputs(args):
@@ -219,7 +300,10 @@ def _check_outputs(args):
 
 def main(argv=None) -> int:
     try:
-        args = _build_parser().parse_args(argv)
+        try:
+            args = _build_parser().parse_args(argv)
+        except SystemExit as exc:  # --help, --version: printed, exit status 0
+            return exc.code if isinstance(exc.code, int) else 0
         _check_outputs(args)
         if args.cmd == "scenes":
             _print_scenes(args.json)
@@ -232,6 +316,8 @@ def main(argv=None) -> int:
             return _modes(args)
         if args.cmd == "show":
             return _show(args)
+        if args.cmd == "init":
+            return _init(args)
         return _sweep(args)
     except BadInput as exc:
         print(f"femslide: error: {exc}", file=sys.stderr)

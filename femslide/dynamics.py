@@ -308,7 +308,7 @@ class Structure:
             try:
                 lu = sla.lu_factor(A, check_finite=False)
             except (ValueError, np.linalg.LinAlgError) as exc:
-                raise SolverFailure(f"singular tangent at phi = {phi:.6g} rad ({exc})", hist)
+                raise SolverFailure(f"singular tangent at phi = {phi:.6g} rad ({exc})", hist)  # noqa: B904 (cause in the message)
             dy = -sla.lu_solve(lu, r, check_finite=False)
             res = max(res_f, res_g)
             # converged at the tolerance, or at the round-off floor of the stiff rod (the nearly
@@ -641,6 +641,7 @@ def run_oscillation(v):
         "t_end": v["t_end"],
         "integration_time_s": T_int,
         "_write": lambda d: _write(d, "beam-oscillation", hist, st),
+        "_history": lambda: history_table(hist),
     }
     return res
 
@@ -764,8 +765,32 @@ def _history(run, sol, v, omega, tps, modes=None):
             "phi": H[:, 1]}
 
 
+def history_table(hist) -> dict:
+    """The time history as named arrays (SI; the samples of history.csv): ``t`` [s], ``phi`` [rad]
+    (body rotation, > 0 leaning towards B1), ``phi_dot`` [rad/s], ``slide`` [m] (along the guide),
+    ``stuck`` (1 stuck, 0 sliding or free), ``F_ax`` [N] (guide axial force, the slide-lock
+    multiplier; 0 without friction), ``N`` [N] (magnitude of the transverse clamp force), and the d'Alembert
+    reactions of the ground, ``F1``, ``N1`` at A1 and ``F2``, ``N2`` at B1 [N] (global x and y)."""
+    H = hist["rows"]
+    cols = {"t": 0, "phi": 1, "phi_dot": 2, "slide": 4, "stuck": 5, "F_ax": 9, "N": 10,
+            "F1": 6, "N1": 7, "F2": 3, "N2": 8}
+    out = {k: H[:, i].copy() for k, i in cols.items()}
+    out["stuck"] = out["stuck"].astype(int)
+    return out
+
+
+FRAME_VALUES = ("time", "phi", "phi_dot", "F2", "slide", "stuck", "F1", "N1", "N2", "F_ax", "N")
+FRAME_UNITS = ("time: s; phi: rad (body rotation, > 0 leaning towards B1); phi_dot: rad/s; "
+               "F1, N1 / F2, N2: N (horizontal, vertical reaction at A1 / B1, forces of the ground on the "
+               "structure, d'Alembert); slide: m; stuck: 1 stuck, 0 sliding or free; F_ax: N (guide axial "
+               "force); N: N (|transverse clamp force|)")
+
+
 def _write(out_dir, name, hist, st):
-    from .vtu import mesh_data, write_series
+    """history.csv and a PVD series of VTU frames (at most 200), each frame with its time and the run's
+    global values at that time (FRAME_VALUES) as field data, plus the joints' positions, axes and
+    forces (femslide.vtu)."""
+    from .vtu import UNITS, describe, joint_data, mesh_data, write_series
     H = hist["rows"]
     path = os.path.join(out_dir, "history.csv")
     if not np.isfinite(H).all():
@@ -781,8 +806,10 @@ def _write(out_dir, name, hist, st):
     for k in idx:
         y, alpha = hist["states"][k]
         pts, cells, pdata, cdata = mesh_data(st.model, y, alpha)
-        frames.append((float(H[k, 0]), pts, cells, pdata, cdata))
-    files = write_series(frames, out_dir, name)
+        fd = {key: float(H[k, c]) for key, c in zip(FRAME_VALUES, (0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10))}
+        fd.update(joint_data(st.model, y))
+        frames.append((float(H[k, 0]), pts, cells, pdata, cdata, fd))
+    files = write_series(frames, out_dir, name, {**describe(st.model), "units": UNITS + "; " + FRAME_UNITS})
     return [path] + files
 
 
@@ -914,7 +941,7 @@ def run_friction(v):
         try:
             q = st.point(phi, second=False)
         except SolverFailure as exc:
-            raise SolverFailure(f"no slip state at breakaway, t = {tt:.6g} s: {exc.reason}", exc.history)
+            raise SolverFailure(f"no slip state at breakaway, t = {tt:.6g} s: {exc.reason}", exc.history)  # noqa: B904 (cause in the message)
         if sgm * (q.s - s_lock) < -1e-12:
             raise SolverFailure(f"the slide jumped against the breakaway force at t = {tt:.6g} s")
         jump_loss += (E_before - st.potential(q.y, q.alpha)) * st.Pa
@@ -1060,6 +1087,7 @@ def run_friction(v):
         "t_end": v["t_end"],
         "integration_time_s": time.perf_counter() - t_wall,
         "_write": lambda d: _write(d, "beam-friction", hist, st),
+        "_history": lambda: history_table(hist),
     }
     return res
 

@@ -19,11 +19,6 @@ from __future__ import annotations
 
 
 import numpy as np
-from scipy.linalg.lapack import dgbsv as _gbsv
-from scipy.linalg.lapack import dgesv as _gesv
-from scipy.sparse.csgraph import reverse_cuthill_mckee
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from . import corotational
 from .joints import Carrier, Link, RotationalSpring, SlideSpring
@@ -33,6 +28,7 @@ from .structure import Frozen, Table
 
 _ONE = np.ones(1)
 DENSE_LIMIT = 100  # unknowns; above it a banded LU is faster when the band is narrow
+RCM_LOCAL_LIMIT = 5000  # unknowns; up to it the banded ordering is computed without scipy
 SPARSE_LIMIT = 600  # unknowns; above it a wide-band system goes to sparse LU
 
 
@@ -45,9 +41,13 @@ class Banded:
     """
 
     def __init__(self, rows, cols, size):
-        pat = sp.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(size, size)).tocsr()
-        pat = pat + pat.T
-        perm = reverse_cuthill_mckee(pat.tocsr(), symmetric_mode=True).astype(np.intp)
+        if size <= RCM_LOCAL_LIMIT:
+            perm = reverse_cuthill_mckee(rows, cols, size)
+        else:   # large: scipy's compiled RCM (its import is small against the solve)
+            import scipy.sparse as sp
+            from scipy.sparse.csgraph import reverse_cuthill_mckee as rcm
+            pat = sp.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(size, size)).tocsr()
+            perm = rcm((pat + pat.T).tocsr(), symmetric_mode=True).astype(np.intp)
         inv = np.empty_like(perm)
         inv[perm] = np.arange(size)
         pr, pc = inv[rows], inv[cols]
@@ -64,13 +64,71 @@ class Banded:
         return BandMatrix(self, ab.reshape(self.shape))
 
 
+def reverse_cuthill_mckee(rows, cols, size):
+    """Reverse Cuthill-McKee ordering of the symmetrised pattern (rows, cols) of a size x size matrix:
+    breadth-first from a node of least degree in each connected part, neighbours by increasing
+    degree, reversed.  numpy and one Python pass over the edges (a few ms per 1e4 unknowns), so that
+    banded models need not import scipy.sparse."""
+    r = np.concatenate([rows, cols])
+    c = np.concatenate([cols, rows])
+    key = np.unique(r * size + c)
+    r, c = key // size, key % size
+    off = r != c
+    r, c = r[off], c[off]
+    ptr = np.searchsorted(r, np.arange(size + 1)).tolist()
+    deg = np.diff(ptr)
+    nbrs = c[np.lexsort((c, deg[c], r))].tolist()
+    seen = bytearray(size)
+    perm = []
+    for s in np.argsort(deg, kind="stable").tolist():
+        if seen[s]:
+            continue
+        seen[s] = 1
+        perm.append(s)
+        i = len(perm) - 1
+        while i < len(perm):
+            v = perm[i]
+            i += 1
+            for w in nbrs[ptr[v]:ptr[v + 1]]:
+                if not seen[w]:
+                    seen[w] = 1
+                    perm.append(w)
+    return np.array(perm[::-1], np.intp)
+
+
+_GBSV = []
+
+
+def _dgbsv():
+    """LAPACK's banded solver dgbsv from scipy's compiled LAPACK wrappers.  Loaded as that one
+    extension module (a few ms) rather than through ``scipy.linalg``, whose import chain costs ten
+    times a whole small solve; falls back to the regular import when scipy's layout differs."""
+    if not _GBSV:
+        try:
+            import importlib.machinery
+            import importlib.util
+            import os
+            spec = importlib.util.find_spec("scipy")
+            d = os.path.join(os.path.dirname(spec.origin), "linalg")
+            name = next(f for f in os.listdir(d) if f.startswith("_flapack.")
+                        and f.endswith(tuple(importlib.machinery.EXTENSION_SUFFIXES)))
+            sp_ = importlib.util.spec_from_file_location("scipy.linalg._flapack", os.path.join(d, name))
+            mod = importlib.util.module_from_spec(sp_)
+            sp_.loader.exec_module(mod)
+            _GBSV.append(mod.dgbsv)
+        except Exception:  # noqa: BLE001 - any surprise: the documented import
+            from scipy.linalg.lapack import dgbsv
+            _GBSV.append(dgbsv)
+    return _GBSV[0]
+
+
 class BandMatrix:
     def __init__(self, pattern, ab):
         self.pattern, self.ab = pattern, ab
 
     def solve(self, b):
         p = self.pattern
-        _, _, x, info = _gbsv(p.kl, p.ku, self.ab, b[p.perm], overwrite_ab=1, overwrite_b=1)
+        _, _, x, info = _dgbsv()(p.kl, p.ku, self.ab, b[p.perm], overwrite_ab=1, overwrite_b=1)
         if info != 0:
             raise np.linalg.LinAlgError(f"singular matrix (LAPACK gbsv info {info})")
         out = np.empty_like(x)
@@ -182,7 +240,11 @@ class _Mesh:
             off += n + 1
             eoff += n
         self.n_nodes = off
+        self.prolongations = {}   # interpolation plans from coarser meshes (static.prolong)
         self.X0 = np.concatenate(Xs) if Xs else np.zeros((0, 2))
+        # the first node of each node's rod (rods are numbered node block by node block)
+        self.node_first = np.repeat([r[0] for r in self.rod_nodes], [r.size for r in self.rod_nodes]) \
+            if self.rod_nodes else np.zeros(0, np.intp)
         self.conn = None
         if conn:
             self.conn = np.concatenate(conn)
@@ -294,6 +356,8 @@ class Model:
         counts = tuple(int(elements[rp.name]) for rp in plan.rods)
         mesh = self.cache.mesh((plan.geometry, counts), lambda: _Mesh(plan, counts))
         self.X0, self.rod_nodes, self.n_nodes = mesh.X0, mesh.rod_nodes, mesh.n_nodes
+        self.node_first = mesh.node_first
+        self.mesh = mesh
         off = mesh.n_nodes
         if mesh.conn is not None:
             kbs = [element_stiffness(mesh.L0[e], mesh.s0[e], rp.EI, rp.EA)
@@ -420,6 +484,20 @@ class Model:
         _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False)
         return qb, alpha
 
+    def applied(self, y, lam=1.0):
+        """The generalised forces on the frames from everything but the rod elements - loads (times
+        ``lam``), springs and joint multipliers - in the residual's sign (minus the force on the
+        frame), model units.  At equilibrium the elements' internal forces balance them; results
+        recover cut forces and moments along rods from them (exact to the residual)."""
+        q, mu = y[:self.n_q], y[self.n_q:self.n_q + self.n_c]
+        g = lam * self.p_lin
+        for t, d in zip(self.terms, self._term_dofs):
+            g[d] += t.eval(q[d], lam)[1]
+        for c, d, ci in zip(self.constraints, self._con_dofs, self._con_mu):
+            G = c.gradient(q[d]) if hasattr(c, "gradient") else c.eval(q[d], mu[ci])[1]
+            g[d] += mu[ci] @ G
+        return g
+
     def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
         """Residual and Jacobian of the equations at y.
 
@@ -475,6 +553,7 @@ class Model:
         if band is not None and not dense:
             A = band.assemble(vals)
         elif sparse and not dense:
+            import scipy.sparse as sp
             A = sp.csc_matrix((vals, (rows, cols)), shape=(size, size))
         else:
             flat = rows * size + cols if flat is None else flat
@@ -483,12 +562,17 @@ class Model:
 
 
 def solve_linear(A, b):
-    """Solve A x = b for the dense or sparse Jacobian of :meth:`Model.system`."""
+    """Solve A x = b for the dense, banded or sparse Jacobian of :meth:`Model.system`.
+
+    Dense systems (small models) go to numpy's LAPACK gesv, so that a small model never imports
+    scipy (whose import costs ten times a small solve); banded and sparse ones to scipy's dgbsv and
+    SuperLU.  A is not modified."""
     if isinstance(A, BandMatrix):
         return A.solve(b)
     if isinstance(A, np.ndarray):
-        lu, piv, x, info = _gesv(A, b, overwrite_a=1, overwrite_b=0)
-        if info != 0:
-            raise np.linalg.LinAlgError(f"singular matrix (LAPACK gesv info {info})")
-        return x
+        try:
+            return np.linalg.solve(A, b)
+        except np.linalg.LinAlgError as exc:
+            raise np.linalg.LinAlgError(f"singular matrix (LAPACK gesv: {exc})") from None
+    import scipy.sparse.linalg as spla
     return spla.splu(A, permc_spec="COLAMD").solve(b)

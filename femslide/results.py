@@ -7,12 +7,14 @@ Conventions (counter-clockwise rotations and moments; forces in global x, y):
   turns counter-clockwise as s grows).  At a cut at s the part beyond the cut exerts on the part
   before it the force N t - V n and the moment +M (t the rod's tangent, n = t turned by +90 degrees);
   so dM/ds = V and, under a distributed load q per unit length, dN/ds = -q . t, dV/ds = -q . n;
-- nodal values: M from the elements' end moments corrected by the fixed-end moments of a
-  distributed load (exact for a linear beam); N and V from equilibrium of the rod piece before the
-  node: the force resultant G(s) = -(F_start + q s) (F_start: the joint forces and point loads on the
-  rod's start node, q the distributed load), projected on the nodal tangent.  This keeps N exact to
-  the Newton residual where the element's own stretch, times a huge EA, would carry round-off;
-  ``M_max`` includes the interior extremum of the parabola a distributed load adds in an element;
+- nodal values from equilibrium of the rod piece before the node (exact to the Newton residual,
+  where the elements' own deformations, times a huge EA or EI, would carry round-off): the element
+  end moments are those that balance the joint forces, springs and nodal loads on the nodes before
+  them (in the deformed configuration), corrected by the fixed-end moments of a distributed load
+  (exact for a linear beam); N and V are the force resultant G(s) = -(F_start + q s) (F_start: the
+  joint forces and point loads on the rod's start node, q the distributed load) projected on the
+  nodal tangent.  ``M_max`` includes the interior extremum of the parabola a distributed load adds
+  in an element;
 - bodies: centroid position (x, y) now and rotation;
 - joints: the force (Fx, Fy) and moment M that part b exerts on part a at the joint point (springs
   included), the slide (sliders, rollers: displacement of a's point along the axis from the
@@ -34,8 +36,8 @@ def rod_arrays(model, y, alpha):
     if model.elements is None:
         return out
     es = model.elements
-    qb, _ = model.element_forces(q, alpha)
     X = model.X0 + U[:, :2]
+    qb = end_moments(model, y, X)
     D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
     Ln = np.hypot(D[:, 0], D[:, 1])
     t = D / Ln[:, None]
@@ -44,8 +46,8 @@ def rod_arrays(model, y, alpha):
     qe = model.elem_q
     qp = np.einsum("ij,ij->i", qe, nrm)
     fem = qp * L0 * L0 / 12.0
-    Ms = -qb[:, 1] + fem
-    Me = qb[:, 2] + fem
+    Ms = -qb[:, 0] + fem
+    Me = qb[:, 1] + fem
     # interior extremum of M(xi) = (1 - xi) Ms + xi Me - qp L0^2 xi (1 - xi) / 2
     loaded = qp != 0
     xi = np.full(qp.size, -1.0)
@@ -79,6 +81,35 @@ def rod_arrays(model, y, alpha):
     return out
 
 
+def end_moments(model, y, X=None):
+    """End moments (n_elements, 2) [model units] of every element, in the sign of the elements' basic
+    forces (M1 at the start node, M2 at the end; a beam's M(s) is -M1 at its start, +M2 at its end),
+    from the equilibrium of the rod piece up to the element: at node i of a rod the element starting
+    there balances the generalised forces g_j (loads, springs, joints: :meth:`Model.applied`) on the
+    nodes j <= i,
+
+        M1_i = -sum_{j<=i} [g_j^M + (x_j - x_i) x g_j^F],   M2_i = -M1_i - (x_i - x_{i+1}) x F1_i,
+
+    with F1_i = -sum_{j<=i} g_j^F (x the current node positions, a x b = a_x b_y - a_y b_x).  Equal to
+    the elements' own moments at equilibrium, but with the round-off of the forces instead of that of
+    EI times a curvature from nearly equal rotations."""
+    if model.elements is None:
+        return np.zeros((0, 2))
+    if X is None:
+        X = model.X0 + model.nodal(y[:model.n_q])[:, :2]
+    g = model.applied(y)[:3 * model.n_nodes].reshape(-1, 3)
+    first = model.node_first
+    Xr = X - X[first]
+    rows = np.column_stack([g[:, 0], g[:, 1], g[:, 2] + Xr[:, 0] * g[:, 1] - Xr[:, 1] * g[:, 0]])
+    C = np.cumsum(rows, axis=0)
+    C -= (C[first] - rows[first])            # sums over each rod's own nodes only
+    i, j = model.elements.conn[:, 0], model.elements.conn[:, 1]
+    Fx, Fy = C[i, 0], C[i, 1]
+    M1 = -(C[i, 2] - (Xr[i, 0] * Fy - Xr[i, 1] * Fx))
+    d = X[i] - X[j]
+    return np.column_stack([M1, -M1 + (d[:, 0] * Fy - d[:, 1] * Fx)])
+
+
 def _start_force(model, y, rod):
     """Sum of the joint forces and point loads on the start node of a rod [model units]."""
     fs = model.structure
@@ -102,8 +133,7 @@ def largest_moment(model, y, alpha) -> float:
         return 0.0
     if model.elem_q.any():
         return max(a["M_max"] for a in rod_arrays(model, y, alpha).values())
-    qb, _ = model.element_forces(y[:model.n_q], alpha)
-    return float(np.abs(qb[:, 1:]).max()) * model.Fref * model.Lref
+    return float(np.abs(end_moments(model, y)).max()) * model.Fref * model.Lref
 
 
 def joint_forces(model, y, name):

@@ -166,3 +166,77 @@ class _Builtin:
 
     def resolve(self, given: dict) -> dict:
         return self.scene.resolve(given)
+
+
+# -- templates shipped with femslide (the package femslide.meshes) -----------------------------------------
+
+def templates():
+    """The folder of scene templates installed with femslide: every built-in scene as a scene file
+    ``NAME.toml`` (FE statics scenes with their reference mesh ``NAME.vtu``) and the FE scenes as
+    structure files ``structures/NAME.toml``.  An importlib.resources Traversable (a folder of the
+    installed package, wheel or editable); a source checkout run without installing falls back to
+    the package's source folder."""
+    from importlib import resources
+    try:
+        return resources.files("femslide.meshes")
+    except ModuleNotFoundError:  # `python -m femslide` in a checkout that was never pip-installed
+        import pathlib
+        src = pathlib.Path(__file__).resolve().parent.parent / "meshes"
+        if (src / "__init__.py").is_file():
+            return src
+        raise BadInput("the scene templates (package femslide.meshes) are not installed; reinstall "
+                       "femslide (pip install femslide)") from None
+
+
+def template_names() -> list:
+    """Names ``femslide init`` accepts: scene files NAME, structure files structures/NAME."""
+    root = templates()
+    names = sorted(e.name[:-5] for e in root.iterdir() if e.name.endswith(".toml"))
+    sub = root / "structures"
+    if sub.is_dir():
+        names += sorted("structures/" + e.name[:-5] for e in sub.iterdir() if e.name.endswith(".toml"))
+    return names
+
+
+def _template_files(name: str):
+    """(source Traversable, file name) pairs of a template: the TOML and, for a scene file, the mesh
+    it names."""
+    root = templates()
+    key = name[:-5] if name.lower().endswith(".toml") else name
+    key = key.replace("\\", "/")
+    if key not in template_names():
+        raise BadInput(f"init: no scene template {name!r}; allowed: {', '.join(template_names())}")
+    if key.startswith("structures/"):
+        base = key.split("/", 1)[1]
+        return [(root / "structures" / f"{base}.toml", f"{base}.toml")]
+    src = root / f"{key}.toml"
+    files = [(src, f"{key}.toml")]
+    data = tomllib.loads(src.read_text(encoding="utf-8"))
+    mesh = data.get("mesh")
+    if isinstance(mesh, str) and mesh:
+        files.append((root / mesh, os.path.basename(mesh)))
+    return files
+
+
+def copy_template(name: str, folder: str = ".") -> list:
+    """Copy the template of scene ``name`` into ``folder`` (created if missing) and return the paths
+    written.  No existing file is overwritten: BadInput naming it, and nothing is copied."""
+    files = _template_files(name)
+    if os.path.exists(folder) and not os.path.isdir(folder):
+        raise BadInput(f"init: {folder} is a file; allowed: a folder (existing or new)")
+    dests = [os.path.join(folder, fname) for _, fname in files]
+    for d in dests:
+        if os.path.lexists(d):
+            raise BadInput(f"init: {d} exists; allowed: a folder without {', '.join(fname for _, fname in files)} "
+                           f"(remove it or give another DIR)")
+    try:
+        os.makedirs(folder, exist_ok=True)
+        for (src, _), d in zip(files, dests):
+            with open(d, "xb") as fh:  # exclusive: never overwrite, even in a race
+                fh.write(src.read_bytes())
+    except FileExistsError as exc:
+        raise BadInput(f"init: {exc.filename} exists; nothing overwritten") from None
+    except OSError as exc:
+        raise BadInput(f"init: cannot write into {folder} ({exc.strerror or exc}); allowed: a "
+                       f"writable folder") from None
+    return dests

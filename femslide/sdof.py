@@ -35,8 +35,13 @@ import bisect
 import math
 import os
 
+import numpy as np
+
 from .errors import BadInput, SolverFailure
 from .params import floor_g
+
+# 10-point Gauss-Legendre rule on [-1, 1] (energy balance): computed once
+_GAUSS10 = np.polynomial.legendre.leggauss(10)
 
 TWO_PI = 2.0 * math.pi
 STEADY_TOL = 1e-10      # m: two successive forcing periods must agree to this for a steady state
@@ -706,7 +711,7 @@ class Solution:
                 lim.append(math.pi / o.F.theta)
             hq = min(lim)
             K = grade.size - 1
-            xg, wg = np.polynomial.legendre.leggauss(10)
+            xg, wg = _GAUSS10
             chunk = max(1, 100_000 // (K + 1))
             for c0 in range(0, sl.size, chunk):
                 idx = sl[c0:c0 + chunk]
@@ -855,8 +860,16 @@ class Solution:
                 vals.append(float(np.max(np.abs(we))))
         return max(vals)
 
-    def write(self, outdir, points_per_period=64):
-        """Write history.csv (t, w, v, state) and turning_points.csv; return the file names."""
+    def history(self, points_per_period=64):
+        """The time history as arrays (SI), sampled uniformly (``points_per_period`` per shortest
+        period of the free motion and the forcing, at most HISTORY_ROWS) plus every segment boundary
+        (events), up to the start of a final stop and then only t_end:
+
+        ``t`` [s]; ``w`` [m] displacement relative to the base; ``v`` [m/s]; ``state`` (+1/-1
+        sliding direction, 0 stuck); ``F`` [N] the applied force F(t); ``f`` [N] the friction force
+        of the equation m w'' + c_v w' + k w + f = F: mu N sgn(w') while sliding, F - k w (what
+        static friction holds) while stuck; the friction force on the mass is -f.
+        """
         import numpy as np
         o = self.osc
         periods = [TWO_PI / o.omega]
@@ -873,6 +886,15 @@ class Solution:
         seg = np.clip(np.searchsorted(A_["ts"], t, side="right") - 1, 0, len(A_["ts"]) - 1)
         # an instant that ends a segment belongs to the next one (same w, v = 0 at events)
         w, v, st = self.eval(t, seg)
+        F = o.F.eval_np(t)
+        f = np.where(st == 0, F - o.k * w, st * o.fk)
+        return {"t": t, "w": w, "v": v, "state": st.astype(int), "F": F, "f": f}
+
+    def write(self, outdir, points_per_period=64):
+        """Write history.csv (t, w, v, state) and turning_points.csv; return the file names."""
+        import numpy as np
+        h = self.history(points_per_period)
+        t, w, v, st = h["t"], h["w"], h["v"], h["state"]
         if not (np.isfinite(w).all() and np.isfinite(v).all()):
             raise SolverFailure("the time history is not finite; nothing written")
         path = os.path.join(outdir, "history.csv")
@@ -1085,6 +1107,7 @@ def _run(osc, w0, t_end):
         "period": TWO_PI / osc.omega,
         "theta": osc.F.theta if osc.F.harmonic else None,
         "_write": sol.write,
+        "_history": sol.history,   # the time history as arrays, computed when asked for
     })
     bad = [key for key in ("w_max", "energy_balance") if not math.isfinite(res[key])]
     if bad or not all(math.isfinite(t) and math.isfinite(w) for t, w in sol.turning):

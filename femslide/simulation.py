@@ -255,7 +255,8 @@ def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
     steps of the highest computed frequency f_top, whose modes a release may excite, times 3)."""
     c3 = 0.084
     per_period = 2 * math.pi * (c3 / (0.5 * spec.tolerance)) ** (1.0 / 3.0) * 1.5
-    periods = spec.t_end * max(f1, spec.ground.frequency if spec.ground is not None and spec.ground.times is None else 0.0)
+    f_forced = spec.ground.frequency if spec.ground is not None and spec.ground.times is None else 0.0
+    periods = spec.t_end * max(f1, f_forced)
     steps = periods * per_period
     if spec.ground is not None and spec.ground.times is not None and spec.ground.dt:
         steps = max(steps, min(spec.t_end, float(spec.ground.times[-1])) / spec.ground.dt)
@@ -273,7 +274,8 @@ def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
 
 def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
     """Run the dynamics of a frozen structure (see the module docstring); returns the JSON dict,
-    with ``_write(out_dir)`` writing the history and the VTU frames, ``_history`` (columns, array)."""
+    with ``_write(out_dir)`` writing the history and the VTU frames, ``_history`` {column: array}
+    (``t`` first, then the columns of history.csv)."""
     from . import static
     from .mass import Masses
     from .modes import modes
@@ -390,7 +392,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
     res["_write"] = lambda d: _write(d, name, cols, H, frames, model) + _hysteresis(d, name, cols, H,
                                                                                     sorted(fric_names))
     res["wall_time_s"] = time.perf_counter() - t_wall
-    res["_history"] = (cols, H)
+    res["_history"] = {c: H[:, i] for i, c in enumerate(cols)}   # t first
     return res
 
 
@@ -539,5 +541,5 @@ def run_api(target, params: dict):
     raw = simulate(fs, spec, name=name)
     res = Result({k: v for k, v in raw.items() if not k.startswith("_")})
     res._writer = raw["_write"]
-    res.history = raw["_history"]
+    res._history_source = raw["_history"]
     return res

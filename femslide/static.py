@@ -45,7 +45,7 @@ from . import corotational
 from .errors import BadInput, SolverFailure
 from .model import Model, PatternCache, solve_linear
 from .newton import newton, principal_branch
-from .results import extract, flatten, rod_arrays, unflatten
+from .results import end_moments, extract, flatten, rod_arrays, unflatten
 from .structure import Frozen
 
 TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (10x below 1e-6)
@@ -146,13 +146,21 @@ class Path:
 
 def _reduced(A, n_q):
     """Null-space basis Z of the constraint rows and the reduced tangent Z^T K Z (dense)."""
-    from scipy.linalg import eigh, null_space
     K = A[:n_q, :n_q]
     G = A[n_q:, :n_q]
-    Z = null_space(G) if G.shape[0] else np.eye(n_q)
+    Z = _null_space(G) if G.shape[0] else np.eye(n_q)
     Hr = Z.T @ K @ Z
-    w, V = eigh(0.5 * (Hr + Hr.T))
+    w, V = np.linalg.eigh(0.5 * (Hr + Hr.T))
     return Z, w, V
+
+
+def _null_space(G):
+    """Orthonormal basis of the null space of G (SVD; rank tolerance max(shape) eps s_max, as
+    scipy.linalg.null_space)."""
+    _, s, Vt = np.linalg.svd(G, full_matrices=True)
+    tol = max(G.shape) * np.finfo(float).eps * (s[0] if s.size else 0.0)
+    rank = int(np.sum(s > tol))
+    return Vt[rank:].T.conj()
 
 
 def _initial_stress(model: Model, lam=1.0):
@@ -393,6 +401,35 @@ def solve_level(model: Model, path: Path, start=None):
     return _controlled(model, path, start, within, maxit)
 
 
+def _prolongation_plan(mc: Model, mf: Model):
+    """Per rod, the geometric part of :func:`prolong` (coarse element of every fine node, Hermite
+    weights, coarse element of every fine element's midpoint), shared by all solves of one geometry."""
+    plans = mf.mesh.prolongations
+    key = id(mc.mesh)
+    if key in plans and plans[key][0] is mc.mesh:
+        return plans[key][1]
+    out = []
+    for r in range(len(mc.rod_nodes)):
+        nc, nf = mc.rod_nodes[r], mf.rod_nodes[r]
+        Xc, Xf = mc.X0[nc], mf.X0[nf]
+        L = np.hypot(*(Xc[-1] - Xc[0]))
+        sc = np.hypot(*(Xc - Xc[0]).T) / L
+        sf = np.hypot(*(Xf - Xf[0]).T) / L
+        k = np.clip(np.searchsorted(sc, sf, side="right") - 1, 0, nc.size - 2)
+        h = sc[k + 1] - sc[k]
+        t = (sf - sc[k]) / h
+        hL = (h * L)[:, None]
+        H = (2 * t**3 - 3 * t**2 + 1, (t**3 - 2 * t**2 + t)[:, None] * hL, -2 * t**3 + 3 * t**2,
+             (t**3 - t**2)[:, None] * hL)
+        beta0 = np.arctan2(*(Xc[-1] - Xc[0])[::-1])
+        ef = np.nonzero(mf.elem_rod == r)[0]
+        ec = np.nonzero(mc.elem_rod == r)[0]
+        kmid = np.clip(np.searchsorted(sc, 0.5 * (sf[1:] + sf[:-1]), side="right") - 1, 0, ec.size - 1)
+        out.append((nc, nf, Xc, Xf, k, t, H, beta0, ef, ec[kmid]))
+    plans[key] = (mc.mesh, out)
+    return out
+
+
 def prolong(mc: Model, y, alpha, mf: Model):
     """Interpolate a converged state onto a finer mesh of the same structure (a Newton start).
 
@@ -405,30 +442,15 @@ def prolong(mc: Model, y, alpha, mf: Model):
     Uc = mc.nodal(y[:mc.n_q])
     Uf = mf.nodal(yf[:mf.n_q])
     af = np.zeros(mf.elements.size) if mf.elements is not None else np.zeros(0)
-    for r in range(len(mc.rod_nodes)):
-        nc, nf = mc.rod_nodes[r], mf.rod_nodes[r]
-        Xc, Xf = mc.X0[nc], mf.X0[nf]
-        L = np.hypot(*(Xc[-1] - Xc[0]))
-        sc = np.hypot(*(Xc - Xc[0]).T) / L
-        sf = np.hypot(*(Xf - Xf[0]).T) / L
-        k = np.clip(np.searchsorted(sc, sf, side="right") - 1, 0, nc.size - 2)
-        h = sc[k + 1] - sc[k]
-        t = (sf - sc[k]) / h
-        beta0 = np.arctan2(*(Xc[-1] - Xc[0])[::-1])
+    for nc, nf, Xc, Xf, k, t, H, beta0, ef, ecm in _prolongation_plan(mc, mf):
         P = Xc + Uc[nc, :2]
         ang = beta0 + Uc[nc, 2]
-        Tk = np.stack([np.cos(ang[k]), np.sin(ang[k])], axis=1) * (h * L)[:, None]
-        Tk1 = np.stack([np.cos(ang[k + 1]), np.sin(ang[k + 1])], axis=1) * (h * L)[:, None]
-        h00, h10 = 2 * t**3 - 3 * t**2 + 1, t**3 - 2 * t**2 + t
-        h01, h11 = -2 * t**3 + 3 * t**2, t**3 - t**2
-        pos = h00[:, None] * P[k] + h10[:, None] * Tk + h01[:, None] * P[k + 1] + h11[:, None] * Tk1
+        T = np.column_stack([np.cos(ang), np.sin(ang)])
+        pos = H[0][:, None] * P[k] + H[1] * T[k] + H[2][:, None] * P[k + 1] + H[3] * T[k + 1]
         Uf[nf, :2] = pos - Xf
         Uf[nf, 2] = (1 - t) * Uc[nc[k], 2] + t * Uc[nc[k + 1], 2]
-        ef = np.nonzero(mf.elem_rod == r)[0]
-        D = (Xf[1:] + Uf[nf[1:], :2]) - (Xf[:-1] + Uf[nf[:-1], :2])
-        ec = np.nonzero(mc.elem_rod == r)[0]
-        kmid = np.clip(np.searchsorted(sc, 0.5 * (sf[1:] + sf[:-1]), side="right") - 1, 0, ec.size - 1)
-        ref = mc.elements.beta0[ec[kmid]] + alpha[ec[kmid]]
+        D = np.diff(Xf + Uf[nf, :2], axis=0)
+        ref = mc.elements.beta0[ecm] + alpha[ecm]
         cr, sr = np.cos(ref), np.sin(ref)
         beta = ref + np.arctan2(cr * D[:, 1] - sr * D[:, 0], cr * D[:, 0] + sr * D[:, 1])
         af[ef] = beta - mf.elements.beta0[ef]
@@ -508,11 +530,12 @@ def _roundoff_scatter(lv: Level) -> float:
 
 def _scatter(lv: Level) -> float:
     """Relative change of the largest rod moment when Newton reconverges from the solution perturbed
-    by 1e-10 (relative, alternating signs): how well round-off lets the equilibrium be determined.
+    by 1e-13 (relative, alternating signs): how well round-off lets the equilibrium be determined.
 
-    Two Newton steps: the first brings the perturbation down to O(1e-20) (quadratic), the second is
-    taken from a residual at round-off level, as the last step of a solve is.  (A chord step with
-    the solve's last tangent is not enough: with EA/EI = 1e12 it leaves the perturbation at 1e-5.)
+    One full Newton step: it is taken from a residual dominated by the perturbation (1e-13 is far
+    above eps) and leaves the perturbation's square, C 1e-26, far below round-off even for the stiffest
+    models (EA/EI = 1e12: C ~ 1e12).  (A perturbation of 1e-10 needs two or three steps there and
+    a chord step with the solve's last tangent leaves it at 1e-5.)
     """
     m = lv.model
     if m.elements is None:
@@ -520,21 +543,19 @@ def _scatter(lv: Level) -> float:
     y = lv.y.copy()
     q = y[:m.n_q]
     sign = np.where(np.arange(m.n_q) % 2 == 0, 1.0, -1.0)
-    q += 1e-10 * sign * np.maximum(np.abs(q), 1e-6 * np.abs(q).max())
+    q += 1e-13 * sign * np.maximum(np.abs(q), 1e-6 * np.abs(q).max())
     try:
-        for _ in range(2):
-            r, A, _ = m.system(y, lv.alpha, 1.0)
-            y -= solve_linear(A, r)
+        r, A, _ = m.system(y, lv.alpha, 1.0)
+        y -= solve_linear(A, r)
     except (np.linalg.LinAlgError, RuntimeError, ValueError):
         return 0.0
     if not np.all(np.isfinite(y)):
         return 0.0
-    q0, _ = m.element_forces(lv.y[:m.n_q], lv.alpha)
-    q1, _ = m.element_forces(y[:m.n_q], lv.alpha)
-    M0 = np.abs(q0[:, 1:]).max()
+    M0 = np.abs(end_moments(m, lv.y)).max()
+    M1 = np.abs(end_moments(m, y)).max()
     # relative to the moment, or to 1e-6 of the loads' moment scale (model unit) when the rods carry
     # (almost) none: the noise of a zero moment is no relative error of anything
-    return float(abs(np.abs(q1[:, 1:]).max() - M0) / max(M0, 1e-6))
+    return float(abs(M1 - M0) / max(M0, 1e-6))
 
 
 @dataclass
@@ -618,8 +639,12 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
         if not cache_lv:
             check_stable(model, y, a)
         its[0] += k
-        cache_lv[n] = Level(n, model, y, a)
-        return cache_lv[n]
+        cache_lv[n] = lv = Level(n, model, y, a)
+        # meshes coarser than the next coarser one are used up (started this one): drop them, so that
+        # a fine solve holds two levels, not the whole hierarchy
+        for k in [k for k in cache_lv if k < (n + 1) // 2]:
+            del cache_lv[k]
+        return lv
 
     def values(lv):
         if lv._watched is None:

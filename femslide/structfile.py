@@ -239,6 +239,12 @@ class StructureFile:
         return parse_spec(table if (self.simulate_table is not None or table) else None,
                           os.path.dirname(os.path.abspath(self.path)), f"structure file {self.path}: [simulate]")
 
+    def prepare(self):
+        """Import the FE statics (timed apart from the solve, as ``import_time_s``)."""
+        from . import static  # noqa: F401
+        if self.command in ("simulate", "modes"):
+            from . import simulation  # noqa: F401
+
     def run(self, values: dict) -> dict:
         if self.command == "modes":
             from .simulation import DEFAULT_ELEMENTS, MODES, natural_modes

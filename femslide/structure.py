@@ -37,9 +37,21 @@ Parts and points:
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field, fields, replace
+from typing import TYPE_CHECKING, Any, Union
 
 from .errors import BadInput
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from .static import Solution
+
+#: a point or vector (x, y) in SI units: m for points, N for forces
+Vec = Sequence[float]
+#: a rod property along the arc length: a number or a Table
+Field = Union[float, "Table"]
 
 GROUND = "ground"
 JOINT_TYPES = ("pin", "weld", "slider", "roller")
@@ -52,24 +64,28 @@ MAX_ELEMENTS = 16384  # per rod: beyond it round-off of the stiff axial terms ou
 
 @dataclass(frozen=True)
 class Table:
-    """A piecewise-linear function of the arc length: ``value[i]`` at ``s[i]`` [m] (s increasing)."""
+    """A piecewise-linear function of the arc length: ``value[i]`` at ``s[i]`` [m] (s increasing).
+
+    Used for a rod's EI or EA varying along it, e.g. ``Table(s=(0.0, 3.0), value=(3e6, 1e6))``; in a
+    structure file ``{s = [0.0, 3.0], value = [3e6, 1e6]}``.  Calling it interpolates linearly.
+    """
 
     s: tuple
     value: tuple
 
-    def __call__(self, s):
+    def __call__(self, s: float | np.ndarray) -> float | np.ndarray:
         import numpy as np
         return np.interp(s, self.s, self.value)
 
-    def scaled(self, factor):
+    def scaled(self, factor: float) -> Table:
         return Table(self.s, tuple(v * factor for v in self.value))
 
     @property
-    def min(self):
+    def min(self) -> float:
         return min(self.value)
 
     @property
-    def max(self):
+    def max(self) -> float:
         return max(self.value)
 
 
@@ -218,9 +234,32 @@ def polygon_area_centroid_inertia(outline):
 # -- the declaration ------------------------------------------------------------------------------
 
 class Structure:
-    """A planar structure being declared (mutable).  See the module docstring."""
+    """A planar structure being declared: rods, rigid bodies, joints and loads (mutable).
 
-    def __init__(self, gravity=(0.0, -9.81)):
+    Every object has a unique name (a non-empty string without ``.``, not ``"ground"``);
+    coordinates are global, in the reference (undeformed) configuration; units are SI (m, kg, s,
+    N, N m, rad); rotations and moments are counter-clockwise positive.  Nothing is checked until
+    :meth:`freeze` (which :func:`femslide.solve` calls): then an unknown name, a zero axis, a part
+    connected to nothing or a value out of range raises :class:`femslide.BadInput` naming the
+    object and the field.
+
+    Parameters
+    ----------
+    gravity : (float, float), default (0.0, -9.81)
+        Gravitational acceleration [m/s^2]; acts on bodies and on the rods' mass per length.
+
+    Examples
+    --------
+    >>> s = femslide.Structure(gravity=(0.0, -9.81))
+    >>> s.rod("col", start=(0, 0), end=(0, 3), EI=2e6)
+    >>> s.body("deck", mass=500.0, centroid=(1.0, 3.5), outline=[(0, 3), (2, 3), (2, 4), (0, 4)])
+    >>> s.pin("base", a="col.start", b="ground")
+    >>> s.weld("top", a="col.end", b="deck")
+    >>> s.roller("right", a="deck", b="ground", at=(2.0, 3.0), axis=(0.0, 1.0))
+    >>> r = femslide.solve(s)
+    """
+
+    def __init__(self, gravity: Vec = (0.0, -9.81)) -> None:
         self.gravity = gravity
         self.rods: dict[str, Rod] = {}
         self.bodies: dict[str, Body] = {}
@@ -236,18 +275,73 @@ class Structure:
                 raise BadInput(f"name {name!r} is used twice; every rod, body, joint and load needs its own name")
         return name
 
-    def rod(self, name, start, end, EI, EA=None, rhoA=0.0, elements=None) -> Rod:
+    def rod(self, name: str, start: Vec, end: Vec, EI: Field, EA: Field | None = None, rhoA: Field = 0.0,
+            elements: int | None = None) -> Rod:
+        """Declare a flexible rod: a mesh of corotational Euler-Bernoulli beams from ``start`` to ``end``.
+
+        Parameters
+        ----------
+        name : str
+            Its name; its ends are the points ``"NAME.start"`` and ``"NAME.end"``.
+        start, end : (float, float)
+            End points [m].
+        EI : float or Table
+            Bending stiffness [N m^2], > 0: a number or a :class:`Table` piecewise linear in the
+            arc length s [m] from ``start`` (covering the whole rod).
+        EA : float or Table, optional
+            Axial stiffness [N]; default 1e6 m^-2 * EI (a nearly inextensible rod).
+        rhoA : float, default 0
+            Mass per unit length [kg/m]: self-weight (and mass in dynamics).
+        elements : int, optional
+            A fixed number of elements; absent: the mesh is refined until the results are
+            accurate to about 1e-7 and the result reports its ``error_estimate``.
+        """
         r = Rod(self._name(name), tuple(start), tuple(end), EI, EA, rhoA, elements)
         self.rods[name] = r
         return r
 
-    def body(self, name, mass=0.0, centroid=None, inertia=None, outline=None) -> Body:
+    def body(self, name: str, mass: float = 0.0, centroid: Vec | None = None, inertia: float | None = None,
+             outline: Sequence[Vec] | None = None) -> Body:
+        """Declare a rigid body.
+
+        Parameters
+        ----------
+        name : str
+            Its name, used as a part of joints (``a="deck"``) and loads (``on="deck"``).
+        mass : float, default 0
+            Mass [kg] at the centroid; 0 makes a massless rigid link.
+        centroid : (float, float), optional
+            Centre of mass in the reference configuration [m]; default: the outline's centroid,
+            else the point ``at`` of its first joint.
+        inertia : float, optional
+            Rotary inertia about the centroid [kg m^2]; default: a uniform plate of the outline.
+        outline : list of (float, float), optional
+            A polygon [m], for pictures and the default inertia.
+        """
         b = Body(self._name(name), mass, None if centroid is None else tuple(centroid), inertia,
                  None if outline is None else tuple(tuple(p) for p in outline))
         self.bodies[name] = b
         return b
 
-    def joint(self, name, type, a, b, **options) -> Joint:
+    def joint(self, name: str, type: str, a: str, b: str, **options: Any) -> Joint:
+        """Declare a joint of any ``type``; :meth:`pin`, :meth:`weld`, :meth:`slider` and
+        :meth:`roller` are the same with their options named.
+
+        Parameters
+        ----------
+        name : str
+            Its name.
+        type : str
+            ``"pin"``, ``"weld"``, ``"slider"`` or ``"roller"``.
+        a : str
+            Part a: a rod end (``"ROD.start"``, ``"ROD.end"``) or a body.
+        b : str
+            Part b: a rod end, a body, or ``"ground"`` (then the joint is a support and its force
+            is reported as a reaction).
+        **options
+            ``at``, ``axis``, ``c``, ``k``, ``preload``, ``mu``, ``mu0``, ``bearing`` as in the
+            methods of each type.
+        """
         unknown = set(options) - _JOINT_FIELDS
         if unknown:
             raise BadInput(f"joint {name}: unknown option(s) {', '.join(sorted(unknown))}")
@@ -256,31 +350,129 @@ class Structure:
         self.joints[name] = j
         return j
 
-    def pin(self, name, a, b, at=None, c=0.0) -> Joint:
+    def pin(self, name: str, a: str, b: str, at: Vec | None = None, c: float = 0.0) -> Joint:
+        """A pin: a's point and b's point stay together; rotations are free relative to each other.
+
+        Parameters
+        ----------
+        name, a, b : str
+            Its name and parts (see :meth:`joint`).
+        at : (float, float), optional
+            The joint point [m]; default: the position of the rod end a (or of the rod end b).
+        c : float, default 0
+            A rotational spring [N m/rad] between a and b (a spring hinge).
+        """
         return self.joint(name, "pin", a, b, at=at, c=c)
 
-    def weld(self, name, a, b, at=None) -> Joint:
+    def weld(self, name: str, a: str, b: str, at: Vec | None = None) -> Joint:
+        """A weld: a's point and rotation stay those of b.
+
+        Parameters
+        ----------
+        name, a, b : str
+            Its name and parts (see :meth:`joint`).
+        at : (float, float), optional
+            The joint point [m]; default: the position of the rod end a (or of the rod end b).
+        """
         return self.joint(name, "weld", a, b, at=at)
 
-    def slider(self, name, a, b, axis, at=None, k=0.0, preload=0.0, mu=None, mu0=None, bearing=None) -> Joint:
+    def slider(self, name: str, a: str, b: str, axis: Vec, at: Vec | None = None, k: float = 0.0,
+               preload: float = 0.0, mu: float | None = None, mu0: float | None = None,
+               bearing: float | None = None) -> Joint:
+        """A slider (a sliding clamp, a prismatic joint): a's point stays on the line through ``at``
+        along ``axis``, carried by b, and a's rotation equals b's; the slide along the line is free.
+
+        Parameters
+        ----------
+        name, a, b : str
+            Its name and parts (see :meth:`joint`); the guide is fixed to b.
+        axis : (float, float)
+            Direction of the guide in the reference configuration (nonzero; its length is ignored).
+        at : (float, float), optional
+            A point of the guide [m]; default: the position of the rod end a (or of the rod end b).
+        k : float, default 0
+            A linear spring along the guide [N/m].
+        preload : float, default 0
+            The spring's force at the reference position [N]; > 0 pushes a along +axis.
+        mu, mu0 : float, optional
+            Coulomb friction along the guide (kinetic, static >= kinetic; default mu0 = mu), for the
+            dynamics; the statics treat sliders as frictionless.
+        bearing : float, optional
+            Distance [m] between the guide's two bearings, for friction's normal force.
+        """
         return self.joint(name, "slider", a, b, at=at, axis=axis, k=k, preload=preload, mu=mu, mu0=mu0,
                           bearing=bearing)
 
-    def roller(self, name, a, b, axis, at=None, k=0.0, preload=0.0, mu=None, mu0=None) -> Joint:
+    def roller(self, name: str, a: str, b: str, axis: Vec, at: Vec | None = None, k: float = 0.0,
+               preload: float = 0.0, mu: float | None = None, mu0: float | None = None) -> Joint:
+        """A roller: a's point stays on the line through ``at`` along ``axis``, carried by b; the
+        rotation is free.
+
+        Parameters
+        ----------
+        name, a, b : str
+            Its name and parts (see :meth:`joint`).
+        axis : (float, float)
+            Direction of the line (nonzero).
+        at : (float, float), optional
+            A point of the line [m]; default: the position of the rod end a (or of the rod end b).
+        k, preload, mu, mu0 : float, optional
+            Spring, preload and friction along the line, as for :meth:`slider`.
+        """
         return self.joint(name, "roller", a, b, at=at, axis=axis, k=k, preload=preload, mu=mu, mu0=mu0)
 
-    def force(self, name, on, force=(0.0, 0.0), moment=0.0, at=None) -> Load:
+    def force(self, name: str, on: str, force: Vec = (0.0, 0.0), moment: float = 0.0,
+              at: Vec | None = None) -> Load:
+        """A dead force (and moment) on a body or a rod end, applied together with gravity.
+
+        Parameters
+        ----------
+        name : str
+            Its name.
+        on : str
+            A body or a rod end (``"ROD.start"``, ``"ROD.end"``).
+        force : (float, float), default (0, 0)
+            Force [N], global components.
+        moment : float, default 0
+            Moment [N m], counter-clockwise positive.
+        at : (float, float), optional
+            Point of application [m] on a body; default: its centroid (or the rod end).
+        """
         ld = Load(self._name(name), "force", on, tuple(force), moment, None if at is None else tuple(at))
         self.loads[name] = ld
         return ld
 
-    def distributed(self, name, on, force) -> Load:
+    def distributed(self, name: str, on: str, force: Vec) -> Load:
+        """A dead load distributed uniformly along a whole rod.
+
+        Parameters
+        ----------
+        name : str
+            Its name.
+        on : str
+            The rod's name.
+        force : (float, float)
+            Force per unit reference length [N/m], global components.
+        """
         ld = Load(self._name(name), "distributed", on, tuple(force))
         self.loads[name] = ld
         return ld
 
-    def set(self, path: str, value) -> None:
-        """Change one declared field by its dotted name, e.g. ``set("right.EI", 1e8)`` (sweeps)."""
+    def set(self, path: str, value: Any) -> None:
+        """Change one declared field by its dotted name.
+
+        Parameters
+        ----------
+        path : str
+            ``"NAME.FIELD"`` (``"right.EI"``, ``"wind.force"``, ``"clamp.k"``) or ``"gravity"``.
+        value
+            The new value (checked by :meth:`freeze`).
+
+        Raises
+        ------
+        femslide.BadInput
+            No part of that name, or no such field.
+        """
         if path == "gravity":
             self.gravity = value
             return
@@ -295,15 +487,24 @@ class Structure:
                 return
         raise BadInput(f"{path}: no rod, body, joint or load is named {name!r}")
 
-    def copy(self) -> "Structure":
+    def copy(self) -> Structure:
+        """An independent copy of the declaration (the declared objects themselves are immutable)."""
         s = Structure(self.gravity)
         s.rods, s.bodies, s.joints, s.loads = dict(self.rods), dict(self.bodies), dict(self.joints), dict(self.loads)
         return s
 
-    def freeze(self) -> "Frozen":
+    def freeze(self) -> Frozen:
+        """Check the whole declaration and return it frozen: immutable, every name resolved.
+
+        Raises
+        ------
+        femslide.BadInput
+            An unknown name, a zero axis, a part connected to nothing or a value out of range;
+            the message names the object and the field.
+        """
         return Frozen.from_structure(self)
 
-    def solve(self, **options):
+    def solve(self, **options: Any) -> Solution:
         """Static equilibrium (see :func:`femslide.static.solve`)."""
         from .static import solve
         return solve(self.freeze(), **options)
@@ -386,7 +587,8 @@ class Frozen:
             n = r.elements
             if n is not None:
                 if isinstance(n, bool) or not isinstance(n, (int, float)) or n != int(n) or not 1 <= n <= MAX_ELEMENTS:
-                    raise BadInput(f"{w}: elements = {n!r}; allowed: an integer in [1, {MAX_ELEMENTS}] (or absent: adaptive)")
+                    raise BadInput(f"{w}: elements = {n!r}; allowed: an integer in [1, {MAX_ELEMENTS}] "
+                                   f"(or absent: adaptive)")
                 n = int(n)
             rods.append(Rod(r.name, start, end, EI, EA, rhoA, n))
         rodnames = {r.name for r in rods}
@@ -486,7 +688,8 @@ class Frozen:
                 raise BadInput(f"{w}: give the joint point `at` (neither a nor b is a rod end)")
             scale = max(1.0, max(abs(v) for v in at))
             for ref, side in ((ra, "a"), (rb, "b")):
-                if ref.kind == "rod_end" and math.dist(pos(ref), at) > 1e-9 * scale and (side == "b" or j.type in ("pin", "weld")):
+                if ref.kind == "rod_end" and math.dist(pos(ref), at) > 1e-9 * scale \
+                        and (side == "b" or j.type in ("pin", "weld")):
                     raise BadInput(f"{w}: at = {list(at)} is not the position of the rod end {side} = "
                                    f"{getattr(j, side)!r} {list(pos(ref))}")
             axis = None

@@ -5,7 +5,7 @@ sweep used to continue each case from the previous solution (warm start); measur
 (EI = 1e4 ... 1e10) the warm and cold solutions agree only to ~3e-10 relative (both are converged to
 the solver's tolerance, not to the last bit), so a parallel sweep, which cannot warm start, would not
 reproduce an in-process one.  Solving cold everywhere makes the rows independent of how and in what
-order the cases run (SPEC section 7: "results of a sweep are the same whichever way it runs"), and a
+order the cases run (the results of a sweep are the same whichever way it runs), and a
 sweep row equals the ``solve`` of that case; it also costs nothing here (cold solves were faster).
 
 A failed case is reported in its row (``converged`` false, ``reason``) and the sweep goes on.  With
@@ -23,6 +23,12 @@ folder with another sweep's rows is bad input (exit 2, before any case runs): it
 folders would mix with this sweep's.  Case folders ``case_NNN`` are numbered on from the largest
 number already in the folder (rows or folders), so a case's files are never overwritten and every
 row's ``case_dir`` and ``files`` name the files of that row's own run.
+
+On Dask (``--dask local``: a LocalCluster of ``--jobs`` worker processes, or one per case up to the CPU
+count; ``--dask tcp://host:port``: a running scheduler and its workers) the workers may run in another
+folder or on another machine sharing the file system: the case folders, path parameters (``record``)
+and structure files are made absolute against the caller's working folder before submitting, and the
+rows name their files as an in-process run does.
 """
 from __future__ import annotations
 
@@ -75,9 +81,14 @@ def _fixed(target, base, varied):
     """The sweep's fixed parameters as given (scene file [parameters], then --set), each converted to
     its canonical value (``EI=1e6`` and ``EI=1000000`` are the same sweep).  Derived and default values
     are not listed: they follow from these and the varied value."""
-    table = {p.name: p for p in target.scene.params.params()}
+    params = getattr(target.scene, "params", None)
     given = {**(getattr(target, "params", None) or {}), **base}
-    fixed = {k: table[k].check(v) for k, v in given.items() if k != varied and k in table}
+    if params is None:  # a structure file: NAME.FIELD overrides, canonical as its resolve makes them
+        from .structfile import parse_value
+        fixed = {k: parse_value(v) for k, v in given.items() if k != varied}
+    else:
+        table = {p.name: p for p in params.params()}
+        fixed = {k: table[k].check(v) for k, v in given.items() if k != varied and k in table}
     if getattr(target, "mesh_path", None):
         fixed["mesh file"] = os.path.abspath(target.mesh_path)
     return fixed
@@ -226,13 +237,54 @@ def dask_client(address: str, workers: int | None = None):
         raise BadInput(f"--dask {address}: cannot reach the Dask scheduler: {exc}") from None
 
 
+def _path_names(scene_name):
+    """Names of the parameters that are file paths (``record``) of a scene; none for structure files,
+    whose mesh paths are resolved when the file is read."""
+    from .scenes import SCENES
+    scene = SCENES.get(scene_name)
+    if scene is None:
+        return ()
+    return tuple(p.name for p in scene.params.params() if p.kind == "path")
+
+
+def absolute_case(scene_name, values, out_dir):
+    """A case as a worker in another folder (or on another machine with the same file system) needs it:
+    the scene or structure file, every path parameter and the case folder made absolute against this
+    process's working directory.  Returns (scene_name, values, out_dir)."""
+    if scene_name.lower().endswith(".toml"):
+        scene_name = os.path.abspath(scene_name)
+    paths = _path_names(scene_name)
+    values = {k: os.path.abspath(v) if k in paths and isinstance(v, str) else v for k, v in values.items()}
+    return scene_name, values, (os.path.abspath(out_dir) if out_dir else out_dir)
+
+
+def _relative_files(row, abs_dir, out_dir):
+    """The row's ``files`` named as an in-process run names them (below ``out_dir`` as given), so that
+    rows are the same whichever way the sweep runs."""
+    files = row.get("files")
+    if not out_dir or not isinstance(files, list) or abs_dir == out_dir:
+        return row
+    out = []
+    for f in files:
+        if isinstance(f, str) and os.path.dirname(f) == abs_dir:
+            f = os.path.join(out_dir, os.path.basename(f))
+        out.append(f)
+    return {**row, "files": out}
+
+
 def _run_dask(scene_name, cases, todo, out_dirs, address, workers):
+    """Cases on a Dask cluster; ``workers``: worker processes of a LocalCluster (``address`` 'local'),
+    at most one per case.  Relative paths are made absolute before submitting (a worker's working
+    directory is not this process's)."""
     from dask.distributed import as_completed
-    client, cluster = dask_client(address, min(workers or len(todo), len(todo)) if address == "local" else None)
+    if address == "local":  # never more workers than cases; by default at most the CPU count (and 8)
+        workers = min(workers or min(os.cpu_count() or 1, 8), len(todo))
+    client, cluster = dask_client(address, workers if address == "local" else None)
     try:
-        futs, index = [], {}
+        futs, index, abs_dirs = [], {}, {}
         for i in todo:
-            f = client.submit(solve_case, scene_name, cases[i], out_dirs[i], pure=False)
+            name_i, values_i, abs_dirs[i] = absolute_case(scene_name, cases[i], out_dirs[i])
+            f = client.submit(solve_case, name_i, values_i, abs_dirs[i], pure=False)
             futs.append(f)
             index[f.key] = i
         for fut in as_completed(futs):
@@ -241,7 +293,7 @@ def _run_dask(scene_name, cases, todo, out_dirs, address, workers):
                 row, status = fut.result()
             except Exception as exc:  # lost worker, serialisation trouble
                 row, status = {"converged": False, "reason": f"worker error: {type(exc).__name__}: {exc}"}, "error"
-            yield i, row, status
+            yield i, _relative_files(row, abs_dirs[i], out_dirs[i]), status
     finally:
         client.close()
         if cluster is not None:
@@ -250,16 +302,20 @@ def _run_dask(scene_name, cases, todo, out_dirs, address, workers):
 
 # -- the sweep -------------------------------------------------------------------------------------------
 
-def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, dask=None,
+def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, dask=None,
               resume=False, plot=None, quiet=False):
     """Run a sweep from the command line; returns the exit status (0 all converged, 1 a case failed,
-    2 a case was rejected as bad input)."""
+    2 a case was rejected as bad input).  ``jobs``: processes (None: in process), or with ``dask``
+    'local' the LocalCluster's worker processes (None: one per case, at most the CPU count)."""
     scene = target.scene
     spec = getattr(scene, "spec", scene.name)  # what a worker process loads the case from
     if name in base:
         raise BadInput(f"parameter {name} is both set and varied")
-    if jobs < 1:
+    if jobs is not None and jobs < 1:
         raise BadInput(f"--jobs {jobs}: allowed: an integer >= 1")
+    if dask and dask != "local" and jobs is not None:
+        raise BadInput(f"--jobs {jobs} with --dask {dask}: a running scheduler has its own workers; --jobs "
+                       f"sets the worker processes of --dask local only (allowed here: no --jobs)")
     if resume and not out:
         raise BadInput("--resume needs --out DIR (the sweep.jsonl of the earlier run)")
     cases = [target.resolve({**base, name: item}) for item in items]  # all checked before any run
@@ -310,8 +366,8 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=1, das
         if not todo:
             runs = iter(())
         elif dask:
-            runs = _run_dask(spec, cases, todo, out_dirs, dask, jobs if jobs > 1 else None)
-        elif jobs > 1 and len(todo) > 1:
+            runs = _run_dask(spec, cases, todo, out_dirs, dask, jobs)
+        elif jobs is not None and jobs > 1 and len(todo) > 1:
             runs = _run_pool(spec, cases, todo, out_dirs, min(jobs, len(todo)))
         else:
             runs = _run_serial(spec, cases, todo, out_dirs)
@@ -362,7 +418,8 @@ ASYMPTOTE_SCENES = ("beam-slider", "beam-fixed")
 
 def plot_sweep(path, scene, name, cases, rows):
     """M_max against the varied parameter (PNG, PDF, SVG by extension); log-log for EI sweeps, with
-    the SPEC section 3 asymptotes (1 and 2 terms) for beam-slider and beam-fixed."""
+    the beam-equivalent asymptotes of M_max (1 and 2 terms: (3 EI/(4a))^(1/3) (P(a+d))^(2/3) + P (l+b) L/(3a),
+    femslide.series.M_max_asymptote) for beam-slider and beam-fixed."""
     import matplotlib
     matplotlib.use("Agg", force=False)
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -390,7 +447,7 @@ def plot_sweep(path, scene, name, cases, rows):
         p = {k: v[k] for k in ("a", "b", "d", "l", "m", "g")}
         for nt, style in ((1, "--"), (2, ":")):
             ax.plot(xs, [M_max_asymptote(nt, e, L_r=L_r, **p) for e in xs], style, color="C1" if nt == 1 else "C2",
-                    label=f"asymptote, {nt} term{'s' if nt > 1 else ''} (SPEC 3)")
+                    label=f"asymptote, {nt} term{'s' if nt > 1 else ''}")
     for xb in bad:
         ax.axvline(xb, color="C3", lw=0.8, alpha=0.6)
     if bad:

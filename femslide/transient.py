@@ -329,7 +329,8 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
     static equilibrium (default: the start), from which the displacements that scale the error are
     measured; ``friction``: a :class:`femslide.friction.Friction` (stick/slip modes and events) or
     None; ``period`` [s]: the time over which the error scale (the motion's amplitude) is
-    remembered (default: the whole run).  Raises SolverFailure when a step cannot be completed (Newton fails at the smallest step)
+    remembered (default: the whole run).  Raises SolverFailure when a step cannot be completed
+    (Newton fails at the smallest step)
     or the step count or wall time runs out."""
     am, af, gamma, beta = parameters()
     c3 = abs(0.5 * (am - af) + beta - 1.0 / 6.0)
@@ -431,7 +432,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
             phi0, phi1 = fr.phi(s.y, s.v), fr.phi(y, v1)
             cross = (phi1 < 0.0) & (phi0 >= 0.0)
             if cross.any():
-                h_ev, cand = _locate(lambda hh: attempt(sysm, s, hh), fr, phi0, cross, h, cand)
+                h_ev, cand = _locate(lambda hh, sy=sysm, st=s: attempt(sy, st, hh), fr, phi0, cross, h, cand)
                 y, alpha1, a1, v1, acc1 = cand
                 q = y[:n_q]
                 event = int(np.argmin(np.where(cross, fr.phi(y, v1), np.inf)))

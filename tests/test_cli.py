@@ -22,7 +22,7 @@ HINGE_SCENES = {
     "hinge-spring": {"a", "b", "d", "l", "m", "g", "l1", "c", "k"},
     "hinge-extra-mass": {"a", "b", "d", "l", "m", "g", "l1", "c", "k", "dm", "m1", "l2"},
 }
-SOLVE_KEYS = {"converged", "phi", "psi", "slide", "T", "M_max", "reactions", "iterations",
+SOLVE_KEYS = {"import_time_s", "converged", "phi", "psi", "slide", "T", "M_max", "reactions", "iterations",
               "error_estimate", "wall_time_s"}
 HEAVY = {"numpy", "scipy", "skfem", "pyvista", "meshio", "matplotlib"}
 
@@ -223,3 +223,84 @@ def test_cli_core_imports_nothing_heavy_for_hinge_scenes():
     assert out["codes"] == [0] * len(argvs)
     heavy = sorted(m for m in out["modules"] if m.split(".")[0] in HEAVY)
     assert not heavy, heavy
+
+
+def test_version_prints_the_package_version():
+    """`femslide --version` prints `femslide X.Y.Z` (femslide.__version__, the one source of the
+    version: pyproject.toml reads it) and exits 0."""
+    import femslide
+    r = run("--version")
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == f"femslide {femslide.__version__}"
+    assert re.fullmatch(r"\d+\.\d+\.\d+", femslide.__version__)
+
+
+def _walk(parser, path=("femslide",)):
+    """(command path, action) for every action of the parser and its subcommands."""
+    import argparse
+    for action in parser._actions:
+        yield path, action
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                yield from _walk(sub, path + (name,))
+
+
+def test_every_command_and_option_has_help():
+    """Every option, positional argument and command of the parser has a help text, and every
+    command a description (shown by `femslide COMMAND --help`)."""
+    import argparse
+    from femslide.cli import _build_parser
+    parser = _build_parser()
+    missing, commands = [], 0
+    for path, action in _walk(parser):
+        name = "/".join(action.option_strings) or action.dest
+        if not (action.help or "").strip() or action.help == argparse.SUPPRESS:
+            missing.append(f"{' '.join(path)} {name}")
+        if isinstance(action, argparse._SubParsersAction):
+            helps = {a.dest: a.help for a in action._choices_actions}
+            for cmd, sub in action.choices.items():
+                commands += 1
+                if not (helps.get(cmd) or "").strip():
+                    missing.append(f"{' '.join(path)} {cmd} (command)")
+                if not (sub.description or "").strip():
+                    missing.append(f"{' '.join(path)} {cmd} (description)")
+    assert commands >= 7  # scenes solve simulate sweep mesh show init
+    assert not missing, missing
+    r = run("sweep", "--help")
+    assert r.returncode == 0 and "--dask" in r.stdout and "LocalCluster" in r.stdout
+
+
+def test_init_copies_a_scene_template_and_its_mesh(tmp_path):
+    """`femslide init beam-slider DIR` writes the scene file and the mesh it names, which then load
+    and check as a scene file; a second init refuses to overwrite (exit 2 naming the file, the files
+    unchanged); structures/NAME copies the structure file; an unknown name lists the names."""
+    from femslide import scenefile, structfile
+    d = tmp_path / "new"
+    r = run("init", "beam-slider", str(d))
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in d.iterdir()) == ["beam-slider.toml", "beam-slider.vtu"]
+    sf = scenefile.load(str(d / "beam-slider.toml"))
+    assert sf.scene.name == "beam-slider" and sf.mesh is not None and sf.mesh_n > 0
+    before = (d / "beam-slider.toml").read_bytes()
+    (d / "beam-slider.toml").write_text("# mine\n")
+    r = run("init", "beam-slider", str(d))
+    assert r.returncode == 2 and "beam-slider.toml exists" in r.stderr
+    assert (d / "beam-slider.toml").read_text() == "# mine\n"
+    assert before.startswith(b"# beam-slider")
+    r = run("init", "structures/beam-both", str(d))
+    assert r.returncode == 0, r.stderr
+    assert structfile.load(str(d / "beam-both.toml")).structure.rods
+    r = run("init", "hinge-slider", str(d / "beam-slider.vtu"))
+    assert r.returncode == 2 and "is a file" in r.stderr
+    r = run("init", "no-such-scene", str(d))
+    assert r.returncode == 2 and "no-such-scene" in r.stderr and "structures/beam-slider" in r.stderr \
+        and "hinge-slider" in r.stderr
+
+
+def test_init_default_folder_is_the_current_one(tmp_path):
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
+    r = subprocess.run([sys.executable, "-m", "femslide", "init", "sdof-free"], capture_output=True,
+                       text=True, cwd=tmp_path, env=env, timeout=60)
+    assert r.returncode == 0, r.stderr
+    assert [p.name for p in tmp_path.iterdir()] == ["sdof-free.toml"]  # no mesh: a dynamic scene

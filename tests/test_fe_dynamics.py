@@ -88,8 +88,7 @@ def _belt(axis=(1.0, 0.0), k=200.0, m=1.0, simulate=None, mu=None):
 def _run(s, **table):
     from femslide.simulation import parse_spec, simulate
     res = simulate(s.freeze(), parse_spec(table))
-    cols, H = res["_history"]
-    return res, {c: H[:, i] for i, c in enumerate(cols)}
+    return res, res["_history"]
 
 
 def test_free_oscillation_against_the_exact_cosine():
@@ -248,8 +247,8 @@ def test_paper_003_example_1_as_a_structure_against_the_exact_oscillator():
     spec = parse_spec(sf.simulate_table)
     spec.t_end = 0.7
     res = simulate(sf.structure.freeze(), spec)
-    cols, H = res["_history"]
-    tp = _turning_points(res, {c: H[:, i] for i, c in enumerate(cols)})
+    h = res["_history"]
+    tp = _turning_points(res, h)
     exact = [(p["t"], p["w"]) for p in ref["turning_points"]]
     assert len(tp) == len(exact) == 3
     for (t, w), (te, we) in zip(tp, exact):
@@ -258,8 +257,8 @@ def test_paper_003_example_1_as_a_structure_against_the_exact_oscillator():
     assert kinds[0] == "slip-" and kinds[-1] == "stick"
     assert res["energy_balance"] < 1e-7
     # stuck: exactly at rest, no drift
-    after = H[:, 0] > tp[-1][0]
-    assert np.all(H[after, cols.index("joints.belt.slide")] == H[after, cols.index("joints.belt.slide")][0])
+    after = h["t"] > tp[-1][0]
+    assert np.all(h["joints.belt.slide"][after] == h["joints.belt.slide"][after][0])
 
 
 def test_zero_friction_reproduces_the_frictionless_run():
@@ -313,7 +312,8 @@ def test_ground_records_at2_and_csv(tmp_path):
     g = a / 9.80665
     lines += ["  ".join(f"{x:.10E}" for x in g[i:i + 5]) for i in range(0, n, 5)]
     (tmp_path / "r.AT2").write_text("\n".join(lines) + "\n")
-    (tmp_path / "r.csv").write_text("t,a\n" + "\n".join(f"{float(ti)!r},{2 * float(ai)!r}" for ti, ai in zip(t, a)) + "\n")
+    rows = "\n".join(f"{float(ti)!r},{2 * float(ai)!r}" for ti, ai in zip(t, a))
+    (tmp_path / "r.csv").write_text("t,a\n" + rows + "\n")
     tt, aa = read_at2(str(tmp_path / "r.AT2"))
     assert np.allclose(aa, a, atol=1e-10) and tt[-1] == pytest.approx(0.6)
     assert np.allclose(read_csv(str(tmp_path / "r.csv"))[1], 2 * a)
@@ -323,9 +323,9 @@ def test_ground_records_at2_and_csv(tmp_path):
         spec = parse_spec({"t_end": 0.5, "tolerance": 1e-8,
                            "ground": {"direction": [1.0, 0.0], "record": rec, "scale": scale}}, str(tmp_path))
         res = simulate(_belt().freeze(), spec)
-        cols, H = res["_history"]
-        w = -0.7 / (omega ** 2 - W ** 2) * (np.sin(W * H[:, 0]) - W / omega * np.sin(omega * H[:, 0]))
-        assert np.abs(H[:, cols.index("joints.belt.slide")] - w).max() < 3e-6
+        h = res["_history"]
+        w = -0.7 / (omega ** 2 - W ** 2) * (np.sin(W * h["t"]) - W / omega * np.sin(omega * h["t"]))
+        assert np.abs(h["joints.belt.slide"] - w).max() < 3e-6
 
 
 def test_friction_history_column_and_body_hold():

@@ -32,7 +32,7 @@ def cli(*argv):
 
 def numbers(res):
     """The result's numbers (no timing, no file list)."""
-    return {k: v for k, v in res.items() if k not in ("wall_time_s", "files")}
+    return {k: v for k, v in res.items() if k not in ("wall_time_s", "import_time_s", "files")}
 
 
 @pytest.mark.parametrize("name", list(SCENES))

@@ -1,6 +1,7 @@
 """`femslide show`: off-screen rendering of a result to PNG, checked by its pixels (not blank; coloured
-pixels where the rods are; the grey body).  Skipped when this machine cannot make an off-screen OpenGL
-context (no EGL)."""
+pixels where the rods are; the grey body).  Skipped only when this machine cannot make an off-screen
+OpenGL context at all (asked of EGL directly); a pyvista/VTK that cannot render although EGL works
+fails the tests."""
 from __future__ import annotations
 
 import json
@@ -26,14 +27,87 @@ def femslide(*argv):
     return run_py(f"import sys\nfrom femslide.cli import main\nsys.exit(main({list(argv)!r}))")
 
 
-@pytest.fixture(scope="module")
-def can_render():
-    probe = ("import os\nos.environ.setdefault('VTK_DEFAULT_OPENGL_WINDOW', 'vtkEGLRenderWindow')\n"
+# Can this machine make an off-screen OpenGL context at all?  Asked of EGL directly (ctypes, no VTK):
+# a device display (or the default one), initialised, an OpenGL pbuffer config and a context.  Prints
+# "OK ..." or the reason no context can be made.
+EGL_PROBE = r"""
+import ctypes, ctypes.util
+def probe():
+    name = ctypes.util.find_library("EGL") or "libEGL.so.1"
+    try:
+        egl = ctypes.CDLL(name)
+    except OSError as exc:
+        return f"no EGL library ({exc})"
+    vp, ci = ctypes.c_void_p, ctypes.c_int
+    egl.eglGetProcAddress.restype, egl.eglGetProcAddress.argtypes = vp, [ctypes.c_char_p]
+    egl.eglGetDisplay.restype, egl.eglGetDisplay.argtypes = vp, [vp]
+    egl.eglInitialize.argtypes = [vp, ctypes.POINTER(ci), ctypes.POINTER(ci)]
+    egl.eglChooseConfig.argtypes = [vp, ctypes.POINTER(ci), ctypes.POINTER(vp), ci, ctypes.POINTER(ci)]
+    egl.eglBindAPI.argtypes = [ctypes.c_uint]
+    egl.eglCreateContext.restype, egl.eglCreateContext.argtypes = vp, [vp, vp, vp, ctypes.POINTER(ci)]
+    displays = []
+    q, g = egl.eglGetProcAddress(b"eglQueryDevicesEXT"), egl.eglGetProcAddress(b"eglGetPlatformDisplayEXT")
+    if q and g:
+        query = ctypes.CFUNCTYPE(ctypes.c_uint, ci, ctypes.POINTER(vp), ctypes.POINTER(ci))(q)
+        get = ctypes.CFUNCTYPE(vp, ctypes.c_uint, vp, ctypes.POINTER(ci))(g)
+        devs, n = (vp * 16)(), ci(0)
+        if query(16, devs, ctypes.byref(n)):
+            displays += [get(0x313F, devs[i], None) for i in range(n.value)]  # EGL_PLATFORM_DEVICE_EXT
+    displays.append(egl.eglGetDisplay(None))
+    why = "no EGL display"
+    for dpy in filter(None, displays):
+        major, minor = ci(), ci()
+        if not egl.eglInitialize(dpy, ctypes.byref(major), ctypes.byref(minor)):
+            why = f"eglInitialize failed (EGL error 0x{egl.eglGetError():x})"
+            continue
+        attrs = (ci * 5)(0x3033, 0x0001, 0x3040, 0x0008, 0x3038)  # PBUFFER surface, OPENGL renderable
+        cfg, n = vp(), ci(0)
+        if not egl.eglChooseConfig(dpy, attrs, ctypes.byref(cfg), 1, ctypes.byref(n)) or n.value < 1:
+            why = "no EGL config for an off-screen OpenGL surface"
+            continue
+        if not egl.eglBindAPI(0x30A2):  # EGL_OPENGL_API
+            why = "EGL cannot bind the OpenGL API"
+            continue
+        if egl.eglCreateContext(dpy, cfg, None, None):
+            return f"OK EGL {major.value}.{minor.value}"
+        why = f"eglCreateContext failed (EGL error 0x{egl.eglGetError():x})"
+    return why
+print(probe())
+"""
+
+VTK_PROBE = ("import os\nos.environ.setdefault('VTK_DEFAULT_OPENGL_WINDOW', 'vtkEGLRenderWindow')\n"
              "import pyvista as pv\npv.OFF_SCREEN = True\npl = pv.Plotter(off_screen=True, window_size=(64, 64))\n"
              "pl.add_mesh(pv.Line())\nimg = pl.screenshot(return_img=True)\nprint(img.shape)")
-    r = run_py(probe)
-    if r.returncode != 0:
-        pytest.skip(f"no off-screen rendering here: {r.stderr.strip().splitlines()[-1:]}")
+
+
+def no_context_reason():
+    """None when EGL makes an off-screen OpenGL context on this machine, else why not."""
+    r = run_py(EGL_PROBE, timeout=60)
+    out = (r.stdout.strip().splitlines() or [f"the EGL probe crashed (exit {r.returncode}): {r.stderr[-300:]}"])[-1]
+    return None if out.startswith("OK") else out
+
+
+@pytest.fixture(scope="module")
+def can_render():
+    """Skip only when no off-screen OpenGL context can be made here at all (no EGL); fail when one can
+    but the installed pyvista/VTK still cannot render (a VTK without EGL, an incompatible pyvista)."""
+    r = run_py(VTK_PROBE)
+    if r.returncode == 0:
+        return
+    why = no_context_reason()
+    if why is not None:
+        pytest.skip(f"no off-screen OpenGL context on this machine: {why}")
+    tail = " | ".join(r.stderr.strip().splitlines()[-3:])
+    pytest.fail(f"EGL makes an OpenGL context here, but pyvista/VTK cannot render off-screen (exit "
+                f"{r.returncode}): {tail}; femslide needs pyvista>=0.45 with vtk>=9.4.2")
+
+
+def test_egl_probe_tells_a_missing_library():
+    """The probe reports a missing EGL as such (the skip reason), not as a crash."""
+    code = EGL_PROBE.replace('ctypes.util.find_library("EGL") or "libEGL.so.1"', '"libEGL-missing.so.0"')
+    assert code != EGL_PROBE
+    r = run_py(code, timeout=60)
+    assert r.returncode == 0 and r.stdout.strip().startswith("no EGL library"), r.stdout + r.stderr
 
 
 @pytest.fixture(scope="module")

@@ -3,6 +3,7 @@ its row, streaming to DIR/sweep.jsonl and resuming, --plot, and the progress hel
 from __future__ import annotations
 
 import contextlib
+import importlib
 import io
 import json
 import os
@@ -39,7 +40,7 @@ def flat(obj, prefix=""):
     for k, v in obj.items():
         if isinstance(v, dict):
             out.update(flat(v, f"{prefix}{k}."))
-        elif k not in ("wall_time_s", "files"):
+        elif k not in ("wall_time_s", "import_time_s", "files"):
             out[prefix + k] = v
     return out
 
@@ -154,7 +155,106 @@ def test_resume_needs_out():
 
 def test_bad_jobs():
     assert cli("sweep", "hinge-slider", "--vary", "c=1e4", "--jobs", "0")[0] == 2
-    assert cli("sweep", "hinge-slider", "--vary", "c=1e4", "--jobs", "2", "--dask", "local")[0] == 2
+    code, _, err = cli("sweep", "hinge-slider", "--vary", "c=1e4", "--jobs", "2", "--dask", "tcp://127.0.0.1:1")
+    assert code == 2 and "--jobs" in err and "--dask local" in err  # a scheduler has its own workers
+
+
+@pytest.mark.dask
+def test_dask_local_jobs_sets_the_workers(monkeypatch):
+    """`--dask local --jobs N`: a LocalCluster of N worker processes (N = 2 for 3 cases), rows as in
+    process."""
+    pytest.importorskip("dask.distributed")
+    sweep = importlib.import_module("femslide.sweep")  # femslide.sweep is also the API function
+    seen = []
+    real = sweep.dask_client
+
+    def spy(address, workers=None):
+        client, cluster = real(address, workers)
+        seen.append((address, workers, len(cluster.workers)))
+        return client, cluster
+
+    monkeypatch.setattr(sweep, "dask_client", spy)
+    args = ("sweep", "hinge-slider", "--vary", "c=1e4,1e5,1e6", "--json")
+    code, out, err = cli(*args, "--dask", "local", "--jobs", "2")
+    assert code == 0, err
+    assert seen == [("local", 2, 2)]
+    seen.clear()
+    code, out1, err = cli(*args, "--dask", "local", "--jobs", "1")  # one worker when asked for one
+    assert code == 0, err
+    assert seen == [("local", 1, 1)]
+    seen.clear()
+    many = ",".join(f"{c:g}" for c in [1e4 * 1.5 ** i for i in range(12)])
+    code, _, err = cli("sweep", "hinge-slider", "--vary", f"c={many}", "--json", "--dask", "local")
+    assert code == 0, err
+    n = min(os.cpu_count() or 1, 8)
+    assert seen == [("local", n, n)]  # without --jobs: at most the CPU count, not one per case (12)
+    code0, out0, _ = cli(*args)
+    assert code0 == 0
+    assert_same_rows(json.loads(out0), json.loads(out))
+
+
+@pytest.mark.dask
+def test_dask_relative_paths_are_made_absolute(tmp_path, monkeypatch):
+    """Workers whose working folder is not the caller's (as on other machines) still write each case
+    into the relative --out given here and read a relative `record` file: both are made absolute
+    before submitting.  The workers of this cluster chdir to another folder."""
+    dd = pytest.importorskip("dask.distributed")
+    import numpy as np
+    from distributed.diagnostics.plugin import WorkerPlugin
+
+    elsewhere = tmp_path / "elsewhere"
+    here = tmp_path / "here"
+    elsewhere.mkdir()
+    here.mkdir()
+    t = np.linspace(0.0, 2.0, 201)
+    np.savetxt(here / "rec.csv", np.c_[t, 5.0 * np.sin(3.0 * t)], delimiter=",", header="t,a", comments="")
+
+    class Chdir(WorkerPlugin):
+        def setup(self, worker):
+            os.chdir(elsewhere)
+
+    monkeypatch.chdir(here)
+    args = ("sweep", "sdof-harmonic", "--set", "record=rec.csv", "--set", "t_end=2", "--vary", "mu=0.1,0.15",
+            "--json", "--out", "rel")
+    with dd.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            dd.Client(cluster) as client:
+        register = getattr(client, "register_plugin", None) or client.register_worker_plugin
+        register(Chdir())
+        assert client.run(os.getcwd) == {a: str(elsewhere) for a in client.scheduler_info()["workers"]}
+        code, out, err = cli(*args, "--dask", cluster.scheduler_address)
+    assert code == 0, err
+    rows = json.loads(out)
+    assert all(r["converged"] for r in rows) and any(r["w_max"] > 0 for r in rows)  # the record moved it
+    assert sorted(os.listdir(here / "rel")) == ["case_000", "case_001", "sweep.jsonl"]
+    assert (here / "rel" / "case_000" / "result.json").is_file()
+    assert not list(elsewhere.iterdir())
+    rec = [json.loads(line) for line in (here / "rel" / "sweep.jsonl").read_text().splitlines()]
+    assert [r["params"]["record"] for r in rec] == ["rec.csv", "rec.csv"]  # the sweep's identity unchanged
+    (here / "rel2").mkdir()
+    code, out2, err = cli(*args[:-1], "rel2")  # in process: the same rows
+    assert code == 0, err
+    assert_same_rows(rows, json.loads(out2))
+
+
+def test_absolute_case_makes_paths_absolute(tmp_path, monkeypatch):
+    from femslide.sweep import absolute_case
+    monkeypatch.chdir(tmp_path)
+    name, values, out = absolute_case("sdof-harmonic", {"record": "a/rec.csv", "mu": 0.1}, "o/case_000")
+    assert name == "sdof-harmonic" and values == {"record": str(tmp_path / "a" / "rec.csv"), "mu": 0.1}
+    assert out == str(tmp_path / "o" / "case_000")
+    name, values, out = absolute_case("frame.toml", {"right.EI": 1e6}, None)
+    assert name == str(tmp_path / "frame.toml") and values == {"right.EI": 1e6} and out is None
+
+
+def test_structure_file_sweep_with_out(tmp_path):
+    """A structure file swept with --out streams its rows (it once failed: a structure file has no
+    scene parameter table)."""
+    src = ROOT / "meshes" / "structures" / "cantilever-load.toml"
+    code, out, err = cli("sweep", str(src), "--vary", "cantilever.EI=1,2", "--set", "elements=4", "--json",
+                         "--out", str(tmp_path / "o"))
+    assert code == 0, err
+    rec = [json.loads(line) for line in (tmp_path / "o" / "sweep.jsonl").read_text().splitlines()]
+    assert [r["params"]["cantilever.EI"] for r in rec] == [1, 2] and rec[0]["fixed"] == {"elements": 4}
 
 
 def test_plot(tmp_path):

@@ -180,3 +180,75 @@ def test_series_round_trips_through_pvd(tmp_path):
         assert np.allclose(block.points[:, 0].min(), t)
         assert np.allclose(block.point_data["rotation"], t)
         assert np.allclose(block.cell_data["shear_force"][:2], t)
+
+
+# -- self-describing output: field data read back with meshio ---------------------------------------------
+
+def test_static_vtu_field_data_units_conventions_joints(tmp_path):
+    """Units, conventions and names as text; the joints' types, positions, axes and forces as arrays;
+    checked against the sidecar (this mesh's results) and the geometry of the deck."""
+    import meshio
+
+    from femslide.vtu import text
+    res, path = solve("beam-slider", tmp_path, "n_elements=16")
+    m = meshio.read(path)
+    fd = m.field_data
+    units, conv = text(fd, "units"), text(fd, "conventions")
+    for word in ("displacement: m", "bending_moment: N m", "axial_force: N", "rotation: rad"):
+        assert word in units
+    for word in ("x right, y up", "counter-clockwise positive", "N > 0 tension", "M = EI dtheta/ds"):
+        assert word in conv
+    assert text(fd, "rod_names").split("\n") == ["right"] and text(fd, "body_names") == "deck"
+    names = text(fd, "joint_names").split("\n")
+    assert names == ["A1", "B1", "clamp"]
+    assert fd["joint_type"].ravel().tolist() == [0, 0, 2] and fd["joint_ground"].ravel().tolist() == [1, 1, 0]
+    side = json.loads((tmp_path / "beam-slider.json").read_text())["results_of_this_mesh"]
+    F = fd["joint_force"]
+    for i, n in enumerate(names):
+        j = side["joints"][n]
+        assert F[i].tolist() == pytest.approx([j["Fx"], j["Fy"], j["M"]], rel=1e-12, abs=1e-12 * res["M_max"])
+    phi = res["phi"]
+    assert fd["joint_axis"][2, :2] == pytest.approx([math.sin(phi), math.cos(phi)], abs=1e-12)
+    assert fd["joint_inward"][:2, :2].tolist() == [[0.0, 1.0], [0.0, 1.0]]
+    assert fd["joint_reference"][:2, :2].tolist() == [[0.0, 0.0], [2.0, 0.0]]
+    # the clamp's joint point is the rod's top node
+    top = m.points[np.concatenate([c.data for c in m.cells if c.type == "line"])[15, 1], :2]
+    assert fd["joint_position"][2, :2] == pytest.approx(top, abs=1e-12)
+    assert "distributed_load" in m.cell_data
+
+
+def test_dynamic_frames_carry_time_and_global_values(tmp_path):
+    """Every frame of a simulate series: its time (= the .pvd timestep), phi, F2, slide ... (= the
+    history.csv row at that time), units; the telescopic guide link reaches the rod's top end."""
+    import meshio
+
+    from femslide.show import pvd_frames
+    from femslide.vtu import text
+    env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    r = subprocess.run([sys.executable, "-m", "femslide", "simulate", "beam-friction", "--set", "t_end=0.4",
+                        "--quiet", "--out", str(tmp_path)], capture_output=True, text=True, cwd=ROOT, env=env,
+                       timeout=120)
+    assert r.returncode == 0, r.stderr
+    H = np.loadtxt(tmp_path / "history.csv", delimiter=",", skiprows=1)
+    frames = pvd_frames(str(tmp_path / "beam-friction.pvd"))
+    assert len(frames) >= 10
+    for t, f in frames:
+        m = meshio.read(f)
+        fd = m.field_data
+        assert float(fd["time"][0]) == t
+        row = H[np.argmin(np.abs(H[:, 0] - t))]
+        assert row[0] == pytest.approx(t, abs=1e-12)
+        for key, col in (("phi", 1), ("phi_dot", 2), ("F2", 3), ("slide", 4), ("F_ax", 6), ("N", 7)):
+            assert float(fd[key][0]) == pytest.approx(row[col], rel=1e-12, abs=1e-300), key
+        assert "phi: rad" in text(fd, "units") and "F2" in text(fd, "units")
+        # the reaction at B1 in the joints' forces is the frame's F2 (horizontal reaction at B1)
+        names = text(fd, "joint_names").split("\n")
+        assert float(fd["joint_force"][names.index("B1"), 0]) == pytest.approx(float(fd["F2"][0]), rel=1e-9,
+                                                                                  abs=1e-12)
+        # the rod (L = 1.5 m) ends below the deck (l = 3 m): a rigid link runs from the deck to its top node
+        part = [np.asarray(p).ravel() for p in m.cell_data["part"]]
+        rods = np.concatenate([c.data[p == 0] for c, p in zip(m.cells, part) if c.type == "line"])
+        links = np.concatenate([c.data[p == 2] for c, p in zip(m.cells, part) if c.type == "line"])
+        top = m.points[rods[-1, 1], :2]
+        ends = m.points[links.ravel(), :2]
+        assert np.min(np.hypot(*(ends - top).T)) <= 1e-12

@@ -151,7 +151,8 @@ def main():
         print(f"{rw[0]:<4} {rw[1]:<11} {rw[2]:<12} {rw[3]:>11.3e} {rw[4] * 1e3:>10.3f}")
     print()
     for name, (tf, sc) in ratios.items():
-        print(f"{name}: femslide {tf * 1e3:.3f} ms (error <= {min(r[3] for r in rows if r[0] == name and r[1] == 'femslide'):.1e} m)"
+        err = min(r[3] for r in rows if r[0] == name and r[1] == 'femslide')
+        print(f"{name}: femslide {tf * 1e3:.3f} ms (error <= {err:.1e} m)"
               f" vs cheapest scipy reaching 1e-6 m: {sc[1]} {sc[2]} {sc[4] * 1e3:.2f} ms "
               f"(error {sc[3]:.1e} m) -> ratio femslide/scipy = {tf / sc[4]:.4f}")
     try:

@@ -48,8 +48,8 @@ def order_table(rows):
         t0 = time.perf_counter()
         r = femslide.simulate("meshes/structures/sliding-belt.toml", t_end=4 * math.pi / omega, tolerance=tol)
         wall = time.perf_counter() - t0
-        cols, H = r.history
-        err = float(np.abs(H[:, cols.index("joints.belt.slide")] - 0.07 * np.cos(omega * H[:, 0])).max())
+        h = r.history
+        err = float(np.abs(h["joints.belt.slide"] - 0.07 * np.cos(omega * h["t"])).max())
         slope = "" if prev is None else f"  order {-math.log(err / prev[1]) / math.log(r['steps'] / prev[0]):.2f}"
         print(f"{tol:10.0e} {r['steps']:7d} {err:14.3e} {wall:9.3f}{slope}")
         rows.append({"case": "oscillator", "tolerance": tol, "steps": r["steps"], "error": err, "time_s": wall})

@@ -57,7 +57,8 @@ def main():
         r, dt = run(n)
         tip = r["tip"]
         rows.append({
-            "n_elements": n if n is not None else f"adaptive({r.solution.level.model.elements.size if r.solution else '?'})",
+            "n_elements": n if n is not None
+            else f"adaptive({r.solution.level.model.elements.size if r.solution else '?'})",
             "u": tip["u"], "v": tip["v"], "theta": tip["theta"], "M_max": r["M_max"],
             "err_M_true": abs(r["M_max"] / exact["M_max"] - 1.0),
             "err_tip_true": tip_error(tip, exact),

@@ -41,8 +41,8 @@ sliding-clamp rod, are not lost in the cancellation r(L) - L t0.
 
 Limits (single shooting)
 ------------------------
-* Tip-loaded cantilevers: up to P L^2 / EI ~ 200 (the tip angle, the unknown, is then resolved to
-  round-off; see ``inclined_cantilever``).
+* Tip-loaded cantilevers: tested up to P L^2 / EI = 100; near 200 the tip angle (the shooting
+  unknown) is resolved to round-off only and the continuation stops (RuntimeError).
 * A rod under high tension N has boundary layers ~exp(L sqrt(N / EI)); the sliding-clamp rod with its
   guide (nearly) across the rod and a large EA becomes such a string once the slide exceeds
   ~sqrt(EI / EA) L (EA L^2 / EI = 1e6: slides above ~1e-3 L): there the continuation needs hundreds
@@ -76,16 +76,57 @@ RTOL = 1e-12     # solve_ivp tolerances (nondimensional problem)
 ATOL = 1e-15
 XTOL = 1e-13     # Newton / scipy.optimize.root step tolerance on the shooting unknowns
 RES_TOL = 1e-9   # largest accepted residual of the shooting equations (nondimensional)
+RES_FLOOR = 1e-13  # residual at the integration's noise level: converged
 HYBR_MAXFEV = 60 # integrations allowed to the scipy.optimize.root fallback per call
-MAX_INTEGRATIONS = 1500   # per continuation, then RuntimeError (bounded run time)
+MAX_INTEGRATIONS = 1000   # per continuation, then RuntimeError (bounded run time)
 ROT_STEP = 0.5   # continuation: first load step gives about this linear-theory rotation [rad]
 ANGLE_TOL = 0.02 # continuation: accepted corrector move of an angle unknown beyond half its increment [rad]
 
 
-def _ivp(rhs, y0, s0=0.0, s1=1.0, events=None):
-    sol = solve_ivp(rhs, (s0, s1), y0, method="DOP853", rtol=RTOL, atol=ATOL, events=events)
+class _BlowUp(Exception):
+    """A shooting iterate left the physical range (the residual is then reported as nan)."""
+
+
+def _blowup_event(i_phi, i_xi, i_eta):
+    """Terminal-event factory: stop when the tangent angle exceeds 100 rad or a deviation from the
+    straight rod exceeds 10 L (the trial solution left the physical range)."""
+    def make():
+        def ev(s, Y):
+            return 10.0 - max(0.1 * abs(Y[i_phi]), abs(Y[i_xi]), abs(Y[i_eta]))
+        ev.terminal = True
+        return ev
+    return make
+
+
+_BLOWUP_CANTILEVER = _blowup_event(0, 2, 3)
+_BLOWUP_SLIDER = _blowup_event(0, 1, 2)
+MAX_STEPS = 5000    # integration steps per shot (a trial with a huge tension is stiff): _BlowUp
+
+
+def _ivp(rhs, y0, s0=0.0, s1=1.0, events=None, blowup=None):
+    """DOP853 from s0 to s1.  ``blowup`` (a factory from _blowup_event) adds a terminal event that
+    stops trial solutions leaving the physical range, and more than MAX_STEPS steps also stop the
+    shot (an exponentially growing or very stiff trial would otherwise take arbitrarily long):
+    both raise _BlowUp."""
+    evs = [] if events is None else [events]
+    if blowup is not None:
+        ev = blowup()
+        count = [0]
+
+        def guarded(s, Y):   # event functions are evaluated once per step
+            count[0] += 1
+            if count[0] > MAX_STEPS:
+                raise _BlowUp()
+            return ev(s, Y)
+        guarded.terminal = True
+        evs = [guarded] + evs
+    sol = solve_ivp(rhs, (s0, s1), y0, method="DOP853", rtol=RTOL, atol=ATOL, events=evs)
+    if sol.status == 1:
+        raise _BlowUp()
     if sol.status != 0:
         raise RuntimeError(f"integration failed: {sol.message}")
+    if blowup is not None and events is not None:
+        sol.t_events, sol.y_events = sol.t_events[1:], sol.y_events[1:]
     return sol
 
 
@@ -100,10 +141,11 @@ def _solve(fun, z0, maxiter=15, fallback=True):
 
     Newton's method with the exact Jacobian and residual backtracking; converged when the step is
     below XTOL (1 + |z|) (or below sqrt(XTOL) (1 + |z|) and 1e-3 times the previous step: quadratic
-    convergence makes the next one negligible), or when no step decreases the residual any more and it is below
-    RES_TOL (its round-off floor: an ill-conditioned Jacobian turns that noise into steps above
-    XTOL).  Given up early if the residual has not dropped 100-fold after 4 iterations.  If Newton
-    fails and ``fallback``: scipy.optimize.root (hybr, same Jacobian, xtol XTOL) from z0.
+    convergence makes the next one negligible), or the residual (nondimensional positions and
+    angles) is below RES_FLOOR = 1e-13, the integration's own accuracy, or no step decreases the
+    residual any more and it is below RES_TOL (an ill-conditioned Jacobian turns the residual's
+    noise into steps above XTOL).  Given up early if the residual has not dropped 100-fold after 4
+    iterations.  If Newton fails and ``fallback``: scipy.optimize.root (hybr, same Jacobian, xtol XTOL) from z0.
     Accepted only if max |residual| <= RES_TOL."""
     z = np.atleast_1d(np.asarray(z0, float)).copy()
     nit = 0
@@ -127,8 +169,10 @@ def _solve(fun, z0, maxiter=15, fallback=True):
             z, r, J = zt, rt, Jt
             step = np.max(np.abs(dz)) / (1.0 + np.max(np.abs(z)))
             # converged: the step is below XTOL, or it is below sqrt(XTOL) after a quadratic
-            # contraction (then the next step, ~ step^2, would be below XTOL)
-            if step <= XTOL or (step <= math.sqrt(XTOL) and step <= 1e-3 * prev):
+            # contraction (then the next step, ~ step^2, would be below XTOL), or the residual is
+            # at the integration's noise level
+            if (step <= XTOL or (step <= math.sqrt(XTOL) and step <= 1e-3 * prev)
+                    or np.max(np.abs(r)) <= RES_FLOOR):
                 break
             prev = step
             if nit == 4 and np.linalg.norm(r) > 1e-2 * r_start and np.max(np.abs(r)) > RES_TOL:
@@ -200,13 +244,13 @@ def _continuation(fun_at, z_zero, z_first, angles=None, max_rejects=30):
             try:
                 r_h, _ = fun_at(lam + h)(z_last)    # r(z_last, lam) = 0 (to RES_TOL, ~1e-14)
             except _Budget:
-                raise RuntimeError(f"continuation gave up after {MAX_INTEGRATIONS} integrations")
+                raise RuntimeError(f"continuation gave up after {MAX_INTEGRATIONS} integrations") from None
             guess = z_last - np.linalg.solve(J_last, r_h / h) * (lt - lam)
         try:
             out = _solve(fun_at(lt), guess, maxiter=10, fallback=rejects_in_row >= 3)
         except _Budget:
             raise RuntimeError(f"continuation gave up after {MAX_INTEGRATIONS} integrations at load "
-                               f"factor {tau * tau:.6g} (see the module's notes on hard cases)")
+                               f"factor {tau * tau:.6g} (see the module's notes on hard cases)") from None
         ok = False
         if out is not None:
             z, J, nit = out
@@ -269,7 +313,7 @@ def inclined_cantilever(L: float, EI: float, angle: float, Fx: float, Fy: float,
     so the rod is integrated from the free tip (tangent angle the unknown, M(L) = M) to the root,
     and the equation is theta(0) = angle.  Shooting from the tip is the well-conditioned direction
     (from the clamp, d M(L) / d M(0) grows like exp(L sqrt(P / EI)): ~1e6 at P L^2 / EI = 300).
-    Tested up to P L^2 / EI = 100 (single shooting reaches its round-off limit near 300).
+    Tested up to P L^2 / EI = 100 (single shooting reaches its round-off limit near 200).
 
     ``rotation_guess`` (tip rotation [rad]): skip the continuation and start Newton there, to
     reach a known equilibrium off the principal branch (e.g. an unstable straight state above the
@@ -305,7 +349,10 @@ def inclined_cantilever(L: float, EI: float, angle: float, Fx: float, Fy: float,
         rhs = _cantilever_rhs(lam * Ft, lam * Fn, lam * qt, lam * qn, ea)
 
         def fun(z):
-            Y = _ivp(rhs, y_tip(lam, z), 1.0, 0.0).y[:, -1]
+            try:
+                Y = _ivp(rhs, y_tip(lam, z), 1.0, 0.0, blowup=_BLOWUP_CANTILEVER).y[:, -1]
+            except _BlowUp:
+                return np.array([np.nan]), np.eye(1)
             return np.array([Y[0]]), np.array([[Y[6]]])
         return fun
 
@@ -321,7 +368,8 @@ def inclined_cantilever(L: float, EI: float, angle: float, Fx: float, Fy: float,
     # final pass, with the extrema of M (t x n = 0) as events
     def txn(s, Y):
         return (math.cos(Y[0]) * (Fn + qn * (1 - s)) - math.sin(Y[0]) * (Ft + qt * (1 - s)))
-    sol = _ivp(_cantilever_rhs(Ft, Fn, qt, qn, ea), y_tip(1.0, [phL]), 1.0, 0.0, events=txn)
+    sol = _ivp(_cantilever_rhs(Ft, Fn, qt, qn, ea), y_tip(1.0, [phL]), 1.0, 0.0, events=txn,
+               blowup=_BLOWUP_CANTILEVER)
     ph0, m0, xi0, eta0, rt0, rn0 = sol.y[:6, -1]
     I0 = sol.y[8, -1]
     iea = 0.0 if ea is None else 1.0 / ea
@@ -419,16 +467,15 @@ def pinned_slider_rod(L: float, EI: float, angle: float, guide_angle: float, F,
     Fv = np.array(F, float)
     Ft, Fn = Fv @ t0 * fs, Fv @ n0 * fs
     gpt, gpn = gp @ t0, gp @ n0              # g_perp in the axis frame
-    gt, gn = g @ t0, g @ n0
+    gt = g @ t0                               # 0: guide across the rod
     ea = None if EA is None else EA * L ** 2 / EI
     iea = 0.0 if ea is None else 1.0 / ea
 
     # linear theory: top displacement d = (N / ea) t0 + (V / 3) n0 with (N, V) = n in the axis
     # frame; c from d . g_perp = 0
     den = gpt ** 2 * iea + gpn ** 2 / 3.0
-    if ea is None and abs(gt) < 1e-12:       # guide across the rod
-        if abs(Fv @ g) > 0.0:
-            raise ValueError("inextensible rod with the guide perpendicular to it: locked, no "
+    if ea is None and abs(gt) < 1e-12 and abs(Fv @ g) > 0.0:       # guide across the rod
+        raise ValueError("inextensible rod with the guide perpendicular to it: locked, no "
                              "equilibrium for F . g != 0 (give EA)")
     c_lin = -(Ft * gpt * iea + Fn * gpn / 3.0) / den if den > 0 else 0.0
 
@@ -442,7 +489,10 @@ def pinned_slider_rod(L: float, EI: float, angle: float, guide_angle: float, F,
     def fun_at(lam):
         def fun(z):
             rhs = _slider_rhs(lam * Ft + z[1] * gpt, lam * Fn + z[1] * gpn, gpt, gpn, ea)
-            Y = _ivp(rhs, y_base(z)).y[:, -1]
+            try:
+                Y = _ivp(rhs, y_base(z), blowup=_BLOWUP_SLIDER).y[:, -1]
+            except _BlowUp:
+                return np.full(2, np.nan), np.eye(2)
             dX, dY = Y[1] + Y[3] * iea, Y[2] + Y[4] * iea          # r(1) - T0, axis frame
             dX1, dY1 = Y[6] + Y[8] * iea, Y[7] + Y[9] * iea
             dX2, dY2 = Y[11] + Y[13] * iea, Y[12] + Y[14] * iea
@@ -456,7 +506,7 @@ def pinned_slider_rod(L: float, EI: float, angle: float, guide_angle: float, F,
 
     def txn(s, Y):
         return math.cos(Y[0]) * nn - math.sin(Y[0]) * nt
-    sol = _ivp(_slider_rhs(nt, nn, gpt, gpn, ea), y_base([ph0, c]), events=txn)
+    sol = _ivp(_slider_rhs(nt, nn, gpt, gpn, ea), y_base([ph0, c]), events=txn, blowup=_BLOWUP_SLIDER)
     Y = sol.y[:, -1]
     dX, dY = Y[1] + Y[3] * iea, Y[2] + Y[4] * iea
 
@@ -522,7 +572,7 @@ def tip_load_elliptic(L: float, EI: float, P: float) -> dict:
         m, p, phi0 = parts(tt)
         return special.ellipkm1(p) - special.ellipkinc(phi0, m) - ra
     tt = optimize.brentq(eq, 1e-300, math.pi / 2 - 1e-15, xtol=1e-16, rtol=4 * np.finfo(float).eps)
-    m, p, phi0 = parts(tt)
+    m, _, phi0 = parts(tt)
     yt = L * (1.0 - 2.0 * (special.ellipe(m) - special.ellipeinc(phi0, m)) / ra)
     xt = L * math.sqrt(2.0 * math.sin(tt) / alpha)
     sg = 1.0 if P > 0 else -1.0

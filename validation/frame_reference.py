@@ -40,10 +40,10 @@ Supports, pins and the solution
 -------------------------------
 Supports are kinematic constraints built into a basis Z of the admissible displacements (u = Z w),
 no penalty and no Lagrange multiplier: a fixed dof is dropped, a roller's translation is u = w d
-(d its rolling direction).  K_red = Z^T K Z is scaled by its diagonal and solved by numpy.linalg.solve; a condition number above
-``COND_MAX`` is reported as a mechanism (so model a "rigid" member with EA or EI at most ~1e10 times
-the others' scale, not 1e20).  Reactions are the
-residual R = K u - f at the supported nodes (force and moment of the support on the structure),
+(d its rolling direction).  K_red = Z^T K Z is scaled by its diagonal and solved by numpy.linalg.solve;
+a condition number above ``COND_MAX`` is reported as a mechanism (so model a "rigid" member with EA or EI
+at most ~1e10 times the others' scale, not 1e20).  Reactions are the residual R = K u - f at the
+supported nodes (force and moment of the support on the structure),
 projected on the constrained directions.  An internal pin (``hinge``) gives the member end its own
 rotation dof; a node whose rotation is connected to no member (all member ends at it pinned) has no
 rotation dof (``disp`` returns nan for its theta).
@@ -73,7 +73,7 @@ def _J(k: int, beta: float) -> float:
     if beta == 0.0:
         return 1.0 / (k + 1)
     if abs(beta) <= 0.9:
-        nterms = int(math.ceil(math.log(1e-18) / math.log(abs(beta)))) + 2 if abs(beta) > 1e-300 else 1
+        nterms = math.ceil(math.log(1e-18) / math.log(abs(beta))) + 2 if abs(beta) > 1e-300 else 1
         n = np.arange(nterms - 1, -1, -1, dtype=float)
         return float(np.sum((-beta) ** n / (n + k + 1)))
     lp = math.log1p(beta)
@@ -206,7 +206,7 @@ class Frame:
 
     def pin(self, node):
         """Pin every member end at ``node`` (the members turn independently about it)."""
-        for name, m in self.members.items():
+        for m in self.members.values():
             if node in (m.n1, m.n2):
                 m.hinged.add(node)
         return self
@@ -242,7 +242,7 @@ class Frame:
         return self.distributed(beam, rhoA * g[0], rhoA * g[1])
 
     # -- solution -----------------------------------------------------------------------------------
-    def solve(self) -> "FrameResult":
+    def solve(self) -> FrameResult:
         names = list(self.nodes)
         index = {n: i for i, n in enumerate(names)}
         coords = [self.nodes[n] for n in names]
@@ -379,7 +379,7 @@ class FrameResult:
 
     def end_rotation(self, beam, node):
         """Rotation [rad] of the end of member ``beam`` at ``node`` (differs from the node's if pinned)."""
-        Lm, els, extra = self._stations[beam]
+        els = self._stations[beam][1]
         m = self.frame.members[beam]
         e = els[0] if node == m.n1 else els[-1]
         return float(self._u[e.dofs[2] if node == m.n1 else e.dofs[5]])

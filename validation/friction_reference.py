@@ -35,7 +35,6 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from references import shoot
 
 DEFAULTS = dict(a=1.0, b=0.5, d=0.2, l=3.0, m=1.0, g=9.81, L=1.5, k=100.0, EI=1e4, EA=1e6, c_v=0.0,
                 mu=0.2, mu0=0.24, phi0=0.0, ag=1.0, theta_ratio=1.0, t_end=3.0)
@@ -116,7 +115,7 @@ class Model:
         Newton method (the Jacobian of the last solve is reused while it converges)."""
         x = np.array(x0, float)
         free = sigma is not None
-        for attempt in range(2):
+        for _attempt in range(2):
             self._J = self._jac(x, phi, s)      # Newton's first step, then chord steps
             ok = False
             for _ in range(12):
@@ -222,7 +221,7 @@ def simulate(rtol=1e-9, **p):
     elif abs(F0_) > mu0 * abs(Rn0):
         sigma, mode = -math.copysign(1.0, F0_), "slip"
     s_cur = s0
-    ts, phis, modes, turning = [0.0], [phi], [], []
+    turning = []
     segs = []
     while t < P["t_end"] * (1 - 1e-12):
         if mode == "stuck":

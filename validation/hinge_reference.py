@@ -224,7 +224,7 @@ def solve(model, c, a=1.0, b=0.5, d=0.2, l=3.0, l1=1.5, m=1.0, g=9.81, k=None, d
         t = (1 - prev[2]) / (mu - prev[2])
         x = mp.matrix([prev[0] + t * (phi - prev[0]), prev[1] + t * (psi - prev[1]),
                        prev[3] + t * (lam - prev[3])])
-        for it in range(60):
+        for _it in range(60):
             a_ = _args(x, 1, p, D0)
             Fv = mp.matrix(fns["F"](*a_))
             Jv = mp.matrix(fns["J"](*a_))

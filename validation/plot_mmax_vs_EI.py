@@ -49,7 +49,8 @@ def main():
         slope = np.gradient(np.log(fe), np.log(EIS))
         for EI, M, R, s in zip(EIS, fe, rf, slope):
             print(f"  {EI:9.3g} {M:16.10g} {R:16.10g} {abs(M / R - 1):9.2e} "
-                  f"{series.M_max_asymptote(1, EI, **GEOM):12.6g} {series.M_max_asymptote(2, EI, **GEOM):12.6g} {s:7.4f}")
+                  f"{series.M_max_asymptote(1, EI, **GEOM):12.6g} {series.M_max_asymptote(2, EI, **GEOM):12.6g} "
+                  f"{s:7.4f}")
         mk = "o" if kind == "slider" else "s"
         ax[0].loglog(EIS, fe, mk, mfc="none", label=f"{scene} (FE)")
         ax[0].loglog(EIS, rf, "-", lw=0.8, label=f"{scene} (elastica)")

@@ -34,7 +34,7 @@ def main():
         dms = np.logspace(np.log10(1.0 / c), -1, 13)
         F2 = [abs(femslide.solve("beam-extra-mass", EI=EI, dm=dm)["reactions"]["B1"]["Fx"]) for dm in dms]
         ax.loglog(dms, F2, "o-", ms=3, label=f"EI = {EI:.0e} N m$^2$ (c = {c:.1e})")
-        for lab, p in (("c^-1", -1.0), ("c^-0.5", -0.5), ("c^-0.2", -0.2)):
+        for _lab, p in (("c^-1", -1.0), ("c^-0.5", -0.5), ("c^-0.2", -0.2)):
             ax.axvline(c ** p, color="0.85", lw=0.5)
     ax.set_xlabel("extra mass dm [kg]")
     ax.set_ylabel("|F2| [N]")

@@ -32,8 +32,8 @@ transmits no force along e, so the force of the ground on the rod at B1 is R = Q
 
 * beam-slider: left rod rigid (body + rod rotate about A1); right rod an elastica from B1, its top S
   in the sliding clamp.  Unknowns (theta0, Q, phi) (theta0 measured from e in the code, see
-  ``_Structure.residual``: the rod is integrated in the body-axis frame); equations: S on the guide line through the body
-  point Rot(2a, L) along e; theta(L) = pi/2 - phi (tangent e, no wrapping: the angle is continuous);
+  ``_Structure.residual``: the rod is integrated in the body-axis frame); equations: S on the guide line through the
+  body point Rot(2a, L) along e; theta(L) = pi/2 - phi (tangent e, no wrapping: the angle is continuous);
   moment of body + left rod about A1: G x (0, -P) + S x R - M(L) = 0.
 * beam-fixed: left rod an elastica pinned at A1 and welded at A (tangent e); the body is placed by A
   and phi; the rigid right rod is pinned at B1 and held in the clamp, so it pushes the body with the
@@ -143,7 +143,7 @@ def shoot(theta0, Rx, Ry, EI, L, EA=None):
 def moment_max(shot: Shot, Rx, Ry, EI):
     """max |M(s)| over the rod (dense sampling of the Taylor pieces, then a local refinement)."""
     best, where = -1.0, None
-    for (s0, h, ct, cu, cw) in shot.pieces:
+    for (_s0, h, _ct, cu, cw) in shot.pieces:
         cm = Ry * cu - Rx * cw
         t = np.linspace(0.0, h, 201)
         vals = np.abs(np.polyval(cm[::-1], t))

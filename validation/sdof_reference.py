@@ -144,7 +144,8 @@ def ivp_simulate(m, k, c, mu, mu0, g, w0, A=0.0, theta=0.0, t_end=5.0, rec=None,
                     for i in range(64):
                         if vals[i + 1] > 0:
                             from scipy.optimize import brentq
-                            hit = [brentq(lambda x: ev(x, None), ts[i], ts[i + 1], xtol=1e-15)] if vals[i] < 0 else [ts[i]]
+                            hit = ([brentq(lambda x: ev(x, None), ts[i], ts[i + 1], xtol=1e-15)] if vals[i] < 0
+                                   else [ts[i]])
                             break
             if len(hit):
                 tb = float(hit[0])

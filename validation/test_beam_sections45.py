@@ -94,7 +94,8 @@ def test_F2_regimes():
     f2 = [_extra(EI, c ** -0.5)["reactions"]["B1"]["Fx"] for EI, c in zip([1e6, 1e7], [3e6 / 1.5, 3e7 / 1.5])]
     dev = [abs(f / F2_inf - 1.0) for f in f2]
     assert dev[1] < 0.15 and dev[1] < dev[0], (f2, F2_inf)
-    f3 = [abs(_extra(EI, c ** -0.2)["reactions"]["B1"]["Fx"]) for EI, c in zip([1e5, 1e6, 1e7], [3e5 / 1.5, 3e6 / 1.5, 3e7 / 1.5])]
+    f3 = [abs(_extra(EI, c ** -0.2)["reactions"]["B1"]["Fx"])
+          for EI, c in zip([1e5, 1e6, 1e7], [3e5 / 1.5, 3e6 / 1.5, 3e7 / 1.5])]
     s3 = np.diff(np.log(f3)) / math.log(10.0)
     assert np.all((s3 > 0.2) & (s3 < 1.0)), s3
     assert s3[-1] < s3[0]

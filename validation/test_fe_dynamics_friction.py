@@ -18,8 +18,7 @@ import femslide
 
 
 def _turning(res):
-    cols, H = res.history
-    t, w = H[:, 0], H[:, cols.index("joints.belt.slide")]
+    t, w = res.history["t"], res.history["joints.belt.slide"]
     out, prev = [], ""
     for e in res["events"]["belt"]:
         if e["t"] > 0 and (e["kind"] == "stick" or prev.startswith("slip")):

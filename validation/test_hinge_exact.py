@@ -233,7 +233,7 @@ def _closure_cases():
             if model == "fixed":
                 p.pop("l1")
             cases.append((model, p))
-    for regime, f in REGIMES.items():
+    for _regime, f in REGIMES.items():
         for c in C_EXTRA:
             cases.append(("extra", dict(DEFAULTS, c=c, k=100.0, dm=f(c), m1=0.1, l2=2.0)))
     for model in ("slider", "fixed", "spring"):   # leaning away from B1 (phi < 0)

@@ -8,8 +8,8 @@ Properties and their references (exact identities, no external code):
    element exerts at the clamped node S, computed from its basic forces (N, M1, M2) by the corotational
    statics f2 = N t + (M1 + M2)/L_n (t_y, -t_x), m2 = M2 (t: unit deformed chord, L_n its length),
    must equal the joint force and moment that the deck exerts on the rod end (femslide.results
-   joint_forces, from the clamp's multipliers).  Tolerance 1e-9 (units P, P a) plus femslide's own round-off bound of the element
-   forces (info["noise"] of Model.system: EA eps |x| / L amplified; ~1e-6 P at EA/EI = 1e6, where the
+   joint_forces, from the clamp's multipliers).  Tolerance 1e-9 (units P, P a) plus femslide's own round-off bound of
+   the element forces (info["noise"] of Model.system: EA eps |x| / L amplified; ~1e-6 P at EA/EI = 1e6, where the
    Newton residual at S stops at ~1e-8 P) - a sign or frame error would show as O(1).
 3. Zero drift while stuck (one-mass oscillator, SPEC section 5): between a stop and the next
    breakaway the velocity is exactly 0.0 and w is exactly constant (bitwise), and it equals the

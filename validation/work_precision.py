@@ -84,7 +84,8 @@ def statics_rows():
         dt, r = best_of(lambda: femslide.solve("cantilever-load", p_ratio=1.0, **kw))
         rows.append(dict(part="statics", problem="cantilever-load p=1", method="femslide",
                          setting="adaptive" if n is None else f"N={n}",
-                         n_elements=r.solution.level.model.elements.size // len(r.solution.model.structure.rods), value=r["M_max"],
+                         n_elements=r.solution.level.model.elements.size // len(r.solution.model.structure.rods),
+                         value=r["M_max"],
                          err_M=abs(r["M_max"] - exact["M_max"]) / exact["M_max"],
                          err_state=tip_error(r["tip"], exact), error_estimate=r["error_estimate"],
                          iterations=r["iterations"], time_s=dt))
@@ -131,7 +132,8 @@ def statics_rows():
                 continue
             rows.append(dict(part="statics", problem=prob, method="femslide",
                              setting="adaptive" if n is None else f"N={n}",
-                             n_elements=r.solution.level.model.elements.size // len(r.solution.model.structure.rods), value=r["M_max"],
+                             n_elements=r.solution.level.model.elements.size // len(r.solution.model.structure.rods),
+                             value=r["M_max"],
                              err_M=abs(r["M_max"] - r0["M_max"]) / r0["M_max"],
                              err_state=abs(r["phi"] - r0["phi"]) / abs(r0["phi"]),
                              error_estimate=r["error_estimate"], iterations=r["iterations"], time_s=dt))
@@ -182,7 +184,8 @@ def oscillation_rows():
             dt, r = sim()
             e, te = _tp_error(r["turning_points"], refr["turning_points"], amp)
             rows.append(dict(part="dynamics", problem="beam-oscillation (default, t_end 3 s)",
-                             method="femslide DOP853", setting=f"rtol={rtol:g}" + (" (default)" if rtol == default else ""),
+                             method="femslide DOP853",
+                             setting=f"rtol={rtol:g}" + (" (default)" if rtol == default else ""),
                              n_elements=r["n_elements"], value=r["F2_max"], err_state=e,
                              err_M=abs(r["F2_max"] - refr["F2_max"]) / refr["F2_max"],
                              error_estimate="", iterations=r["rhs_evaluations"], time_s=dt,
