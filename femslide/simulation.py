@@ -18,7 +18,8 @@ reported as ``frequencies_hz``.
 
 Result (SI): ``converged``, ``steps``, ``t_end``, ``energy_balance`` (kinetic + potential +
 dissipated - work in, relative to the largest of them over the run), ``events`` (per friction joint:
-[{t, kind}], kind "stick", "slip+" or "slip-"; femslide/friction.py),
+[{t, kind}], kind "stick", "slip+" or "slip-", the first at t = 0 the joint's mode at the start;
+femslide/friction.py),
 ``frequencies_hz``, ``peaks`` {``reactions``: {NAME: {Fx, Fy, M}} largest |value| over time,
 ``rods``: {NAME: {M_max}}, ``joints``: {NAME: {slide_min, slide_max}}}, ``wall_time_s``; ``--out DIR``
 writes ``history.csv`` (every reported quantity at every accepted step; friction joints also their
