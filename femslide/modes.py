@@ -65,6 +65,8 @@ def modes(model, y, alpha, masses, count=6):
         from scipy.linalg import eigh, null_space
         Gd = G.toarray()
         Z = null_space(Gd) if Gd.shape[0] else np.eye(n_q)
+        if Z.shape[1] == 0:
+            raise SolverFailure("no natural frequencies: the joints leave the structure no motion")
         Kr = Z.T @ K.toarray() @ Z
         Mrd = Z.T @ M.toarray() @ Z
         Kr, Mrd = 0.5 * (Kr + Kr.T), 0.5 * (Mrd + Mrd.T)

@@ -8,7 +8,9 @@
     initial = {body = "deck", rotation = -0.01}    # or u = [dx, dy]; or {joint = "belt", slide = 0.07}
     elements = 8                                   # elements per rod without its own `elements`
 
-The run: the static equilibrium under the loads (femslide.static, on the fixed mesh), held - if
+The run: the static equilibrium under the loads (femslide.static, on the fixed mesh; a structure
+that is a mechanism without friction - a block on a ground slider without a spring - starts from the
+equilibrium with its friction joints stuck, and ``frequencies_of`` says so), held - if
 ``initial`` says so - at a body's rotation [rad] and/or centroid displacement u [m] (its component
 along u is held, the rest of the structure in equilibrium: the body pulled along u) or at a slider's
 slide [m] (an extra exact constraint, walked there in small steps), then released at rest and
@@ -244,6 +246,25 @@ def _held_start(fs, counts, L, F, y, alpha, ini):
 
 # -- the run ----------------------------------------------------------------------------------------
 
+def _stuck_statics(fs, exc):
+    """Static solution of the structure with its friction joints stuck (sliders as welds, rollers as
+    pins, at the same points); SolverFailure (the original reason) if that fails too."""
+    from . import static
+    joints = tuple(replace(j, type="weld" if j.type == "slider" else "pin", axis=None, k=0.0, preload=0.0,
+                           mu=None, mu0=None, bearing=None) if j.mu is not None else j for j in fs.joints)
+    try:
+        return static.solve(replace(fs, joints=joints, derived={}))
+    except SolverFailure:
+        raise exc from None
+
+
+def _model_like(fs, m):
+    """The model of ``fs`` on the mesh and in the units of the model ``m``."""
+    from .model import Model
+    counts = {r.name: r.elements for r in fs.rods}
+    return Model(fs, counts, m.Lref, m.Fref)
+
+
 def _fixed_mesh(fs, n):
     """The frozen structure with every rod's mesh fixed (``n`` elements unless the rod has its own)."""
     rods = tuple(r if r.elements else replace(r, elements=n) for r in fs.rods)
@@ -285,14 +306,38 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
 
     t_wall = time.perf_counter()
     fs = _fixed_mesh(fs, spec.elements)
-    sol = static.solve(fs)
-    model, y_s, a_s = sol.level.model, sol.level.y, sol.level.alpha
+    frequencies_of = "frictionless structure"
+    try:
+        sol = static.solve(fs)
+        model, y_s, a_s = sol.level.model, sol.level.y, sol.level.alpha
+    except SolverFailure as exc:
+        if not any(j.mu is not None for j in fs.joints):
+            raise
+        # frictionless, the structure has no equilibrium of its own (a block on a ground slider
+        # without a spring): at rest its friction joints are stuck - solve the statics so
+        # (a stuck slider holds like a weld, a stuck roller like a pin) and start from there
+        sol = _stuck_statics(fs, exc)
+        model = _model_like(fs, sol.level.model)
+        y_s = np.zeros(model.n)
+        y_s[:model.n_q] = sol.level.y[:model.n_q]
+        a_s = sol.level.alpha
+        frequencies_of = "structure with its friction joints stuck"
     L, F = model.Lref, model.Fref
     masses = Masses(model)
     if masses.massive_dofs().size == 0:
         raise BadInput("simulate: nothing in the structure has mass (give a body a mass or a rod a rhoA)")
-    freq, _ = modes(model, y_s, a_s, masses, MODES)
-    max_steps = check_work(spec, float(freq[0]), model.n_q, float(freq[-1]))
+    try:
+        freq, _ = modes(model, y_s, a_s, masses, MODES)
+    except SolverFailure:
+        if frequencies_of == "frictionless structure":
+            raise
+        m_stuck = sol.level.model
+        try:
+            freq, _ = modes(m_stuck, sol.level.y, sol.level.alpha, Masses(m_stuck), MODES)
+        except SolverFailure:   # stuck, nothing can move: no frequencies
+            freq = np.zeros(0)
+    f_ref = [float(freq[0]), float(freq[-1])] if len(freq) else [1.0 / spec.t_end] * 2
+    max_steps = check_work(spec, f_ref[0], model.n_q, f_ref[1])
     C = None
     if spec.alpha or spec.beta:
         from .modes import tangent
@@ -357,7 +402,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
         frames_rows.append(None)
         return row
 
-    f_top = float(freq[0])
+    f_top = f_ref[0]
     h0 = 0.02 / f_top * spec.tolerance ** (1.0 / 3.0)
     h_max = spec.t_end / 20.0
     if spec.ground is not None:
@@ -369,7 +414,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
     run = integrate(model, masses, y0, a0, spec.t_end, spec.tolerance, C=C, ground=spec.ground,
                     observe=observe, h0=h0, h_max=h_max, max_steps=max_steps,
                     wall_limit=WALL_LIMIT_S, progress=progress, q_ref=y_s, friction=fr,
-                    period=1.0 / float(freq[0]))
+                    period=1.0 / f_ref[0])
     t_int = time.perf_counter() - t_int
     H = np.array(run.rows)
     if not np.all(np.isfinite(H)):
@@ -388,7 +433,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
            "newton_iterations": run.newton_iterations, "t_end": spec.t_end,
            "energy_balance": run.energy_balance, "energy": run.energy,
            "events": fr.events if fr is not None else {},
-           "frequencies_hz": [float(f) for f in freq], "peaks": peaks,
+           "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of, "peaks": peaks,
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
     res["_write"] = lambda d: _write(d, name, cols, H, frames, model) + _hysteresis(d, name, cols, H,
                                                                                     sorted(fric_names))

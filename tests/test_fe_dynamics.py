@@ -378,3 +378,26 @@ def test_simulate_keys_set_on_the_command_line(capsys):
     assert main(["solve", f, "--set", "simulate.t_end=1"]) == 2
     assert main(["simulate", "meshes/structures/beam-slider.toml"]) == 2
     assert "[simulate]" in capsys.readouterr().err
+
+
+def test_block_without_spring_on_a_shaken_frictional_ground():
+    """A block (no spring: frictionless, a mechanism) on a ground slider with mu = 0.2, mu0 = 0.25 and
+    the base acceleration 3 sin(2 pi t) m/s^2: it starts stuck (the statics with the joint stuck),
+    breaks away when 3 sin(2 pi t0) = mu0 g (t0 = 0.152320 s, to 1e-9 s), slides back with
+    w'' = -a_g + mu g and sticks when w' = 0 again; closed form (w' and w integrated exactly):
+    t1 = 0.5311778 s, w = -4.028833 cm, within 1e-6 s and 1e-6 m at tolerance 1e-8."""
+    from scipy.optimize import brentq
+    g, mu, mu0, A, W = 9.81, 0.2, 0.25, 3.0, 2 * math.pi
+    t0 = math.asin(mu0 * g / A) / W
+    t1 = brentq(lambda t: A / W * (math.cos(W * t) - math.cos(W * t0)) + mu * g * (t - t0), t0 + 1e-3, t0 + 0.9)
+    w1 = A / W * ((math.sin(W * t1) - math.sin(W * t0)) / W - (t1 - t0) * math.cos(W * t0)) \
+        + 0.5 * mu * g * (t1 - t0) ** 2
+    s = femslide.Structure(gravity=(0.0, -g))
+    s.body("block", mass=2.0, centroid=(0.0, 0.1), inertia=0.01)
+    s.slider("belt", "block", "ground", axis=(1.0, 0.0), at=(0.0, 0.1), mu=mu, mu0=mu0)
+    res, h = _run(s, t_end=0.6, tolerance=1e-8, ground={"direction": [1.0, 0.0], "amplitude": A, "frequency": 1.0})
+    ev = res["events"]["belt"]
+    assert [e["kind"] for e in ev] == ["stick", "slip-", "stick"]
+    assert res["frequencies_of"] == "structure with its friction joints stuck"
+    assert abs(ev[1]["t"] - t0) < 1e-9 and abs(ev[2]["t"] - t1) < 1e-6
+    assert res["peaks"]["joints"]["belt"]["slide_min"] == pytest.approx(w1, abs=1e-6)
