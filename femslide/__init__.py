@@ -209,8 +209,10 @@ def sweep(target: Target, *, fixed: dict[str, Any] | None = None, jobs: int = 1,
     Returns
     -------
     pandas.DataFrame
-        One row per case in grid order: the varied parameters, ``converged`` (bool), ``reason``
-        (why a case failed, else None), then every scalar value of the result under dotted names
+        One row per case in grid order: the varied parameters, ``converged`` (bool), ``status``
+        ("converged", "failed", "bad-input" - values rejected only when the case ran, such as a
+        work bound that depends on the solution - or "error"), ``reason`` (why a case failed,
+        else None), then every scalar value of the result under dotted names
         (``M_max``, ``reactions.B1.Fx``, ``rods.right.M_max``, ``wall_time_s``...; see
         :meth:`Result.flat`; NaN where a case has no value).  A case that fails does not stop the
         sweep: its row says why.  ``df.attrs`` holds ``target``, ``varied`` and ``fixed``.

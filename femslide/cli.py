@@ -1,6 +1,6 @@
 """The command line: ``femslide COMMAND ...`` (``femslide --help``, ``femslide COMMAND --help``).
 
-    femslide scenes
+    femslide scenes [--json]
     femslide solve SCENE [--set NAME=VALUE]... [--json] [--out DIR]
     femslide simulate SCENE [--set NAME=VALUE]... [--json] [--out DIR]
     femslide sweep SCENE --vary NAME=V1,V2,... [--set NAME=VALUE]... [--json] [--out DIR]
@@ -8,6 +8,7 @@
     femslide modes FILE.toml [--count N] [--set NAME=VALUE]... [--json] [--out DIR]
     femslide mesh SCENE [--set NAME=VALUE]... [--out FILE]
     femslide show RESULT.vtu|RESULT.pvd [--frame K] [--screenshot FILE.png]
+                  [--diagram M|V|N] [--scale K] [--magnify K]
     femslide init SCENE [DIR]
     femslide --version
 
@@ -277,9 +278,15 @@ def _mesh(args):
 
 
 def _show(args):
+    import warnings
+
     from .show import render
-    info = render(args.result, screenshot=args.screenshot, frame=args.frame, diagram=args.diagram,
-                  scale=args.scale, magnify=args.magnify)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        info = render(args.result, screenshot=args.screenshot, frame=args.frame, diagram=args.diagram,
+                      scale=args.scale, magnify=args.magnify)
+    for w in caught:   # the picture's notes (lift-off, below ground) as plain messages
+        print(f"femslide: note: {w.message}", file=sys.stderr)
     if args.screenshot:
         print(args.screenshot)
     return 0 if info else 1

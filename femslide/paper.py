@@ -98,7 +98,8 @@ def spring_hinge_phi(v, kind):
             # both rods bend by about the same angle: two such springs in series (phi 2^(1/3) larger,
             # which the FE solution approaches as EI grows: 1.175 at EI = 1e2, 1.260 at 1e10)
             c *= 0.5
-        return abs(hinge.solve_slider(**{**v, "c": c, "l1": L, "k": v.get("k", 0.0) if kind == "spring" else 0.0})["phi"])
+        k = v.get("k", 0.0) if kind == "spring" else 0.0
+        return abs(hinge.solve_slider(**{**v, "c": c, "l1": L, "k": k})["phi"])
     except SolverFailure:
         return 0.05
 

@@ -12,12 +12,16 @@ t the tangent and n = t turned by +90 degrees, i.e. n points to the left when wa
 end; at a cut the part beyond exerts on the part before the force N t - V n and the moment M):
 
 - **M** (bending moment, N m, M = EI dtheta/ds) is drawn on the **tension side**: a positive M at
-  P - k M n, i.e. to the right of the walking direction.  Whatever the direction of s, the diagram
-  lies on the side of the rod whose fibres are stretched (a cantilever under a downward tip load:
-  above the rod, hogging; a simply supported beam under a downward load: below, sagging).
-- **V** (shear force, N) and **N** (axial force, N, tension > 0) are drawn at P + k V n and
-  P + k N n: positive values to the left of the walking direction (the sign of V depends on the
-  direction of s; the labels carry the signed values).
+  P - k M n, i.e. to the right of the walking direction.  Declaring the rod the other way round
+  (start and end swapped) flips the sign of M at every point together with n, so the diagram stays
+  on the same side in space, the side whose fibres are stretched (a cantilever under a downward tip
+  load: above the rod, hogging; a simply supported beam under a downward load: below, sagging); only
+  the signs of the labels change.
+- **V** (shear force, N) and **N** (axial force, N, tension > 0) keep their values when the rod is
+  declared the other way round (at a cut, the force -(N t - V n) that the part before exerts on the
+  part beyond reads N t' - V n' with t' = -t, n' = -n).  They are drawn at P + k V n and P + k N n:
+  positive values to the left of the walking direction, so swapping start and end moves their
+  diagrams to the other side of the rod in space (the labels carry the signed values).
 
 One scale k for all rods: by default the largest |value| is drawn at 15 % of the structure's size;
 ``scale`` gives k in m per unit of the diagram (m per N m for M, m per N for V and N).

@@ -81,7 +81,7 @@ def rod_arrays(model, y, alpha):
     return out
 
 
-def end_moments(model, y, X=None):
+def end_moments(model, y, X=None, resultant=False):
     """End moments (n_elements, 2) [model units] of every element, in the sign of the elements' basic
     forces (M1 at the start node, M2 at the end; a beam's M(s) is -M1 at its start, +M2 at its end),
     from the equilibrium of the rod piece up to the element: at node i of a rod the element starting
@@ -92,9 +92,13 @@ def end_moments(model, y, X=None):
 
     with F1_i = -sum_{j<=i} g_j^F (x the current node positions, a x b = a_x b_y - a_y b_x).  Equal to
     the elements' own moments at equilibrium, but with the round-off of the forces instead of that of
-    EI times a curvature from nearly equal rotations."""
+    EI times a curvature from nearly equal rotations.
+
+    With ``resultant``: also the force (n_elements, 2) that the part beyond each element's middle
+    exerts on the part before it (G = N t - V n of the module docstring), sum_{j<=i} g_j^F: at the
+    middle because node i carries half of element i's share of a distributed load."""
     if model.elements is None:
-        return np.zeros((0, 2))
+        return (np.zeros((0, 2)), np.zeros((0, 2))) if resultant else np.zeros((0, 2))
     if X is None:
         X = model.X0 + model.nodal(y[:model.n_q])[:, :2]
     g = model.applied(y)[:3 * model.n_nodes].reshape(-1, 3)
@@ -107,7 +111,8 @@ def end_moments(model, y, X=None):
     Fx, Fy = C[i, 0], C[i, 1]
     M1 = -(C[i, 2] - (Xr[i, 0] * Fy - Xr[i, 1] * Fx))
     d = X[i] - X[j]
-    return np.column_stack([M1, -M1 + (d[:, 0] * Fy - d[:, 1] * Fx)])
+    M = np.column_stack([M1, -M1 + (d[:, 0] * Fy - d[:, 1] * Fx)])
+    return (M, C[i, :2].copy()) if resultant else M
 
 
 def _start_force(model, y, rod):

@@ -374,6 +374,12 @@ def _values_of(name, values):
 def sweep_table(target, varied: dict, fixed: dict | None = None, jobs: int = 1, quiet: bool = False):
     """``femslide.sweep``: run every combination of the varied values; one DataFrame row per case.
 
+    Columns: the varied names, ``converged``, ``status`` ("converged"; "failed": the solver gave up,
+    ``reason`` says why; "bad-input": the case's values were rejected when it ran, e.g. a work bound
+    that depends on the solution; "error": an internal error), ``reason``, then every scalar result
+    under dotted names.  Values that can be checked before running are checked for every case first
+    (BadInput, nothing run).
+
     Every case is solved from scratch exactly as ``femslide solve``/``simulate`` solves it alone,
     through the command line's sweep executors (femslide/sweep.py): in this process, or in a pool of
     ``jobs`` processes.  A declared :class:`~femslide.Structure` is written to a temporary structure
@@ -428,9 +434,10 @@ def sweep_table(target, varied: dict, fixed: dict | None = None, jobs: int = 1, 
                 runs = _run_pool(spec, cases, range(n), out_dirs, min(jobs, n))
             else:
                 runs = _run_serial(spec, cases, range(n), out_dirs)
-            for i, row, _status in runs:
+            for i, row, status in runs:
                 rows[i] = {**{nm: cases[i].get(nm, combos[i][nm]) for nm in names},
-                           "converged": bool(row.get("converged", True)), "reason": row.get("reason"),
+                           "converged": bool(row.get("converged", True)), "status": status,
+                           "reason": row.get("reason"),
                            **flatten({k: v for k, v in row.items() if k not in ("converged", "reason")})}
                 bar.update(1)
         finally:

@@ -306,7 +306,7 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, 
               resume=False, plot=None, quiet=False):
     """Run a sweep from the command line; returns the exit status (0 all converged, 1 a case failed,
     2 a case was rejected as bad input).  ``jobs``: processes (None: in process), or with ``dask``
-    'local' the LocalCluster's worker processes (None: one per case, at most the CPU count)."""
+    'local' the LocalCluster's worker processes (None: one per case, at most the CPU count and 8)."""
     scene = target.scene
     spec = getattr(scene, "spec", scene.name)  # what a worker process loads the case from
     if name in base:

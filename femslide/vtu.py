@@ -87,7 +87,7 @@ def mesh_data(model, y, alpha, arrays=None):
 
     Returns (points (n, 3), cells [(type, connectivity)], point_data, cell_data) in meshio's layout
     (cell data: one array per cell block)."""
-    from .results import rod_arrays
+    from .results import end_moments, rod_arrays
     L, F = model.Lref, model.Fref
     q = y[:model.n_q]
     arrays = rod_arrays(model, y, alpha) if arrays is None else arrays
@@ -96,7 +96,6 @@ def mesh_data(model, y, alpha, arrays=None):
     n_pts = 0
     if model.elements is not None:
         es = model.elements
-        qb, _ = model.element_forces(q, alpha)
         U = model.nodal(q)
         X = (model.X0 + U[:, :2]) * L
         pts.append(X)
@@ -107,10 +106,15 @@ def mesh_data(model, y, alpha, arrays=None):
             mom.append(a["M"])
             Np.append(a["N"])
             Vp.append(a["V"])
+        # cell values from the same equilibrium recovery as the point values (results.end_moments):
+        # the cut force at the element's middle in its chord frame, N = G . t, V = -G . n
+        _, G = end_moments(model, y, resultant=True)
         D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
-        Ln = np.hypot(D[:, 0], D[:, 1]) / L
+        t = D / np.hypot(D[:, 0], D[:, 1])[:, None]
+        Nc = (G[:, 0] * t[:, 0] + G[:, 1] * t[:, 1]) * F
+        Vc = -(G[:, 1] * t[:, 0] - G[:, 0] * t[:, 1]) * F
         ne = es.size
-        blocks.append(("line", es.conn, qb[:, 0] * F, (qb[:, 1] + qb[:, 2]) / Ln * F,
+        blocks.append(("line", es.conn, Nc, Vc,
                        np.full(ne, PART_ROD), model.elem_rod.astype(int), np.full(ne, -1),
                        np.asarray(model.elem_q, float).reshape(ne, 2) * (F / L)))
         n_pts = model.n_nodes

@@ -203,7 +203,8 @@ def test_write_statics_and_bad_folder(cant, tmp_path):
 def test_sweep_rows_equal_single_solves():
     df = femslide.sweep("beam-slider", EI=[1e4, 1e8], quiet=True)
     assert isinstance(df, pd.DataFrame)
-    assert list(df.columns[:3]) == ["EI", "converged", "reason"]
+    assert list(df.columns[:4]) == ["EI", "converged", "status", "reason"]
+    assert (df["status"] == "converged").all()
     assert df["EI"].tolist() == [1e4, 1e8] and df["converged"].all() and df["reason"].isna().all()
     assert not [c for c in df.columns if c.startswith("_") or "._" in c]
     for i, EI in enumerate([1e4, 1e8]):
@@ -263,3 +264,11 @@ def test_sweep_bad_input(args, kwargs, match):
 def test_sweep_stays_the_function_after_the_cli_module_loads():
     from femslide.sweep import run_sweep  # noqa: F401  (the command line's sweep module)
     assert callable(femslide.sweep) and femslide.sweep.__module__ == "femslide"
+
+
+def test_sweep_status_tells_bad_input_from_failure():
+    """A value rejected only when its case runs (the one-mass oscillator's work bound on t_end) is a
+    row with status "bad-input", not a solver failure; the other cases run."""
+    df = femslide.sweep("sdof-harmonic", t_end=[10.0, 1e7], quiet=True)
+    assert df["status"].tolist() == ["converged", "bad-input"]
+    assert df["converged"].tolist() == [True, False] and "t_end" in df.loc[1, "reason"]

@@ -162,6 +162,22 @@ def test_mechanism_exits_1_naming_the_part(tmp_path):
     assert r.returncode == 1 and "mechanism" in r.stderr and "cart" in r.stderr
 
 
+@pytest.mark.parametrize("EA", [1e12, 1e13])
+def test_stiff_rod_with_its_own_fine_mesh_is_no_mechanism(EA):
+    """A welded cantilever (EI = 1e4, L = 3, EA L^2/EI = 9e8 .. 9e9) with ``elements = 64`` in its
+    declaration: before, the path choice ran on the 64-element mesh, whose tangent's eigenvalues span
+    more than the round-off test for a null space can separate, and the run failed as a "mechanism".
+    Reference: exact statics of the deformed rod, root moment = P (L + u_tip) (1e-9)."""
+    s = Structure(gravity=(0.0, 0.0))
+    s.rod("c", (0.0, 0.0), (3.0, 0.0), EI=1e4, EA=EA, elements=64)
+    s.weld("root", "c.start", "ground")
+    s.force("tip", "c.end", force=(0.0, -100.0))
+    r = femslide.solve(s)
+    x_tip = 3.0 + r["rods"]["c"]["end"]["u"]
+    assert r.rod("c")["M"][0] == pytest.approx(-100.0 * x_tip, rel=1e-9)
+    assert r["reactions"]["root"]["M"] == pytest.approx(100.0 * x_tip, rel=1e-9)
+
+
 def test_python_api_result_arrays_and_overrides():
     s = Structure(gravity=(0.0, 0.0))
     s.rod("c", (0.0, 0.0), (2.0, 0.0), EI=1e4)

@@ -1,0 +1,101 @@
+"""Unit tests of the model's numerical building blocks added for round-off and start-up: the bending
+moments recovered from the equilibrium of the rod piece, the numpy reverse Cuthill-McKee ordering and
+the banded solver loaded without scipy.linalg."""
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import femslide
+from femslide.model import reverse_cuthill_mckee
+from femslide.results import end_moments
+from femslide.structure import Structure
+
+
+def _portal():
+    """Portal frame: a spring pin, a reversed rod, a distributed load, a point moment, a slider."""
+    s = Structure(gravity=(0.0, -9.81))
+    s.rod("left", (0, 0), (0, 3), EI=2e6, rhoA=10.0)
+    s.rod("beam", (4, 3), (0, 3), EI=5e6, elements=8)          # declared right to left
+    s.rod("right", (4, 0), (4, 3), EI=2e6)
+    s.pin("A", "left.start", "ground", c=1e5)
+    s.pin("B", "right.start", "ground")
+    s.weld("C", "left.end", "beam.end")
+    s.slider("D", "right.end", "beam.start", axis=(0, 1))
+    s.distributed("snow", "beam", force=(0.0, -2000.0))
+    s.force("push", "left.end", force=(500.0, 0.0), moment=300.0)
+    return s
+
+
+@pytest.mark.parametrize("make", [_portal])
+def test_equilibrium_moments_equal_the_elements_own_at_equilibrium(make):
+    """At a converged state the moments from the rod piece's equilibrium equal the elements' own end
+    moments (EI times the deformation) to the Newton residual (1e-8 of the largest moment)."""
+    r = femslide.solve(make())
+    sol = r.solution
+    m, y, alpha = sol.model, sol.level.y, sol.level.alpha
+    qb, _ = m.element_forces(y[:m.n_q], alpha)
+    eq = end_moments(m, y)
+    assert np.allclose(eq, qb[:, 1:], rtol=0, atol=1e-8 * np.abs(qb[:, 1:]).max())
+    # and the cut force at the element middles against the elements' axial force along the chord
+    # (1e-6: the elements' N = EA times a stretch carries round-off ~ eps EA |u|, the reason for the
+    # equilibrium recovery)
+    _, G = end_moments(m, y, resultant=True)
+    X = m.X0 + m.nodal(y[:m.n_q])[:, :2]
+    D = X[m.elements.conn[:, 1]] - X[m.elements.conn[:, 0]]
+    t = D / np.hypot(D[:, 0], D[:, 1])[:, None]
+    assert np.allclose((G * t).sum(axis=1), qb[:, 0], rtol=0, atol=1e-6 * np.abs(qb[:, 0]).max())
+
+
+def _band(perm, rows, cols):
+    inv = np.empty_like(perm)
+    inv[perm] = np.arange(perm.size)
+    return int(np.abs(inv[rows] - inv[cols]).max())
+
+
+def test_reverse_cuthill_mckee_is_a_permutation_and_narrows_a_scrambled_chain():
+    """A chain of 200 nodes, numbered at random: the ordering is a permutation of all nodes (also
+    with several connected parts) and brings the band back to 1, as for the chain's own order."""
+    rng = np.random.default_rng(1)
+    n = 200
+    lab = rng.permutation(n)
+    rows, cols = lab[:-1], lab[1:]
+    perm = reverse_cuthill_mckee(rows, cols, n)
+    assert sorted(perm.tolist()) == list(range(n))
+    assert _band(np.arange(n), rows, cols) > 10 and _band(perm, rows, cols) == 1
+    # two parts and an isolated node
+    rows2 = np.concatenate([rows[:80], rows[100:]])
+    cols2 = np.concatenate([cols[:80], cols[100:]])
+    perm2 = reverse_cuthill_mckee(rows2, cols2, n)
+    assert sorted(perm2.tolist()) == list(range(n))
+
+
+def test_banded_model_solves_without_scipy_linalg_and_scipy_still_imports_after():
+    """A banded model (a 200-element cantilever) solved in a fresh process imports neither
+    scipy.linalg nor scipy.sparse; importing scipy.linalg afterwards works and its dgbsv gives the
+    same solve."""
+    code = """
+import sys, numpy as np, femslide
+from femslide.structure import Structure
+s = Structure(gravity=(0.0, 0.0))
+s.rod("c", (0, 0), (2, 0), EI=1.0, elements=200)
+s.weld("w", "c.start", "ground")
+s.force("tip", "c.end", force=(0.0, -0.1))
+r = femslide.solve(s)
+loaded = sorted(k for k in sys.modules
+                if k.startswith(("scipy.linalg", "scipy.sparse")) and k != "scipy.linalg._flapack")
+print("LOADED", loaded)
+import scipy.linalg
+from scipy.linalg.lapack import dgbsv
+ab = np.array([[0.0, 1.0, 1.0], [2.0, 2.0, 2.0], [1.0, 1.0, 0.0]])
+_, _, x, info = dgbsv(1, 1, np.vstack([np.zeros(3), ab]), np.array([3.0, 4.0, 3.0]))
+print("OK", info, np.allclose(x, 1.0), r["rods"]["c"]["M_max"])
+"""
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert "LOADED []" in p.stdout, p.stdout
+    ok = [ln for ln in p.stdout.splitlines() if ln.startswith("OK")][0].split()
+    assert ok[1] == "0" and ok[2] == "True"
