@@ -55,6 +55,8 @@ RHO_INF = 0.9          # spectral radius at infinite frequency (a little numeric
 NEWTON_TOL = 1e-10     # Newton's tolerance at tight tolerances (and for the consistent starts) ...
 NEWTON_TOL_MAX = 1e-8  # ... and at loose ones: 1e-3 * tolerance in between
 SAFETY = 0.5           # the local error estimate is held below SAFETY * tolerance
+START_STEP = 1e-2      # the tiny step of a consistent (re)start, relative to the step size: its
+                       # q'' is O(START_STEP) off, and shorter ones lose digits to round-off
 MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/simulation.py comes first)
 
 
@@ -376,7 +378,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         a1, v1, acc1 = sysm.kinematics(y[:n_q])
         return (y, info.alpha, a1, v1, acc1), info
 
-    h_s = 1e-4 * h
+    h_s = START_STEP * h
     if fr is None:
         sysm = StepSystem(model, masses, C, ground)
         s = _consistent_start(sysm, s, h_s)
@@ -406,7 +408,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
                 if switches > 2 * len(fr.joints) + 2:
                     raise SolverFailure(f"simulate: the friction joints' stick/slip modes do not settle at "
                                         f"t = {s.t:.9g} s")
-                s, sysm = _switch(fr, s, int(late[0]), 1e-4 * h)
+                s, sysm = _switch(fr, s, int(late[0]), START_STEP * h)
                 Pd = loss_power(s.y, s.v)
                 continue
         cand, info = attempt(sysm, s, h)
@@ -450,7 +452,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         s = State(t1, y, v1, acc1, a1, alpha1)
         out.steps += 1
         if event is not None:
-            s, sysm = _switch(fr, s, event, 1e-4 * h_next)
+            s, sysm = _switch(fr, s, event, START_STEP * h_next)
             Pd1 = loss_power(s.y, s.v)
         Pg, Pd = Pg1, Pd1
         T = masses.kinetic(q, v1)
