@@ -138,23 +138,27 @@ def solve(target: Target, **params: Any) -> Result:
     return _run("solve", target, dict(params))
 
 
-def simulate(target: str | os.PathLike, **params: Any) -> Result:
-    """Motion in time of a dynamic scene.
+def simulate(target: Target, **params: Any) -> Result:
+    """Motion in time of a dynamic scene or of a declared structure (FE dynamics).
 
     Parameters
     ----------
-    target : str or os.PathLike
+    target : str, os.PathLike or Structure
         A built-in dynamic scene (``sdof-free``, ``sdof-decay``, ``sdof-harmonic``,
-        ``beam-oscillation``, ``beam-friction``) or a scene file of one.
+        ``beam-oscillation``, ``beam-friction``) or a scene file of one; or a :class:`Structure` or
+        a structure file (the FE dynamics of any declared structure: its ``[simulate]`` table).
     **params
-        Its parameters (``t_end=5.0``, ``mu=0.2``, SI units).
+        A scene's parameters (``t_end=5.0``, ``mu=0.2``, SI units); for a structure the keys of a
+        ``[simulate]`` table (``t_end``, ``tolerance``, ``damping``, ``ground``, ``initial``,
+        ``elements``) and ``NAME.FIELD`` overrides of the declaration.
 
     Returns
     -------
     Result
-        The keys of ``femslide simulate SCENE --json`` (``turning_points``, ``stop``, ``w_max``,
-        ``steady_amplitude``, ``steps``, ``energy_balance``, ``wall_time_s``...) and the time
-        history as arrays, :attr:`Result.history`.
+        The keys of ``femslide simulate SCENE --json`` (scenes: ``turning_points``, ``stop``,
+        ``w_max``, ``steady_amplitude``, ``steps``, ``energy_balance``, ``wall_time_s``...;
+        structures: ``steps``, ``energy_balance``, ``events``, ``frequencies_hz``, ``peaks``...) and
+        the time history, :attr:`Result.history`.
 
     Raises
     ------
@@ -162,9 +166,20 @@ def simulate(target: str | os.PathLike, **params: Any) -> Result:
         An unknown parameter or a value out of range (also a run whose work would exceed the
         bounds; the message gives the usable range).
     SolverFailure
-        The integration failed or its energy balance is worse than 1e-6.
+        The integration failed (scenes: or its energy balance is worse than 1e-6).
     """
+    from .structure import Frozen
+    if isinstance(target, (Structure, Frozen)) or (isinstance(target, (str, os.PathLike))
+                                                   and str(target).endswith(".toml")
+                                                   and _is_structure_file(str(target))):
+        from .simulation import run_api
+        return run_api(target if not isinstance(target, os.PathLike) else str(target), dict(params))
     return _run("simulate", target, dict(params))
+
+
+def _is_structure_file(path):
+    from .structfile import is_structure_data, read_toml
+    return is_structure_data(read_toml(path))
 
 
 def sweep(target: Target, *, fixed: dict[str, Any] | None = None, jobs: int = 1, quiet: bool = False,

@@ -5,6 +5,7 @@
     femslide simulate SCENE [--set NAME=VALUE]... [--json] [--out DIR]
     femslide sweep SCENE --vary NAME=V1,V2,... [--set NAME=VALUE]... [--json] [--out DIR]
                    [--jobs N] [--dask ADDRESS] [--resume] [--plot FILE]
+    femslide modes FILE.toml [--count N] [--set NAME=VALUE]... [--json] [--out DIR]
     femslide mesh SCENE [--set NAME=VALUE]... [--out FILE]
     femslide show RESULT.vtu|RESULT.pvd [--frame K] [--screenshot FILE.png]
                   [--diagram M|V|N] [--scale K] [--magnify K]
@@ -67,9 +68,11 @@ def _build_parser() -> argparse.ArgumentParser:
                   "Static equilibrium on the principal branch (all loads ramped from zero), with the mesh "
                   "refined until the named results are accurate to about 1e-7. Prints the named results "
                   "(reactions, joint forces, rod moments, error_estimate)."),
-        "simulate": ("time history of a dynamic scene (dry friction)",
-                     "Time history of a dynamic scene: the dry-friction oscillator or the reduced "
-                     "structure dynamics. Prints turning points, stop, amplitudes."),
+        "simulate": ("time history of a dynamic scene or a structure file",
+                     "Time history of a dynamic scene (the dry-friction oscillator or the reduced "
+                     "structure dynamics: turning points, stop, amplitudes) or of a structure file with a "
+                     "[simulate] table (FE dynamics: peaks of the reactions, rod moments and slides, friction "
+                     "events, natural frequencies; --set simulate.KEY=VALUE overrides the table)."),
         "sweep": ("solve a scene for several values of one parameter",
                   "Solve a scene once per value of one parameter, each case from the scene's own start "
                   "(rows equal `femslide solve` of that case), in process, in N processes or on Dask. "
@@ -101,6 +104,18 @@ def _build_parser() -> argparse.ArgumentParser:
                            help="skip the cases already in DIR/sweep.jsonl (rerunning with the same --out does too)")
             s.add_argument("--plot", metavar="FILE",
                            help="draw M_max against the varied parameter into FILE (.png, .pdf, .svg; matplotlib)")
+    mo = sub.add_parser("modes", help="natural frequencies and mode shapes of a structure file",
+                        description="Natural frequencies [Hz] and mode shapes (VTU with --out) of a structure "
+                        "file: the lowest eigenvalues of the linearised frictionless structure about its static "
+                        "equilibrium (rod mass rhoA lumped at the nodes, bodies' mass and inertia).",
+                        epilog=EPILOG)
+    mo.add_argument("scene", metavar="FILE.toml", help="a structure file")
+    mo.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                    help="change a field of the file, e.g. right.EI=1e8, or elements=N (every rod's mesh)")
+    mo.add_argument("--count", type=int, default=6, help="how many of the lowest frequencies (default 6)")
+    mo.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    mo.add_argument("--out", metavar="DIR", help="write one VTU per mode shape and result.json here")
+    mo.add_argument("--quiet", action="store_true", help="no progress bar")
     m = sub.add_parser("mesh", help="write the reference mesh of an FE scene (meshio format by extension)",
                        description="Write the reference mesh of a built-in FE statics scene: the undeformed "
                        "rods as line cells in named groups (rod:NAME), supports, rigid rods and the body.")
@@ -174,6 +189,8 @@ def _print_result(res: dict):
         elif isinstance(val, dict):
             if val:
                 print(f"{key:>24}: {', '.join(flat(val))}")
+        elif isinstance(val, list) and len(val) <= 20 and all(isinstance(x, (int, float)) for x in val):
+            print(f"{key:>24}: {', '.join(_fmt(x) for x in val)}")
         elif isinstance(val, list):
             print(f"{key:>24}: [{len(val)} entries]")
         else:
@@ -184,8 +201,7 @@ def _solve(args, command):
     tgt = _target(args.scene)
     scene = tgt.scene
     if command == "simulate" and getattr(scene, "spec", None):
-        raise BadInput(f"{args.scene} is a structure file: `femslide simulate` of declared structures (the FE "
-                       f"dynamics) is not in this version; `femslide solve {args.scene}` gives its statics")
+        tgt = scene = scene.for_simulate()   # a structure file (target and scene): its [simulate] table
     if scene.command != command:
         raise BadInput(f"scene {scene.name} is a '{scene.command}' scene; run: femslide {scene.command} {args.scene}")
     values = tgt.resolve(parse_assignments(args.set))
@@ -230,6 +246,22 @@ def _sweep(args):
     return run_sweep(_target(args.scene), name, items, parse_assignments(args.set), as_json=args.json,
                      out=args.out, jobs=args.jobs, dask=args.dask, resume=args.resume, plot=args.plot,
                      quiet=args.quiet)
+
+
+def _modes(args):
+    tgt = _target(args.scene)
+    if not getattr(tgt.scene, "spec", None) or not hasattr(tgt.scene, "for_modes"):
+        raise BadInput(f"{args.scene}: `femslide modes` takes a structure file (rods, bodies, joints)")
+    if not 1 <= args.count <= 100:
+        raise BadInput(f"--count = {args.count}; allowed: an integer in [1, 100]")
+    scene = tgt.scene.for_modes()
+    values = scene.resolve(parse_assignments(args.set))
+    res = run_case(scene, {**values, "_count": args.count}, out=args.out, quiet=args.quiet)
+    if args.json:
+        print(json.dumps(_clean(res)))
+    else:
+        _print_result(_clean(res))
+    return 0
 
 
 def _mesh(args):
@@ -287,6 +319,8 @@ def main(argv=None) -> int:
             return _solve(args, args.cmd)
         if args.cmd == "mesh":
             return _mesh(args)
+        if args.cmd == "modes":
+            return _modes(args)
         if args.cmd == "show":
             return _show(args)
         if args.cmd == "init":

@@ -182,6 +182,21 @@ class StructureFile:
     description: str = ""
     command: str = "solve"
     _frozen_ok: dict = field(default_factory=dict)
+    simulate_table: dict | None = None   # the file's [simulate] table (femslide/simulation.py)
+
+    def _sim_elements(self, default):
+        t = self.simulate_table if isinstance(self.simulate_table, dict) else {}
+        return t.get("elements", default)
+
+    def for_modes(self) -> "StructureFile":
+        """The same file as a `modes` target."""
+        return StructureFile(self.path, self.structure, self.description, "modes",
+                             simulate_table=self.simulate_table)
+
+    def for_simulate(self) -> "StructureFile":
+        """The same file as a `simulate` target (its [simulate] table is checked by :meth:`resolve`)."""
+        return StructureFile(self.path, self.structure, self.description, "simulate",
+                             simulate_table=self.simulate_table)
 
     @property
     def name(self):
@@ -201,20 +216,54 @@ class StructureFile:
         return self.description or f"structure file {self.path}"
 
     def resolve(self, given: dict) -> dict:
-        """Overrides checked now (applied to a copy and frozen), before any run."""
+        """Overrides checked now (applied to a copy and frozen), before any run.  A `simulate`
+        target also takes ``simulate.KEY=VALUE`` (a key of the [simulate] table)."""
         values = {k: parse_value(v) for k, v in given.items()}
-        s, _ = apply(self.structure, values)
+        s, _ = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("simulate.")})
         try:
             s.freeze()
         except BadInput as exc:
             raise BadInput(f"structure file {self.path}: {exc}") from None
+        if self.command == "simulate":
+            self._spec(values)
+        elif any(k.startswith("simulate.") for k in values):
+            raise BadInput(f"{next(k for k in values if k.startswith('simulate.'))}: [simulate] keys are for "
+                           f"`femslide simulate`")
         return values
+
+    def _spec(self, values):
+        """The [simulate] table with the ``simulate.KEY`` overrides, checked."""
+        from .simulation import parse_spec
+        table = dict(self.simulate_table or {})
+        table.update({k.split(".", 1)[1]: v for k, v in values.items() if k.startswith("simulate.")})
+        return parse_spec(table if (self.simulate_table is not None or table) else None,
+                          os.path.dirname(os.path.abspath(self.path)), f"structure file {self.path}: [simulate]")
 
     def prepare(self):
         """Import the FE statics (timed apart from the solve, as ``import_time_s``)."""
         from . import static  # noqa: F401
+        if self.command in ("simulate", "modes"):
+            from . import simulation  # noqa: F401
 
     def run(self, values: dict) -> dict:
+        if self.command == "modes":
+            from .simulation import DEFAULT_ELEMENTS, MODES, natural_modes
+            s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
+            return natural_modes(s.freeze(), values.get("_count") or MODES,
+                                 elements or self._sim_elements(DEFAULT_ELEMENTS), name=self.name)
+        if self.command == "simulate":
+            from .simulation import simulate
+            s, elements = apply(self.structure, {k: v for k, v in values.items()
+                                                 if not k.startswith(("_", "simulate."))})
+            spec = self._spec(values)
+            if elements is not None:
+                spec.elements = elements
+            from .dynamics import _Progress
+            bar = _Progress(spec.t_end, values, f"simulate {self.name}")
+            try:
+                return simulate(s.freeze(), spec, name=self.name, progress=bar.at)
+            finally:
+                bar.close()
         from .run import solve_structure
         s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
         return solve_structure(s.freeze(), elements=elements, name=self.name, cache=values.get("_cache"))
@@ -263,4 +312,4 @@ def load(path: str, data: dict | None = None) -> StructureFile:
         s.freeze()
     except BadInput as exc:
         raise BadInput(f"structure file {path}: {exc}") from None
-    return StructureFile(path, s, desc if isinstance(desc, str) else "")
+    return StructureFile(path, s, desc if isinstance(desc, str) else "", simulate_table=data.get("simulate"))

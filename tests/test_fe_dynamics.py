@@ -1,0 +1,403 @@
+"""FE dynamics of declared structures: masses, modes, the implicit integrator, simulate."""
+import math
+
+import numpy as np
+import pytest
+
+import femslide
+from femslide import static
+from femslide.mass import Masses
+from femslide.modes import modes
+
+BETA_L = np.array([1.8751040687119611, 4.694091132974175, 7.854757438237613])  # cantilever roots
+
+
+def _solved(s):
+    sol = static.solve(s.freeze())
+    return sol.level.model, sol.level.y, sol.level.alpha
+
+
+def _cantilever(n, rhoA=2.0, L=1.5, EI=2.0, tip=None, gravity=(0.0, 0.0)):
+    s = femslide.Structure(gravity=gravity)
+    s.rod("c", (0.0, 0.0), (L, 0.0), EI=EI, EA=1e6 * EI, rhoA=rhoA, elements=n)
+    s.weld("clamp", "c.start", "ground")
+    if tip is not None:
+        s.body("tip", mass=tip, centroid=(L, 0.0), inertia=0.0)
+        s.weld("w", "tip", "c.end", at=(L, 0.0))
+    return s
+
+
+def test_lumped_masses_carry_the_rod_and_body_mass():
+    """Row-sum lumping: the nodal masses add up to rhoA L exactly; the body's 3x3 block about a
+    frame origin off the centroid is [[m, 0, -m ry], [0, m, m rx], [., ., J + m |r|^2]]."""
+    s = _cantilever(5, rhoA=3.0, L=2.0)
+    s.body("deck", mass=4.0, centroid=(2.0, 1.0), inertia=0.5)
+    s.pin("p", "deck", "ground", at=(3.0, 1.0))
+    s.weld("w", "c.end", "deck")
+    model, y, _ = _solved(s)
+    ms = Masses(model)
+    assert ms.node_m.sum() / ms.unit_m == pytest.approx(6.0, rel=1e-14)
+    assert ms.node_m[0] == pytest.approx(ms.node_m[1] / 2, rel=1e-14)
+    M = ms.dense(np.zeros(model.n_q))
+    d = model.body_dof("deck")
+    B = M[d:d + 3, d:d + 3]
+    rx, ry = (2.0 - 3.0) / model.Lref, 0.0
+    m, J = 4.0 * ms.unit_m, 0.5 * ms.unit_J
+    assert np.allclose(B, [[m, 0, -m * ry], [0, m, m * rx], [-m * ry, m * rx, J + m * rx * rx]], rtol=1e-14)
+    assert ms.total_mass == pytest.approx(10.0)
+
+
+def test_tip_mass_on_a_massless_cantilever():
+    """Massless cantilever (EI = 2, L = 1.5) with a tip body M = 3 (J = 0): the only finite frequency
+    transverse frequency is sqrt(3 EI / (M L^3)) / (2 pi) (cubic beams are exact for the tip
+    stiffness), the axial one sqrt(EA / (M L)) / (2 pi); both within 1e-6, and no others."""
+    model, y, a = _solved(_cantilever(4, rhoA=0.0, tip=3.0))
+    f, shapes = modes(model, y, a, Masses(model), 3)
+    assert f.size == 2
+    assert f[0] == pytest.approx(math.sqrt(3 * 2.0 / (3.0 * 1.5 ** 3)) / (2 * math.pi), rel=1e-6)
+    assert f[1] == pytest.approx(math.sqrt(2e6 / (3.0 * 1.5)) / (2 * math.pi), rel=1e-6)
+    assert abs(shapes[0][model.body_dof("tip") + 1]) == pytest.approx(1.0)
+
+
+def test_cantilever_rod_modes_converge_at_second_order():
+    """Uniform cantilever (rhoA = 2, EI = 2, L = 1.5) against Euler-Bernoulli's
+    f_k = (beta_k L)^2 / (2 pi L^2) sqrt(EI / rhoA): three lowest within 1e-3 at 64 elements, and the
+    error falls by 4 (3.6 .. 4.4) per mesh doubling (lumped masses: second order)."""
+    ref = BETA_L ** 2 / 1.5 ** 2 * math.sqrt(2.0 / 2.0) / (2 * math.pi)
+    errs = []
+    for n in (16, 32, 64):
+        model, y, a = _solved(_cantilever(n))
+        f, _ = modes(model, y, a, Masses(model), 3)
+        errs.append(np.abs(f / ref - 1.0))
+    assert np.all(errs[-1] < 1e-3)
+    for e1, e2 in zip(errs, errs[1:]):
+        assert np.all((e1 / e2 > 3.6) & (e1 / e2 < 4.4))
+
+
+# -- the integrator ---------------------------------------------------------------------------------
+
+def _belt(axis=(1.0, 0.0), k=200.0, m=1.0, simulate=None, mu=None):
+    """A block on a ground slider with a spring (paper 003's oscillator, frictionless by default)."""
+    s = femslide.Structure(gravity=(0.0, -9.81))
+    s.body("block", mass=m, centroid=(0.0, 0.1), inertia=0.0067,
+           outline=[(-0.1, 0.0), (0.1, 0.0), (0.1, 0.2), (-0.1, 0.2)])
+    s.slider("belt", "block", "ground", axis=axis, at=(0.0, 0.1), k=k, mu=mu)
+    return s
+
+
+def _run(s, **table):
+    from femslide.simulation import parse_spec, simulate
+    res = simulate(s.freeze(), parse_spec(table))
+    return res, res["_history"]
+
+
+def test_free_oscillation_against_the_exact_cosine():
+    """Frictionless block (m = 1, k = 200) released at rest from 7 cm: w = w0 cos(omega t) exactly.
+    Over two periods at tolerance 1e-8 the largest error is below 1e-5 m (global error of a
+    second-order method with local error control ~ tolerance^(2/3)), the energy balance closes to
+    1e-6, and the frequency of the modes is omega / (2 pi) to 1e-9."""
+    omega = math.sqrt(200.0)
+    res, h = _run(_belt(), t_end=4 * math.pi / omega, tolerance=1e-8, initial={"joint": "belt", "slide": 0.07})
+    assert res["frequencies_hz"][0] == pytest.approx(omega / (2 * math.pi), rel=1e-9)
+    err = np.abs(h["joints.belt.slide"] - 0.07 * np.cos(omega * h["t"])).max()
+    assert err < 1e-5
+    assert res["energy_balance"] < 1e-6
+    assert res["peaks"]["joints"]["belt"]["slide_max"] == pytest.approx(0.07, abs=1e-9)
+    assert res["peaks"]["reactions"]["belt"]["Fx"] == pytest.approx(200.0 * 0.07, rel=1e-6)
+
+
+def test_error_falls_with_the_tolerance_at_second_order():
+    """Global error ~ tolerance^(2/3) for a second-order method whose local error per step is held at
+    the tolerance: from 1e-5 to 1e-8 the error falls by 100 (10^(3 * 2/3)) within a factor 3."""
+    omega = math.sqrt(200.0)
+    errs = []
+    for tol in (1e-5, 1e-8):
+        _, h = _run(_belt(), t_end=2 * math.pi / omega, tolerance=tol, initial={"joint": "belt", "slide": 0.07})
+        errs.append(np.abs(h["joints.belt.slide"] - 0.07 * np.cos(omega * h["t"])).max())
+    assert 100 / 3 < errs[0] / errs[1] < 100 * 3
+
+
+@pytest.mark.parametrize("axis", [(1.0, 0.0), (0.0, 1.0)])
+def test_harmonic_base_excitation_horizontal_and_vertical(axis):
+    """Base acceleration a_g sin(W t) along the slider (horizontal, and vertical against gravity) from
+    rest at the static state: relative motion w = -a_g / (omega^2 - W^2) (sin W t - (W / omega)
+    sin omega t) exactly; within 2e-6 m (amplitude ~ 5 mm) at tolerance 1e-8."""
+    omega, W, ag = math.sqrt(200.0), 2 * math.pi * 1.3, 0.7
+    res, h = _run(_belt(axis=axis), t_end=1.5, tolerance=1e-8,
+                  ground={"direction": list(axis), "amplitude": ag, "frequency": 1.3})
+    t = h["t"]
+    w = -ag / (omega ** 2 - W ** 2) * (np.sin(W * t) - W / omega * np.sin(omega * t))
+    slide = h["joints.belt.slide"] - h["joints.belt.slide"][0]   # from the static state (gravity: m g / k)
+    assert np.abs(slide - w).max() < 2e-6
+    assert res["energy_balance"] < 1e-5
+
+
+def test_rayleigh_mass_damping_against_the_damped_cosine():
+    """C = alpha M: zeta = alpha / (2 omega); the free decay from 7 cm is
+    w0 e^(-zeta omega t) (cos omega_d t + zeta omega / omega_d sin omega_d t); within 1e-5 m at
+    tolerance 1e-8, and the dissipated energy closes the balance to 5e-5."""
+    omega, alpha = math.sqrt(200.0), 2.0
+    zeta = alpha / (2 * omega)
+    wd = omega * math.sqrt(1 - zeta ** 2)
+    res, h = _run(_belt(), t_end=1.0, tolerance=1e-8, damping={"alpha": alpha},
+                  initial={"joint": "belt", "slide": 0.07})
+    t = h["t"]
+    w = 0.07 * np.exp(-zeta * omega * t) * (np.cos(wd * t) + zeta * omega / wd * np.sin(wd * t))
+    assert np.abs(h["joints.belt.slide"] - w).max() < 1e-5
+    assert res["energy"]["dissipated"] > 0.3 * 0.5 * 200 * 0.07 ** 2
+    assert res["energy_balance"] < 5e-5   # the dissipation integral (trapezoidal rule) is second order
+
+
+def test_section_52_structure_declared_matches_the_reduced_model():
+    """The paper's section 5.2 structure as a structure file (meshes/structures/beam-oscillation.toml:
+    rigid left rod in the deck, flexible massless right rod in the preloaded sliding clamp, the
+    telescopic piece), released from phi = 0.01: the peak |F2| (B1's Fx) up to the third turning
+    point equals the reduced 1-DOF model's 88.92548 N (femslide simulate beam-oscillation; an OpenSees
+    transient agrees with it to 1.4e-5) within 1e-4; its linear frequency 0.789376 Hz within 1e-4."""
+    from femslide import structfile
+    from femslide.simulation import parse_spec, simulate
+    sf = structfile.load("meshes/structures/beam-oscillation.toml")
+    spec = parse_spec(sf.simulate_table)
+    spec.t_end = 1.7
+    res = simulate(sf.structure.freeze(), spec)
+    assert res["peaks"]["reactions"]["B1"]["Fx"] == pytest.approx(88.92548492288407, rel=1e-4)
+    assert res["frequencies_hz"][0] == pytest.approx(0.789375784808949, rel=1e-4)
+    assert res["energy_balance"] < 1e-4
+
+
+# -- command line and Python API ---------------------------------------------------------------------
+
+def test_cli_simulate_and_modes_of_a_structure_file(tmp_path, capsys):
+    """`femslide simulate FILE.toml --json --out DIR` prints the section 9 keys and writes the CSV
+    history and the PVD series (field data per frame); `femslide modes` prints the frequencies
+    (the block: sqrt(k/m) / (2 pi)) and writes one VTU per mode."""
+    import json
+    from femslide.cli import main
+    f = "meshes/structures/sliding-belt.toml"
+    assert main(["simulate", f, "--json", "--set", "belt.k=300", "--out", str(tmp_path / "s")]) == 0
+    res = json.loads(capsys.readouterr().out)
+    for key in ("converged", "steps", "t_end", "energy_balance", "events", "frequencies_hz", "peaks"):
+        assert key in res
+    assert res["frequencies_hz"][0] == pytest.approx(math.sqrt(300.0) / (2 * math.pi), rel=1e-9)
+    assert res["peaks"]["joints"]["belt"]["slide_max"] == pytest.approx(0.07, abs=1e-9)
+    head = (tmp_path / "s" / "history.csv").read_text().splitlines()[0]
+    assert head.startswith("t,reactions.belt.Fx") and "joints.belt.slide" in head
+    pvd = (tmp_path / "s" / "sliding-belt.pvd").read_text()
+    assert pvd.count("<DataSet") > 10
+    frame = (tmp_path / "s" / "sliding-belt_0001.vtu").read_text()
+    assert 'Name="time"' in frame and 'Name="joints.belt.slide"' in frame
+    assert main(["modes", f, "--json", "--count", "2", "--out", str(tmp_path / "m")]) == 0
+    res = json.loads(capsys.readouterr().out)
+    assert res["frequencies_hz"][0] == pytest.approx(math.sqrt(200.0) / (2 * math.pi), rel=1e-9)
+    assert (tmp_path / "m" / "sliding-belt_mode1.vtu").exists()
+
+
+def test_bad_inputs_exit_2_naming_the_parameter(tmp_path, capsys):
+    """A t_end beyond the work budget names t_end and the largest allowed value; mu0 < mu names the
+    joint; an unknown [simulate] key is named; modes of a built-in scene is refused."""
+    from femslide.cli import main
+    src = open("meshes/structures/sliding-belt.toml").read()
+    p = tmp_path / "long.toml"
+    p.write_text(src.replace("t_end = 1.0", "t_end = 1e6"))
+    assert main(["simulate", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert "t_end" in err and "allowed: t_end <=" in err
+    assert main(["simulate", "meshes/structures/sliding-belt.toml", "--set", "belt.mu=0.2",
+                 "--set", "belt.mu0=0.1"]) == 2
+    assert "belt" in capsys.readouterr().err
+    p.write_text(src.replace("t_end = 1.0", "t_end = 1.0\nsteps = 3"))
+    assert main(["simulate", str(p)]) == 2
+    assert "steps" in capsys.readouterr().err
+    assert main(["modes", "beam-slider"]) == 2
+
+
+def test_python_api_simulate():
+    """femslide.simulate of a Structure with the [simulate] keys as keyword arguments, and of a
+    structure file with overrides: the same numbers."""
+    s = _belt()
+    r1 = femslide.simulate(s, t_end=0.2, tolerance=1e-6, initial={"joint": "belt", "slide": 0.05})
+    r2 = femslide.simulate("meshes/structures/sliding-belt.toml", t_end=0.2, tolerance=1e-6,
+                           initial={"joint": "belt", "slide": 0.05})
+    assert r1["peaks"]["joints"]["belt"]["slide_min"] == pytest.approx(
+        r2["peaks"]["joints"]["belt"]["slide_min"], rel=1e-9)
+    assert r1["converged"] and r1["steps"] > 10
+
+
+# -- friction ---------------------------------------------------------------------------------------
+
+def _turning_points(res, hist):
+    """(t, slide) at the ends of slip phases (stick, or a reversal: a slip event after a slip)."""
+    out, prev = [], ""
+    for e in res["events"]["belt"]:
+        if e["t"] > 0 and (e["kind"] == "stick" or prev.startswith("slip")):
+            out.append((e["t"], float(np.interp(e["t"], hist["t"], hist["joints.belt.slide"]))))
+        prev = e["kind"]
+    return out
+
+
+def test_paper_003_example_1_as_a_structure_against_the_exact_oscillator():
+    """meshes/structures/belt-ex1.toml (block on a frictional ground slider, paper 003 ex. 1) at
+    tolerance 1e-9: its turning points and stop agree with femslide.sdof's exact solution (scene
+    sdof-free: -5.038, +3.076 cm, stop at -1.114 cm) within 1e-6 m and 1e-6 s; the first event is
+    slip- (the spring pulls back), the last a stick; the energy balance closes to 1e-7."""
+    from femslide import structfile
+    from femslide.simulation import parse_spec, simulate
+    ref = femslide.simulate("sdof-free")
+    sf = structfile.load("meshes/structures/belt-ex1.toml")
+    spec = parse_spec(sf.simulate_table)
+    spec.t_end = 0.7
+    res = simulate(sf.structure.freeze(), spec)
+    h = res["_history"]
+    tp = _turning_points(res, h)
+    exact = [(p["t"], p["w"]) for p in ref["turning_points"]]
+    assert len(tp) == len(exact) == 3
+    for (t, w), (te, we) in zip(tp, exact):
+        assert abs(t - te) < 1e-6 and abs(w - we) < 1e-6
+    kinds = [e["kind"] for e in res["events"]["belt"]]
+    assert kinds[0] == "slip-" and kinds[-1] == "stick"
+    assert res["energy_balance"] < 1e-7
+    # stuck: exactly at rest, no drift
+    after = h["t"] > tp[-1][0]
+    assert np.all(h["joints.belt.slide"][after] == h["joints.belt.slide"][after][0])
+
+
+def test_zero_friction_reproduces_the_frictionless_run():
+    """mu = mu0 = 0: the joint slips with zero friction force; the history (peaks, final slide)
+    equals the frictionless run's to 1e-7 m (event steps aside, the same integrator)."""
+    r0, h0 = _run(_belt(), t_end=0.3, tolerance=1e-7, initial={"joint": "belt", "slide": 0.07})
+    r1, h1 = _run(_belt(mu=0.0), t_end=0.3, tolerance=1e-7, initial={"joint": "belt", "slide": 0.07})
+    assert r1["events"]["belt"][0]["kind"] == "slip-"
+    for key in ("slide_min", "slide_max"):
+        assert r1["peaks"]["joints"]["belt"][key] == pytest.approx(r0["peaks"]["joints"]["belt"][key], abs=1e-7)
+    assert h1["joints.belt.slide"][-1] == pytest.approx(h0["joints.belt.slide"][-1], abs=1e-7)
+
+
+def test_large_friction_locks():
+    """mu = mu0 = 10 (mu0 N = 98 N > k w0 = 14 N): the block sticks at release and never moves - the
+    slide stays exactly at 7 cm, one stick event, nothing dissipated; the reaction holds the spring
+    (|Fx| = 0: the friction force equals the spring force)."""
+    res, h = _run(_belt(mu=10.0), t_end=0.3, tolerance=1e-7, initial={"joint": "belt", "slide": 0.07})
+    assert [e["kind"] for e in res["events"]["belt"]] == ["stick"]
+    assert np.abs(h["joints.belt.slide"] - 0.07).max() < 1e-14
+    assert abs(res["energy"]["dissipated"]) < 1e-12
+    assert np.abs(h["reactions.belt.Fx"]).max() < 1e-9
+
+
+def test_bearing_normal_force_from_both_contact_forces():
+    """N of a slider with bearings h apart: |Q/2 + M/h| + |Q/2 - M/h| (the moment dominates when
+    |M| > |Q| h / 2); without bearings N = |Q|; dN/d(Q, M) the signs."""
+    from femslide.friction import FrictionJoint
+    fj = FrictionJoint.__new__(FrictionJoint)
+    fj.mu_idx, fj.slider = np.array([0, 1]), True
+    fj.h = 0.5
+    N, dN = fj.normal(np.array([2.0, 3.0]))
+    assert N == pytest.approx(abs(1.0 + 6.0) + abs(1.0 - 6.0))
+    assert np.allclose(dN, [0.0, 4.0])
+    N, dN = fj.normal(np.array([-4.0, 0.5]))
+    assert N == pytest.approx(4.0) and np.allclose(dN, [-1.0, 0.0])
+    fj.h = None
+    assert fj.normal(np.array([-4.0, 30.0]))[0] == pytest.approx(4.0)
+
+
+def test_ground_records_at2_and_csv(tmp_path):
+    """A PEER .AT2 record (in g, NPTS/DT header) and a CSV record (t, a in m/s^2) sampling
+    0.7 sin(2 pi 1.3 t) m/s^2 every 1 ms reproduce the exact harmonic response of the block within
+    3e-6 m (linear interpolation of the record, tolerance 1e-8); a record's scale multiplies it."""
+    from femslide.ground import read_at2, read_csv
+    dt, n = 1e-3, 601
+    t = np.arange(n) * dt
+    a = 0.7 * np.sin(2 * np.pi * 1.3 * t)
+    lines = ["PEER NGA STRONG MOTION DATABASE RECORD", "synthetic", "ACCELERATION TIME SERIES IN UNITS OF G",
+             f"NPTS=  {n}, DT=   {dt:.4f} SEC"]
+    g = a / 9.80665
+    lines += ["  ".join(f"{x:.10E}" for x in g[i:i + 5]) for i in range(0, n, 5)]
+    (tmp_path / "r.AT2").write_text("\n".join(lines) + "\n")
+    rows = "\n".join(f"{float(ti)!r},{2 * float(ai)!r}" for ti, ai in zip(t, a))
+    (tmp_path / "r.csv").write_text("t,a\n" + rows + "\n")
+    tt, aa = read_at2(str(tmp_path / "r.AT2"))
+    assert np.allclose(aa, a, atol=1e-10) and tt[-1] == pytest.approx(0.6)
+    assert np.allclose(read_csv(str(tmp_path / "r.csv"))[1], 2 * a)
+    omega, W = math.sqrt(200.0), 2 * math.pi * 1.3
+    for rec, scale in (("r.AT2", 1.0), ("r.csv", 0.5)):
+        from femslide.simulation import parse_spec, simulate
+        spec = parse_spec({"t_end": 0.5, "tolerance": 1e-8,
+                           "ground": {"direction": [1.0, 0.0], "record": rec, "scale": scale}}, str(tmp_path))
+        res = simulate(_belt().freeze(), spec)
+        h = res["_history"]
+        w = -0.7 / (omega ** 2 - W ** 2) * (np.sin(W * h["t"]) - W / omega * np.sin(omega * h["t"]))
+        assert np.abs(h["joints.belt.slide"] - w).max() < 3e-6
+
+
+def test_friction_history_column_and_body_hold():
+    """The history of a friction joint holds its friction force: -mu N sgn(s') while slipping (here
+    mu N = 1.962 N), |f| <= mu0 N while stuck; holding the block's centroid at u = [0.05, 0] is the
+    same start as holding the slide at 0.05 (same turning point to 1e-12 m)."""
+    r1, h1 = _run(_belt(mu=0.2), t_end=0.3, tolerance=1e-7, initial={"body": "block", "u": [0.05, 0.0]})
+    r2, h2 = _run(_belt(mu=0.2), t_end=0.3, tolerance=1e-7, initial={"joint": "belt", "slide": 0.05})
+    assert r1["peaks"]["joints"]["belt"]["slide_min"] == pytest.approx(r2["peaks"]["joints"]["belt"]["slide_min"],
+                                                                       abs=1e-12)
+    f = h1["joints.belt.friction"]
+    slipping = (h1["t"] > 1e-3) & (h1["t"] < 0.2)
+    assert np.allclose(f[slipping], 0.2 * 9.81, rtol=1e-9)    # moving towards -x: friction along +x
+    assert np.abs(f).max() <= 0.2 * 9.81 * (1 + 1e-9)
+
+
+def test_rod_mass_dynamics_period_matches_the_first_mode():
+    """A cantilever (EI = 200) with rhoA = 0.2 kg/m (8 elements) and a tip body of 1 kg, released from a
+    tip held 1 cm aside: the tip's motion (almost all in mode 1) returns to its extreme after one
+    period 1 / f1 of the modes within 1e-3."""
+    s = femslide.Structure(gravity=(0.0, 0.0))
+    s.rod("c", (0.0, 0.0), (1.5, 0.0), EI=200.0, EA=2e8, rhoA=0.2, elements=8)
+    s.weld("clamp", "c.start", "ground")
+    s.body("tip", mass=1.0, centroid=(1.5, 0.0), inertia=0.0)
+    s.weld("w", "tip", "c.end", at=(1.5, 0.0))
+    res, h = _run(s, t_end=0.8, tolerance=1e-6, initial={"body": "tip", "u": [0.0, 0.01]})
+    T1 = 1.0 / res["frequencies_hz"][0]
+    y = h["bodies.tip.y"]
+    t = h["t"]
+    after = t > 0.5 * T1
+    i = int(np.argmax(np.where(after & (t < 1.5 * T1), y, -np.inf)))
+    c = np.polyfit(t[i - 2:i + 3] - t[i], y[i - 2:i + 3], 2)
+    t_max = t[i] - c[1] / (2 * c[0])
+    assert t_max == pytest.approx(T1, rel=1e-3)
+
+
+
+def test_simulate_keys_set_on_the_command_line(capsys):
+    """`--set simulate.KEY=VALUE` overrides (or supplies) the [simulate] table; out of range is bad
+    input naming the key; `solve` refuses simulate keys."""
+    import json
+    from femslide.cli import main
+    f = "meshes/structures/sliding-belt.toml"
+    assert main(["simulate", f, "--json", "--set", "simulate.t_end=0.25", "--set", "simulate.tolerance=1e-5"]) == 0
+    assert json.loads(capsys.readouterr().out)["t_end"] == 0.25
+    assert main(["simulate", f, "--set", "simulate.t_end=1e-6"]) == 0   # far shorter than the period
+    capsys.readouterr()
+    assert main(["simulate", f, "--set", "simulate.t_end=-1"]) == 2
+    assert "t_end" in capsys.readouterr().err
+    assert main(["solve", f, "--set", "simulate.t_end=1"]) == 2
+    assert main(["simulate", "meshes/structures/beam-slider.toml"]) == 2
+    assert "[simulate]" in capsys.readouterr().err
+
+
+def test_block_without_spring_on_a_shaken_frictional_ground():
+    """A block (no spring: frictionless, a mechanism) on a ground slider with mu = 0.2, mu0 = 0.25 and
+    the base acceleration 3 sin(2 pi t) m/s^2: it starts stuck (the statics with the joint stuck),
+    breaks away when 3 sin(2 pi t0) = mu0 g (t0 = 0.152320 s, to 1e-9 s), slides back with
+    w'' = -a_g + mu g and sticks when w' = 0 again; closed form (w' and w integrated exactly):
+    t1 = 0.5311778 s, w = -4.028833 cm, within 1e-6 s and 1e-6 m at tolerance 1e-8."""
+    from scipy.optimize import brentq
+    g, mu, mu0, A, W = 9.81, 0.2, 0.25, 3.0, 2 * math.pi
+    t0 = math.asin(mu0 * g / A) / W
+    t1 = brentq(lambda t: A / W * (math.cos(W * t) - math.cos(W * t0)) + mu * g * (t - t0), t0 + 1e-3, t0 + 0.9)
+    w1 = A / W * ((math.sin(W * t1) - math.sin(W * t0)) / W - (t1 - t0) * math.cos(W * t0)) \
+        + 0.5 * mu * g * (t1 - t0) ** 2
+    s = femslide.Structure(gravity=(0.0, -g))
+    s.body("block", mass=2.0, centroid=(0.0, 0.1), inertia=0.01)
+    s.slider("belt", "block", "ground", axis=(1.0, 0.0), at=(0.0, 0.1), mu=mu, mu0=mu0)
+    res, h = _run(s, t_end=0.6, tolerance=1e-8, ground={"direction": [1.0, 0.0], "amplitude": A, "frequency": 1.0})
+    ev = res["events"]["belt"]
+    assert [e["kind"] for e in ev] == ["stick", "slip-", "stick"]
+    assert res["frequencies_of"] == "structure with its friction joints stuck"
+    assert abs(ev[1]["t"] - t0) < 1e-9 and abs(ev[2]["t"] - t1) < 1e-6
+    assert res["peaks"]["joints"]["belt"]["slide_min"] == pytest.approx(w1, abs=1e-6)
