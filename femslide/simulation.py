@@ -490,30 +490,20 @@ def _hysteresis(out_dir, name, cols, H, joints):
 
 
 def _write(out_dir, name, cols, H, frames, model):
-    """history.csv and the PVD series of VTU frames (about FRAMES, evenly spread in time)."""
-    from .vtu import _write_vtu, mesh_data
+    """history.csv and the PVD series of VTU frames (about FRAMES, evenly spread in time), each frame
+    with its time and the history's values at that time as field data (femslide.vtu.write_series)."""
+    from .vtu import mesh_data, write_series
     os.makedirs(out_dir, exist_ok=True)
     files = []
     path = os.path.join(out_dir, "history.csv")
     np.savetxt(path, H, delimiter=",", header=",".join(cols), comments="")
     files.append(path)
     if frames:
-        entries = []
-        for k, (t, i, y, alpha) in enumerate(frames):
-            points, cells, pdata, cdata = mesh_data(model, y, alpha)
-            fd = {"time": t, **{c: H[i, j] for j, c in enumerate(cols) if j > 0}}
-            fname = f"{name}_{k:04d}.vtu"
-            _write_vtu(os.path.join(out_dir, fname), points, cells, pdata, cdata, fd)
-            files.append(os.path.join(out_dir, fname))
-            entries.append((t, fname))
-        pvd = os.path.join(out_dir, f"{name}.pvd")
-        with open(pvd, "w") as fh:
-            fh.write('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">\n'
-                     '<Collection>\n')
-            for t, fname in entries:
-                fh.write(f'<DataSet timestep="{t!r}" group="" part="0" file="{fname}"/>\n')
-            fh.write("</Collection>\n</VTKFile>\n")
-        files.append(pvd)
+        def series():
+            for t, i, y, alpha in frames:
+                points, cells, pdata, cdata = mesh_data(model, y, alpha)
+                yield t, points, cells, pdata, cdata, {c: H[i, j] for j, c in enumerate(cols) if j > 0}
+        files += write_series(series(), out_dir, name)
     return files
 
 
