@@ -79,9 +79,7 @@ def load(path: str) -> Structure:
 def _run(command, target, params):
     from .run import load_target, run_case
     from .structure import Frozen
-    if isinstance(target, (Structure, Frozen)):
-        if command != "solve":
-            raise BadInput("simulate of declared structures is not available yet (FE dynamics)")
+    if isinstance(target, (Structure, Frozen)):   # solve (simulate takes structures in simulation.run_api)
         from .structfile import apply
         s = target if isinstance(target, Structure) else None
         elements = params.pop("elements", None)
