@@ -26,7 +26,6 @@ from typing import TYPE_CHECKING, Any, Union
 from .errors import BadInput, SolverFailure
 from .structure import Structure, Table
 from .run import Result
-from .plot import plot  # matplotlib diagrams (matplotlib is imported when called)
 
 if TYPE_CHECKING:
     import pandas
@@ -227,3 +226,12 @@ def sweep(target: Target, *, fixed: dict[str, Any] | None = None, jobs: int = 1,
     """
     from .run import sweep_table
     return sweep_table(target, varied, fixed=fixed, jobs=jobs, quiet=quiet)
+
+
+def __getattr__(name: str):
+    """``femslide.plot`` (member diagrams, femslide/diagrams.py) is imported on first use, so that
+    ``import femslide`` and the command line stay light."""
+    if name == "plot":
+        from .diagrams import plot
+        return plot
+    raise AttributeError(f"module 'femslide' has no attribute {name!r}")

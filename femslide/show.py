@@ -65,7 +65,7 @@ def value_range(path, diagram=None):
     import numpy as np
 
     from .meshfile import read_meshio
-    from .plot import frame_data, samples
+    from .diagrams import frame_data, samples
     lo, hi = math.inf, -math.inf
     for f in series_files(path):
         if diagram is None:
@@ -177,7 +177,7 @@ def render(path, screenshot=None, frame=None, window_size=WINDOW, diagram=None, 
                     lighting=False)
     lifts = []
     if "joint_type" in grid.field_data:
-        from .plot import frame_data
+        from .diagrams import frame_data
         fr = frame_data(vtu, magnify=magnify)
         _add_shapes(pv, pl, fr, depth)
         lifts = _notes(pl, fr)
@@ -217,10 +217,10 @@ def _polygon(pv, P, z=0.0):
 
 
 def _add_shapes(pv, pl, fr, depth):
-    """Supports, guides and the ground line (femslide.plot.shapes) in front of the picture."""
+    """Supports, guides and the ground line (femslide.diagrams.shapes) in front of the picture."""
     colours = {"guide": (0.15, 0.15, 0.5), "ground": (0.35, 0.25, 0.15)}
     widths = {"hatch": 1.5, "wall": 5, "ground": 2}
-    from .plot import shapes
+    from .diagrams import shapes
     for kind, P, style in shapes(fr):
         if kind == "poly":
             pl.add_mesh(_polygon(pv, P, 3 * depth), color="white", lighting=False)
@@ -232,7 +232,7 @@ def _add_shapes(pv, pl, fr, depth):
 
 def _notes(pl, fr):
     """Red notes (and Python warnings) for lift-off and parts below the ground; returns the lift-offs."""
-    from .plot import lift_off, notes, warn_notes
+    from .diagrams import lift_off, notes, warn_notes
     found = notes(fr)
     if found:
         warn_notes(found, stacklevel=4)
@@ -245,7 +245,7 @@ def _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magni
     scale for all frames of a series."""
     import numpy as np
 
-    from .plot import (
+    from .diagrams import (
         DIAGRAMS,
         SCALE_FRACTION,
         diagram_geometry,

@@ -21,7 +21,7 @@ import pytest
 
 import femslide
 from femslide.errors import BadInput
-from femslide.plot import LiftOffWarning
+from femslide.diagrams import LiftOffWarning
 
 matplotlib = pytest.importorskip("matplotlib")
 matplotlib.use("Agg")
@@ -162,14 +162,14 @@ def test_lift_off_warning_beam_slider_ei10():
 
 
 def femslide_frame(r):
-    from femslide.plot import frame_data
+    from femslide.diagrams import frame_data
     return frame_data(r)
 
 
 def test_no_notes_for_a_structure_standing_on_the_ground():
     """The simple beam (pin and roller at y = 0, the ground drawn below both) and the portal frame: no
     lift-off and nothing below the ground."""
-    from femslide.plot import BelowGroundWarning, frame_data, ground_level
+    from femslide.diagrams import BelowGroundWarning, frame_data, ground_level
     for s in (simple_beam(), portal()):
         r = femslide.solve(s)
         fr = frame_data(r)
@@ -277,7 +277,7 @@ def test_show_diagram_screenshot(can_render, tmp_path, friction_series):
 
 def test_magnify_scales_the_displacements():
     """Drawn points = undeformed + K (deformed - undeformed), for rods, bodies and joints."""
-    from femslide.plot import frame_data
+    from femslide.diagrams import frame_data
     r = femslide.solve("beam-slider", EI=1e5)
     f1, f10 = frame_data(r), frame_data(r, magnify=10.0)
     for a, b in zip(f1["rods"] + f1["bodies"] + f1["links"], f10["rods"] + f10["bodies"] + f10["links"]):
