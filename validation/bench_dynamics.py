@@ -1,6 +1,6 @@
 """Work-precision benchmark of the one-mass friction oscillator (paper 003, ex. 1-3).  Not a test.
 
-    /work/venv/bin/python validation/bench_dynamics.py [--quick]
+    python validation/bench_dynamics.py [--quick]
 
 Methods (all in-process, best of several repeats, wall-clock seconds):
 * femslide   - femslide.sdof.run (exact closed form + events; includes energy balance and summary);

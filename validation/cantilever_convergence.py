@@ -6,7 +6,7 @@ For every mesh: tip u, v, theta and M_max, the true relative error of M_max and 
 EA = 1e6 EI: ``references.cantilever_load_shooting``), the distance to the inextensible elliptic-
 integral elastica (floors at the EA effect ~2.6e-7), femslide's error_estimate, and the wall time.
 Prints the table and writes validation/cantilever_convergence.csv and .png (error vs run time).
-Run:  /work/venv/bin/python validation/cantilever_convergence.py
+Run:  python validation/cantilever_convergence.py
 """
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """Print the figures behind validation/test_hinge_exact.py: the largest relative differences between
 femslide's hinge scenes and the independent exact solution, and the largest statics-closure residuals.
 
-    cd /work/main && /work/venv/bin/python validation/hinge_exact_figures.py
+    python validation/hinge_exact_figures.py
 """
 from __future__ import annotations
 

@@ -2,7 +2,7 @@
 2-term asymptotes of SPEC section 3 and the independent elastica reference (validation/references.py).
 
 Writes validation/mmax_vs_EI.png and prints the table (FE, reference, asymptotes, local slope).
-Run:  /work/venv/bin/python validation/plot_mmax_vs_EI.py
+Run:  python validation/plot_mmax_vs_EI.py
 """
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """Plot the relative errors of the corrected series and of the printed (2.9), (4.4) against the exact
 spring-hinge models (SPEC sections 2 and 6) and print the fitted log-log slopes.
 
-    cd /work/main && /work/venv/bin/python validation/plot_series_convergence.py
+    python validation/plot_series_convergence.py
 writes validation/series_convergence.png.  The exact reference is validation/hinge_reference.py
 (independent 50-digit solution); the series are femslide.series in double precision.
 """

@@ -1,9 +1,9 @@
 """Stiff and extreme cases: a matrix of runs of the command line, each checked.  A script, not a test.
 
-    /work/venv/bin/python validation/stability.py [--jobs 2]        # ~2 min on 2 cores
-    /work/venv/bin/python validation/stability.py --recheck          # checks + report only, on the
+    python validation/stability.py [--jobs 2]        # ~7 min on 2 cores
+    python validation/stability.py --recheck          # checks + report only, on the
                                                                       # runs saved by the last run (in $TMPDIR)
-    /work/venv/bin/python validation/stability.py --only "GROUP;GROUP"   # run these groups only; their
+    python validation/stability.py --only "GROUP;GROUP"   # run these groups only; their
                                     # rows replace those in stability.jsonl, STABILITY.md is rewritten
                                     # from all rows (the other groups' rows as last run)
 

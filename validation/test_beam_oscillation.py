@@ -10,7 +10,7 @@ l1 = L (the FE rod of free length L is the hinge model's lower piece; SPEC secti
 2. The regimes of SPEC section 2: amplitude phi0 = A c^(-p) for p = 1, 0.5, 0.4 over EI = 1e6..1e8
    gives F2_max ~ c^(-1), c^0, c^(0.2): fitted log-log slopes within 0.03 of those.
 
-Run: /work/venv/bin/pytest -q validation/test_beam_oscillation.py -s   (slow: ~1 min)
+Run: pytest -q validation/test_beam_oscillation.py -s   (slow: ~1 min)
 """
 from __future__ import annotations
 

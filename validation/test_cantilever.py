@@ -12,7 +12,7 @@ References:
   the default runs are compared with the extensible elastica of the same EA (Taylor shooting), and
   runs with EA = 1e9 EI (EA effect < 1e-8) with the elliptic-integral elastica.
 Tolerances: 1e-6 (absolute in units of L for u, v; relative for theta and M_max).
-Run:  /work/venv/bin/pytest -q validation/test_cantilever.py
+Run:  pytest -q validation/test_cantilever.py
 """
 from __future__ import annotations
 

@@ -20,7 +20,7 @@ Tolerances (each test repeats its own):
   of -1/3 / -2/3 (1e8..1e10);
 * FE beam-slider vs the spring hinge c = 3 EI/L, l1 = L: the M_max, phi and F1 differences shrink
   monotonically from EI = 1e1 to 1e5 and stay below 1e-7 from 1e6 on.
-Run:  /work/venv/bin/pytest -q validation/test_fe_statics.py
+Run:  pytest -q validation/test_fe_statics.py
 """
 from __future__ import annotations
 

@@ -9,7 +9,7 @@ References (``validation/sdof_reference.py``, no femslide code):
 * the resonance energy argument: at theta = omega, once the turning points sit at the zeros of the
   force, each cycle adds exactly (pi P0 - 4 mu N)/k to the amplitude.
 Every test states its tolerance; the accuracy target of femslide is 1e-8 m / 1e-8 s.
-Run:  /work/venv/bin/pytest -q validation/test_friction_oscillator.py
+Run:  pytest -q validation/test_friction_oscillator.py
 """
 from __future__ import annotations
 

@@ -9,7 +9,7 @@ reaction formulas or branch selection shows up as a difference here.
 
 Tolerances: 1e-9 relative for phi, psi, T, F2 (and the other reactions and the slide); statics closure
 residuals below 1e-10 P (force equations) and 1e-10 P a (moment equations).  Run:
-    /work/venv/bin/pytest -q validation/test_hinge_exact.py
+    pytest -q validation/test_hinge_exact.py
 """
 from __future__ import annotations
 

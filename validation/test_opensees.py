@@ -11,7 +11,7 @@ NormDispIncr 1e-14.
   error is O(h^2) - the 64-element error is 4x smaller (ratio within 3.5..4.5) and the Richardson
   extrapolation of 32/64 elements is within 1e-6.
 Skipped when openseespy is not importable.
-Run:  /work/venv/bin/pytest -q -m opensees validation/test_opensees.py
+Run:  pytest -q -m opensees validation/test_opensees.py
 """
 from __future__ import annotations
 

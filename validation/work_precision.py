@@ -1,6 +1,6 @@
 """Error against run time (work-precision) of femslide's statics and dynamics.  A script, not a test.
 
-    /work/venv/bin/python validation/work_precision.py          # ~1.5 min on 2 cores
+    python validation/work_precision.py          # ~1.5 min on 2 cores
 
 Writes validation/work_precision.csv, validation/work_precision.md, work_precision_statics.png and
 work_precision_dynamics.png.
