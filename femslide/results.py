@@ -105,15 +105,17 @@ def end_moments(model, y, X=None, resultant=False):
     g = model.applied(y)[:3 * model.n_nodes].reshape(-1, 3)
     first = model.node_first
     Xr = X - X[first]
-    rows = np.column_stack([g[:, 0], g[:, 1], g[:, 2] + Xr[:, 0] * g[:, 1] - Xr[:, 1] * g[:, 0]])
-    C = np.cumsum(rows, axis=0)
-    C -= (C[first] - rows[first])            # sums over each rod's own nodes only
-    i, j = model.elements.conn[:, 0], model.elements.conn[:, 1]
-    Fx, Fy = C[i, 0], C[i, 1]
-    M1 = -(C[i, 2] - (Xr[i, 0] * Fy - Xr[i, 1] * Fx))
-    d = X[i] - X[j]
-    M = np.column_stack([M1, -M1 + (d[:, 0] * Fy - d[:, 1] * Fx)])
-    return (M, C[i, :2].copy()) if resultant else M
+    rows = g.copy()      # forces and moments about each rod's start node
+    rows[:, 2] += Xr[:, 0] * g[:, 1] - Xr[:, 1] * g[:, 0]
+    C = rows.cumsum(axis=0)
+    C -= C[first] - rows[first]            # sums over each rod's own nodes only
+    es = model.elements
+    Ci, Xi = C[es.i], Xr[es.i]
+    d = Xi - Xr[es.j]
+    M = np.empty((es.size, 2))
+    M[:, 0] = Xi[:, 0] * Ci[:, 1] - Xi[:, 1] * Ci[:, 0] - Ci[:, 2]
+    M[:, 1] = d[:, 0] * Ci[:, 1] - d[:, 1] * Ci[:, 0] - M[:, 0]
+    return (M, Ci[:, :2].copy()) if resultant else M
 
 
 def _start_force(model, y, rod):
