@@ -105,30 +105,32 @@ def reverse_cuthill_mckee(rows, cols, size):
     return np.array(perm[::-1], np.intp)
 
 
-_GBSV = []
+_FLAPACK = []
 
 
-def _dgbsv():
-    """LAPACK's banded solver dgbsv from scipy's compiled LAPACK wrappers.  Loaded as that one
+def _lapack(name):
+    """A LAPACK routine (dgesv, dgbsv) from scipy's compiled LAPACK wrappers, loaded as that one
     extension module (a few ms) rather than through ``scipy.linalg``, whose import chain costs ten
-    times a whole small solve; falls back to the regular import when scipy's layout differs."""
-    if not _GBSV:
+    times a whole small solve; the regular import when scipy's layout differs.  (numpy's own
+    ``linalg.solve`` needs no scipy but is twice as slow on these small systems.)"""
+    if not _FLAPACK:
         try:
             import importlib.machinery
             import importlib.util
             import os
             spec = importlib.util.find_spec("scipy")
             d = os.path.join(os.path.dirname(spec.origin), "linalg")
-            name = next(f for f in os.listdir(d) if f.startswith("_flapack.")
-                        and f.endswith(tuple(importlib.machinery.EXTENSION_SUFFIXES)))
-            sp_ = importlib.util.spec_from_file_location("scipy.linalg._flapack", os.path.join(d, name))
+            fname = next(f for f in os.listdir(d) if f.startswith("_flapack.")
+                         and f.endswith(tuple(importlib.machinery.EXTENSION_SUFFIXES)))
+            sp_ = importlib.util.spec_from_file_location("scipy.linalg._flapack", os.path.join(d, fname))
             mod = importlib.util.module_from_spec(sp_)
             sp_.loader.exec_module(mod)
-            _GBSV.append(mod.dgbsv)
+            mod.dgesv, mod.dgbsv   # noqa: B018 - both present, else the fallback
+            _FLAPACK.append(mod)
         except Exception:  # noqa: BLE001 - any surprise: the documented import
-            from scipy.linalg.lapack import dgbsv
-            _GBSV.append(dgbsv)
-    return _GBSV[0]
+            from scipy.linalg import lapack
+            _FLAPACK.append(lapack)
+    return getattr(_FLAPACK[0], name)
 
 
 class BandMatrix:
@@ -137,7 +139,7 @@ class BandMatrix:
 
     def solve(self, b):
         p = self.pattern
-        _, _, x, info = _dgbsv()(p.kl, p.ku, self.ab, b[p.perm], overwrite_ab=1, overwrite_b=1)
+        _, _, x, info = _lapack("dgbsv")(p.kl, p.ku, self.ab, b[p.perm], overwrite_ab=1, overwrite_b=1)
         if info != 0:
             raise np.linalg.LinAlgError(f"singular matrix (LAPACK gbsv info {info})")
         out = np.empty_like(x)
@@ -573,15 +575,14 @@ class Model:
 def solve_linear(A, b):
     """Solve A x = b for the dense, banded or sparse Jacobian of :meth:`Model.system`.
 
-    Dense systems (small models) go to numpy's LAPACK gesv, so that a small model never imports
-    scipy (whose import costs ten times a small solve); banded and sparse ones to scipy's dgbsv and
-    SuperLU.  A is not modified."""
+    Dense and banded systems go to LAPACK's dgesv and dgbsv (:func:`_lapack`: without importing
+    scipy.linalg), sparse ones to scipy's SuperLU.  A dense A is not modified."""
     if isinstance(A, BandMatrix):
         return A.solve(b)
     if isinstance(A, np.ndarray):
-        try:
-            return np.linalg.solve(A, b)
-        except np.linalg.LinAlgError as exc:
-            raise np.linalg.LinAlgError(f"singular matrix (LAPACK gesv: {exc})") from None
+        _, _, x, info = _lapack("dgesv")(A, b, overwrite_a=0, overwrite_b=0)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"singular matrix (LAPACK gesv info {info})")
+        return x
     import scipy.sparse.linalg as spla
     return spla.splu(A, permc_spec="COLAMD").solve(b)
