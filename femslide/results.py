@@ -11,9 +11,10 @@ Conventions (counter-clockwise rotations and moments; forces in global x, y):
   where the elements' own deformations, times a huge EA or EI, would carry round-off): the element
   end moments are those that balance the joint forces, springs and nodal loads on the nodes before
   them (in the deformed configuration), corrected by the fixed-end moments of a distributed load
-  (exact for a linear beam); N and V are the force resultant G(s) = -(F_start + q s) (F_start: the
-  joint forces and point loads on the rod's start node, q the distributed load) projected on the
-  nodal tangent.  ``M_max`` includes the interior extremum of the parabola a distributed load adds
+  (exact for a linear beam); N and V are the force resultant G(s) of the same sums (statically
+  G(s) = -(F_start + q s), F_start the joint forces and point loads on the rod's start node, q the
+  distributed load; nodal inertia forces of a dynamic state included) projected on the nodal
+  tangent.  ``M_max`` includes the interior extremum of the parabola a distributed load adds
   in an element;
 - bodies: centroid position (x, y) now and rotation;
 - joints: the force (Fx, Fy) and moment M that part b exerts on part a at the joint point (springs
@@ -26,10 +27,10 @@ from __future__ import annotations
 import numpy as np
 
 
-def rod_arrays(model, y, alpha, moments=None):
+def rod_arrays(model, y, alpha, cuts=None):
     """Per rod (by name): node arrays s, x, y, u, v, theta, N, V, M (SI) and the largest |M| along
-    the rod including interior extrema (``M_max``).  ``moments``: :func:`end_moments` of this state
-    if already computed."""
+    the rod including interior extrema (``M_max``).  ``cuts``: ``end_moments(model, y,
+    resultant=True)`` of this state if already computed."""
     L, F = model.Lref, model.Fref
     q = y[:model.n_q]
     U = model.nodal(q)
@@ -38,7 +39,7 @@ def rod_arrays(model, y, alpha, moments=None):
         return out
     es = model.elements
     X = model.X0 + U[:, :2]
-    qb = end_moments(model, y, X) if moments is None else moments
+    qb, Gmid = end_moments(model, y, X, resultant=True) if cuts is None else cuts
     D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
     Ln = np.hypot(D[:, 0], D[:, 1])
     t = D / Ln[:, None]
@@ -67,7 +68,10 @@ def rod_arrays(model, y, alpha, moments=None):
         M[1:] += Me[el]
         M[1:-1] *= 0.5      # an interior node: the mean of its two elements (equal at equilibrium)
         s = np.concatenate([[0.0], np.cumsum(L0[el])])
-        G = -(_start_force(model, y, rod.name)[None, :] + s[:, None] * qe[el[0]][None, :])
+        # the cut force at the nodes from the one at the element middles: node i carries half of
+        # element i's distributed load, G(s_i) = G_mid,i + q L_i / 2 (and G_mid - q L / 2 at the end)
+        hq = qe[el] * (0.5 * L0[el])[:, None]
+        G = np.vstack([Gmid[el] + hq, Gmid[el[-1:]] - hq[-1:]])
         N = np.einsum("ij,ij->i", G, tn)
         V = -np.einsum("ij,ij->i", G, nn)
         Mside = np.concatenate([Ms[el], Me[el], Mi[el]])
@@ -118,33 +122,16 @@ def end_moments(model, y, X=None, resultant=False):
     return (M, Ci[:, :2].copy()) if resultant else M
 
 
-def _start_force(model, y, rod):
-    """Sum of the joint forces and point loads on the start node of a rod [model units]."""
-    fs = model.structure
-    F = np.zeros(2)
-    for j in fs.joints:
-        ra, rb = fs.refs[j.name]
-        for ref, sign in ((ra, 1.0), (rb, -1.0)):
-            if ref.kind == "rod_end" and ref.name == rod and ref.end == 0:
-                fx, fy, _ = joint_forces(model, y, j.name)
-                F += sign * np.array([fx, fy])
-    for ld in fs.loads:
-        ref, _ = fs.refs[ld.name]
-        if ld.type == "force" and ref.kind == "rod_end" and ref.name == rod and ref.end == 0:
-            F += np.asarray(ld.force) / model.Fref
-    return F
-
-
-def largest_moment(model, y, alpha, moments=None) -> float:
+def largest_moment(model, y, alpha, cuts=None) -> float:
     """Largest |bending moment| [N m] over all rods (cheap when no rod carries a distributed load).
-    ``moments``: :func:`end_moments` of this state if already computed."""
+    ``cuts``: ``end_moments(model, y, resultant=True)`` of this state if already computed."""
     if model.elements is None:
         return 0.0
-    if moments is None:
-        moments = end_moments(model, y)
+    if cuts is None:
+        cuts = end_moments(model, y, resultant=True)
     if model.elem_q.any():
-        return max(a["M_max"] for a in rod_arrays(model, y, alpha, moments).values())
-    return float(np.abs(moments).max()) * model.Fref * model.Lref
+        return max(a["M_max"] for a in rod_arrays(model, y, alpha, cuts).values())
+    return float(np.abs(cuts[0]).max()) * model.Fref * model.Lref
 
 
 def joint_forces(model, y, name):

@@ -470,24 +470,25 @@ class Level:
 
     def __init__(self, n, model, y, alpha):
         self.n, self.model, self.y, self.alpha = n, model, y, alpha
-        self._arrays = self._res = self._watched = self._noise = self._scatter = self._moments = None
+        self._arrays = self._res = self._watched = self._noise = self._scatter = self._cuts = None
 
     @property
-    def moments(self):
-        """The elements' end moments from equilibrium (:func:`femslide.results.end_moments`)."""
-        if self._moments is None:
-            self._moments = end_moments(self.model, self.y)
-        return self._moments
+    def cuts(self):
+        """The elements' end moments and middle cut forces from equilibrium
+        (:func:`femslide.results.end_moments` with ``resultant``)."""
+        if self._cuts is None:
+            self._cuts = end_moments(self.model, self.y, resultant=True)
+        return self._cuts
 
     @property
     def arrays(self):
         if self._arrays is None:
-            self._arrays = rod_arrays(self.model, self.y, self.alpha, self.moments)
+            self._arrays = rod_arrays(self.model, self.y, self.alpha, self.cuts)
         return self._arrays
 
     def largest_moment(self) -> float:
         """Largest |bending moment| [N m] over all rods."""
-        return largest_moment(self.model, self.y, self.alpha, self.moments)
+        return largest_moment(self.model, self.y, self.alpha, self.cuts)
 
     @property
     def res(self):
@@ -566,7 +567,7 @@ def _scatter(lv: Level) -> float:
         return 0.0
     if not np.all(np.isfinite(y)):
         return 0.0
-    M0 = np.abs(lv.moments).max()
+    M0 = np.abs(lv.cuts[0]).max()
     M1 = np.abs(end_moments(m, y)).max()
     # relative to the moment, or to 1e-6 of the loads' moment scale (model unit) when the rods carry
     # (almost) none: the noise of a zero moment is no relative error of anything
