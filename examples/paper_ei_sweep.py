@@ -30,13 +30,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import femslide  # noqa: E402
+from femslide.series import M_max_asymptote  # noqa: E402
 
 out = sys.argv[1] if len(sys.argv) > 1 else tempfile.mkdtemp(prefix="femslide-ei-sweep-")
 os.makedirs(out, exist_ok=True)
 
 # the scene's parameters (its defaults; any of them can be changed like EI)
 a, b, d, l, m, g = 1.0, 0.5, 0.2, 3.0, 1.0, 9.81  # noqa: E741  (the paper's names)
-P = m * g
 fixed = dict(a=a, b=b, d=d, l=l, m=m, g=g)
 
 # one solve per EI, each from scratch; jobs=2 would run them in two processes with the same rows
@@ -48,15 +48,15 @@ print(df[["EI", "converged", "M_max", "phi", "slide", "reactions.B1.Fx", "error_
 
 # the asymptotes: one term (the c^(1/3) law) and two terms
 EI_fine = np.geomspace(EI.min(), EI.max(), 200)
-one_term = (3 * EI_fine / (4 * a)) ** (1 / 3) * (P * (a + d)) ** (2 / 3)
-two_terms = one_term + P * (l + b) * l / (3 * a)
+one_term = M_max_asymptote(1, EI_fine, **fixed)     # (3 EI/(4a))^(1/3) (P (a+d))^(2/3)
+two_terms = M_max_asymptote(2, EI_fine, **fixed)    # + P (l+b) l/(3a)
 
 ok = df[df["converged"]]
 slope = np.diff(np.log(ok["M_max"].to_numpy())) / np.diff(np.log(ok["EI"].to_numpy()))
 print(f"local slope d log M_max / d log EI: {slope[0]:.3f} (EI = 1e2 .. 1e3) -> {slope[-1]:.4f} "
       f"(EI = 1e9 .. 1e10); the asymptote's 1/3 = {1 / 3:.4f}")
 last = ok.iloc[-1]
-ref = (3 * last["EI"] / (4 * a)) ** (1 / 3) * (P * (a + d)) ** (2 / 3) + P * (l + b) * l / (3 * a)
+ref = M_max_asymptote(2, last["EI"], **fixed)
 print(f"EI = {last['EI']:.3g} N m^2: M_max = {last['M_max']:.6g} N m, two-term asymptote {ref:.6g} N m "
       f"(relative difference {abs(last['M_max'] - ref) / ref:.2e})")
 

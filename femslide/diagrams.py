@@ -46,6 +46,7 @@ import warnings
 # numpy and matplotlib are imported inside the functions: `import femslide` (which exports plot) stays
 # light for the command line's fast paths
 from .errors import BadInput
+from .structure import JOINT_TYPES
 
 DIAGRAMS = {"M": ("bending_moment", "N m", "bending moment M"),
             "V": ("shear_force", "N", "shear force V"),
@@ -56,7 +57,6 @@ SCALE_FRACTION = 0.15      # auto scale: the largest |value| is drawn this fract
 SYMBOL_FRACTION = 0.035    # supports: symbol size as a fraction of the structure's size
 LIFT_OFF_RTOL = 1e-6       # a pull below this fraction of the largest reaction is round-off
 BELOW_GROUND_FRACTION = 0.05   # a structure this far (fraction of its size) below its supports' level: a note
-JOINT_TYPES = ("pin", "weld", "slider", "roller")
 
 
 class LiftOffWarning(UserWarning):
@@ -96,7 +96,7 @@ def frame_data(source, magnify: float = 1.0, frame: int | None = None) -> dict:
                        "or an FE scene, or a .vtu / .pvd file written by femslide")
     from .vtu import describe, joint_data, mesh_data
     lv = sol.level
-    points, cells, point_data, cell_data = mesh_data(lv.model, lv.y, lv.alpha, lv.arrays)
+    points, cells, point_data, cell_data = mesh_data(lv.model, lv.y, lv.alpha, lv.arrays, lv.cuts)
     fd = {**describe(lv.model), **joint_data(lv.model, lv.y)}
     name = getattr(source, "get", lambda *_: None)("name")
     return _from_mesh(points, cells, point_data, cell_data, fd, magnify, name)

@@ -58,11 +58,11 @@ import xml.sax.saxutils as _sx
 import numpy as np
 
 from .errors import BadInput
+from .structure import JOINT_TYPES
 
 PART_ROD, PART_BODY, PART_RIGID = 0, 1, 2
 POINT_FIELDS = ("displacement", "rotation", "bending_moment", "axial_force", "shear_force")
 CELL_FIELDS = ("axial_force", "shear_force", "distributed_load", "part", "rod", "body")
-JOINT_TYPES = ("pin", "weld", "slider", "roller")
 UNITS = ("displacement: m; rotation: rad; bending_moment: N m; axial_force: N; shear_force: N; "
          "distributed_load: N/m; joint_position, joint_reference: m; joint_force: N, N, N m (Fx, Fy, M); "
          "time: s; Lref: m; Fref: N; *_M, *M_max: N m; *_Fx, *_Fy, *_N_max, *_V_max: N; "
@@ -85,15 +85,18 @@ CONVENTIONS = {
 }
 
 
-def mesh_data(model, y, alpha, arrays=None):
+def mesh_data(model, y, alpha, arrays=None, cuts=None):
     """Deformed mesh of a static state in SI units.
 
     Returns (points (n, 3), cells [(type, connectivity)], point_data, cell_data) in meshio's layout
-    (cell data: one array per cell block)."""
+    (cell data: one array per cell block).  ``arrays``, ``cuts``: the state's rod arrays and
+    ``end_moments(..., resultant=True)`` if already computed (a solution level has both)."""
     from .results import end_moments, rod_arrays
     L, F = model.Lref, model.Fref
     q = y[:model.n_q]
-    arrays = rod_arrays(model, y, alpha) if arrays is None else arrays
+    if cuts is None and model.elements is not None:
+        cuts = end_moments(model, y, resultant=True)
+    arrays = rod_arrays(model, y, alpha, cuts) if arrays is None else arrays
     pts, disp, rotn, mom, Np, Vp = [], [], [], [], [], []
     blocks = []  # (type, conn, N, V, part, rod, body)
     n_pts = 0
@@ -111,7 +114,7 @@ def mesh_data(model, y, alpha, arrays=None):
             Vp.append(a["V"])
         # cell values from the same equilibrium recovery as the point values (results.end_moments):
         # the cut force at the element's middle in its chord frame, N = G . t, V = -G . n
-        _, G = end_moments(model, y, resultant=True)
+        G = cuts[1]
         D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
         t = D / np.hypot(D[:, 0], D[:, 1])[:, None]
         Nc = (G[:, 0] * t[:, 0] + G[:, 1] * t[:, 1]) * F
@@ -296,7 +299,7 @@ def write_static(sol, out_dir, name, extra=None) -> list[str]:
     scene's section 7 results); return the two paths."""
     lv = sol.level
     model = lv.model
-    points, cells, point_data, cell_data = mesh_data(model, lv.y, lv.alpha, lv.arrays)
+    points, cells, point_data, cell_data = mesh_data(model, lv.y, lv.alpha, lv.arrays, lv.cuts)
     res = lv.res
     summary = {"name": name, "units": CONVENTIONS["units"], "Lref": model.Lref, "Fref": model.Fref,
                "n_elements": int(model.elements.size) if model.elements is not None else 0,

@@ -261,11 +261,6 @@ def test_sweep_bad_input(args, kwargs, match):
         femslide.sweep(*args, **kwargs)
 
 
-def test_sweep_stays_the_function_after_the_cli_module_loads():
-    from femslide.sweeps import run_sweep  # noqa: F401  (the command line's sweep module)
-    assert callable(femslide.sweep) and femslide.sweep.__module__ == "femslide"
-
-
 def test_sweep_status_tells_bad_input_from_failure():
     """A value rejected only when its case runs (the one-mass oscillator's work bound on t_end) is a
     row with status "bad-input", not a solver failure; the other cases run."""
