@@ -31,7 +31,6 @@ import math
 
 import numpy as np
 
-EVENT_KINDS = ("stick", "slip+", "slip-")
 
 
 class SlideLock:

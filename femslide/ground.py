@@ -28,7 +28,7 @@ MAX_ROWS = 1_000_000
 
 class Ground:
     """a_g(t) e: ``direction`` e (unit (2,)), ``accel(t)`` [m/s^2] (scalar), ``dt`` the record's
-    sampling interval (None for harmonic) and ``kinks`` its sample times."""
+    sampling interval (None for harmonic)."""
 
     def __init__(self, direction, amplitude=0.0, frequency=0.0, times=None, values=None):
         e = np.asarray(direction, float)
@@ -41,9 +41,6 @@ class Ground:
         if self.times is None:
             return self.amplitude * math.sin(2.0 * math.pi * self.frequency * t)
         return float(np.interp(t, self.times, self.values, left=0.0, right=0.0))
-
-    def peak(self) -> float:
-        return abs(self.amplitude) if self.times is None else float(np.abs(self.values).max())
 
 
 def read_at2(path: str):
@@ -74,29 +71,11 @@ def read_at2(path: str):
 
 
 def read_csv(path: str):
-    """(t [s], a [m/s^2]) of a two-column CSV file (an optional header line)."""
-    try:
-        with open(path) as fh:
-            rows = [ln for ln in fh.read().splitlines() if ln.strip()]
-    except (OSError, UnicodeDecodeError) as exc:
-        raise BadInput(f"ground record {path}: cannot be read ({exc})") from None
-    data = []
-    for i, ln in enumerate(rows):
-        parts = ln.replace(";", ",").split(",")
-        try:
-            data.append((float(parts[0]), float(parts[1])))
-        except (ValueError, IndexError):
-            if i == 0:
-                continue  # header
-            raise BadInput(f"ground record {path}: line {i + 1} is not two numbers t, a") from None
-        if len(data) > MAX_ROWS:
-            raise BadInput(f"ground record {path}: more than {MAX_ROWS} rows")
-    if len(data) < 2:
-        raise BadInput(f"ground record {path}: needs at least two rows t, a")
-    t, a = np.array(data).T
-    if not np.all(np.isfinite(t)) or not np.all(np.isfinite(a)) or np.any(np.diff(t) <= 0):
-        raise BadInput(f"ground record {path}: times must increase strictly and values be finite")
-    return t, a
+    """(t [s], a [m/s^2]) of a CSV record: columns t, a (a header line, blank and # comment lines
+    allowed), read by :func:`femslide.sdof.read_record`, the project's one CSV record reader."""
+    from .sdof import read_record
+    t, a = read_record(path)
+    return np.asarray(t, float), np.asarray(a, float)
 
 
 def parse(spec, base_dir: str = ".", where: str = "simulate.ground") -> Ground | None:

@@ -169,7 +169,6 @@ class Forcing:
         return d
 
     def eval_np(self, t):
-        import numpy as np
         t = np.asarray(t, dtype=float)
         F = np.zeros_like(t)
         if self.has_record:
@@ -462,7 +461,6 @@ class Oscillator:
         G_t = rF[i] + (rF[i + 1] - rF[i]) * (t - rt[i]) / (rt[i + 1] - rt[i]) - kw
         if abs(G_t) > thr:
             return t
-        import numpy as np
         if not hasattr(self, "_rF_np"):
             self._rF_np = np.asarray(rF)
         G = self._rF_np[i + 1:] - kw
@@ -612,7 +610,6 @@ class Solution:
     # arrays of the segment table
     def _arrays(self):
         if self._np is None:
-            import numpy as np
             a = np.array(self.segs, dtype=float).reshape(-1, 8)
             self._np = {"ts": a[:, 0], "te": a[:, 1], "x0": a[:, 2], "u0": a[:, 3],
                         "a0": a[:, 4], "a1": a[:, 5], "phi": a[:, 6], "state": a[:, 7]}
@@ -621,7 +618,6 @@ class Solution:
     def eval(self, t, seg=None, tau=None):
         """w [m], v [m/s], state (+1/-1 sliding direction, 0 stuck) at times ``t`` (array), or at
         offsets ``tau`` into segments ``seg`` (exact offsets: no round-off of t - ts at large t)."""
-        import numpy as np
         o = self.osc
         A_ = self._arrays()
         if tau is None:
@@ -681,7 +677,6 @@ class Solution:
         (bounded memory) and summed with math.fsum.  E_ref = E(0), or the largest E seen when
         E(0) = 0, or the work put in or dissipated when that is larger.
         """
-        import numpy as np
         o = self.osc
         A_ = self._arrays()
         E0 = 0.5 * o.k * self.w0 ** 2
@@ -772,7 +767,6 @@ class Solution:
         with the segment's own phase, A sin(phi + theta tau), and the record's linear piece
         p + q tau of the segment (a phase theta t computed afresh differs by round-off
         ~ eps theta t, which over a long run made the energy balance drift as t_end^2)."""
-        import numpy as np
         F = self.osc.F
         A_ = self._arrays()
         out = np.zeros_like(tau)
@@ -790,7 +784,6 @@ class Solution:
     # per-period amplitudes ---------------------------------------------------------------------
     def period_amplitudes(self):
         """(max w, min w) over each complete forcing period [n T, (n+1) T], T = 2 pi/theta."""
-        import numpy as np
         F = self.osc.F
         Tf = TWO_PI / F.theta
         n = int(math.floor(self.t_end / Tf * (1 + 1e-14)))
@@ -851,7 +844,6 @@ class Solution:
             w_end, _, _ = self.eval([self.t_end])
             vals.append(abs(float(w_end[0])))
             # segment ends at record nodes / t_end while sliding
-            import numpy as np
             A_ = self._arrays()
             sl = A_["state"] != 0
             if sl.any():
@@ -870,7 +862,6 @@ class Solution:
         of the equation m w'' + c_v w' + k w + f = F: mu N sgn(w') while sliding, F - k w (what
         static friction holds) while stuck; the friction force on the mass is -f.
         """
-        import numpy as np
         o = self.osc
         periods = [TWO_PI / o.omega]
         if o.F.harmonic:
@@ -892,7 +883,6 @@ class Solution:
 
     def write(self, outdir, points_per_period=64):
         """Write history.csv (t, w, v, state) and turning_points.csv; return the file names."""
-        import numpy as np
         h = self.history(points_per_period)
         t, w, v, st = h["t"], h["w"], h["v"], h["state"]
         if not (np.isfinite(w).all() and np.isfinite(v).all()):
@@ -970,7 +960,6 @@ def _impulse(osc, t_end):
     F = osc.F
     imp = abs(F.A) * t_end if F.harmonic else 0.0
     if F.has_record:
-        import numpy as np
         if not hasattr(F, "_imp_cum"):   # cumulative bound at the nodes (t_end is bisected on)
             rt, rF = np.asarray(F.rt), np.abs(np.asarray(F.rF))
             piece = np.maximum(rF[:-1], rF[1:])

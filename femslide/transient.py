@@ -307,17 +307,15 @@ def _settle(fr, s: State, h_s, pending, old_stuck):
 
 @dataclass
 class Integration:
-    """Outcome of :func:`integrate`: accepted states' times, the record rows of ``observe``, step
-    counts, the energy balance and why it stopped."""
+    """Outcome of :func:`integrate`: the record rows of ``observe``, step counts and the energy
+    balance."""
 
-    times: list = field(default_factory=list)
     rows: list = field(default_factory=list)
     steps: int = 0
     rejected: int = 0
     newton_iterations: int = 0
     energy_balance: float = 0.0
     energy: dict = field(default_factory=dict)
-    final: State | None = None
 
 
 def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, observe=None,
@@ -386,7 +384,6 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         s, sysm = _settle(fr, s, h_s, list(range(len(fr.joints))), ())
     Pg, Pd = ground_power(s.y[:n_q], s.v, 0.0), loss_power(s.y, s.v)
     if observe:
-        out.times.append(0.0)
         out.rows.append(observe(0.0, s.y, s.alpha, s.v))
     t0 = time.perf_counter()
     switches, t_switch = 0, None
@@ -460,7 +457,6 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         Emax = max(Emax, abs(T), abs(V), abs(D), abs(W))
         bal = max(bal, abs(T + V + D - W - T0))
         if observe:
-            out.times.append(t1)
             out.rows.append(observe(t1, s.y, s.alpha, s.v))
         if progress:
             progress(t1)
@@ -469,5 +465,4 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
     out.energy = {"kinetic": masses.kinetic(s.y[:n_q], s.v) * model.Fref * model.Lref,
                   "potential": (potential(model, s.y, s.alpha) - V0) * model.Fref * model.Lref,
                   "dissipated": D * model.Fref * model.Lref, "work_in": W * model.Fref * model.Lref}
-    out.final = s
     return out
