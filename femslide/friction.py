@@ -19,7 +19,12 @@ point along the guide carried by b; femslide/joints.py) by a friction force alon
   when sigma s' reaches 0; there the stick test is made (the lock multiplier of the consistent
   start, |lam| <= mu0 N) and the joint sticks ("stick") or slips on in the direction of the net force
   ("slip+" / "slip-"); a stuck joint breaks away when |lam| reaches mu0 N, towards sign(lam).  At
-  every event the integrator restarts with consistent accelerations (the friction force jumps).
+  every event the massless dofs (rods with rhoA = 0) are re-solved for their equilibrium in the new
+  modes with the massive dofs held, their velocities made consistent with the massive ones, and the
+  integrator restarts with consistent accelerations (the friction force jumps).  A massless slide
+  that breaks away with mu0 > mu therefore jumps at once to the position where the forces on it equal
+  the sliding friction (it has no inertia to slow it); the potential energy that releases counts as
+  dissipated by friction (femslide/transient.py, ``_requilibrate``).
 
 The structure's model gets one extra constraint per stuck joint: a model per set of stuck joints,
 built when first needed (the lock multipliers come after the joints', so the joints' layout stays).

@@ -46,7 +46,7 @@ import scipy.sparse as sp  # noqa: E402
 
 from .corotational import strain_energy  # noqa: E402
 from .errors import BadInput, SolverFailure  # noqa: E402
-from .model import BandMatrix  # noqa: E402
+from .model import BandMatrix, solve_linear  # noqa: E402
 from .newton import newton  # noqa: E402
 
 EPS = float(np.finfo(float).eps)
@@ -250,11 +250,73 @@ def _locate(attempt, fr, phi0, cross, h, cand, max_iter=60):
     return best
 
 
+class _Light:
+    """The static equations of the massless ("light") dofs of a step system's model, friction slip
+    forces included, with the massive dofs held: the rows and columns of the light dofs and of the
+    constraint rows that involve them (the interface :func:`femslide.newton.newton` expects)."""
+
+    def __init__(self, sysm, y, alpha, heavy):
+        self.sysm, self.model, self.y = sysm, sysm.model, y
+        n_q = self.model.n_q
+        light = np.setdiff1d(np.arange(n_q), heavy).astype(np.intp)
+        _, A, _ = self.full(y, alpha)
+        rows = np.abs(A[n_q:, light]).max(axis=1) > 0.0 if light.size else np.zeros(A.shape[0] - n_q, bool)
+        self.cols = np.concatenate([light, n_q + np.nonzero(rows)[0]]).astype(np.intp)
+        self.heavy, self.n_q = heavy, light.size
+        self._rot = np.nonzero(np.isin(light, self.model.rotation_dofs()))[0].astype(np.intp)
+
+    def rotation_dofs(self):
+        return self._rot
+
+    def full(self, y, alpha_ref, jacobian=True):
+        """The whole model's static residual and dense Jacobian with the slip forces."""
+        m = self.model
+        r, A, info = m.system(y, alpha_ref, 1.0, None, jacobian, dense=True)
+        for ex in self.sysm.extra:
+            fe, coo = ex(y, None, 0.0)
+            r[:m.n_q] += fe
+            if jacobian:
+                A = add_coo(m, A, *coo)
+        return r, A, info
+
+    def system(self, x, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
+        y = self.y.copy()
+        y[self.cols] = x
+        r, A, info = self.full(y, alpha_ref, jacobian)
+        return r[self.cols], (A[np.ix_(self.cols, self.cols)] if jacobian else None), info
+
+
+def _requilibrate(sysm, s: State):
+    """The massless dofs at a change of the friction modes: solved for their static equilibrium in
+    the new modes with the massive dofs held where they are, and their velocities made consistent
+    with the massive ones (the time derivative of that equilibrium).  A massless slide that breaks
+    away with mu0 > mu jumps here to the position where its spring and elastic forces equal the
+    sliding friction; the potential energy the jump releases is returned (model units): friction
+    dissipates it.  Returns (state, released energy)."""
+    heavy = sysm.masses.massive_dofs()
+    if heavy.size == sysm.n_q:
+        return s, 0.0
+    light = _Light(sysm, s.y, s.alpha, heavy)
+    x, info = newton(light, s.y[light.cols], s.alpha, tol=NEWTON_TOL, maxit=30)
+    if not info.converged:
+        raise SolverFailure(f"simulate: the massless parts find no equilibrium in the new friction modes at "
+                            f"t = {s.t:.9g} s: {info.reason}", info.history)
+    y = s.y.copy()
+    y[light.cols] = x
+    released = potential(sysm.model, s.y, s.alpha) - potential(sysm.model, y, info.alpha)
+    _, A, _ = light.full(y, info.alpha)
+    rate = solve_linear(np.ascontiguousarray(A[np.ix_(light.cols, light.cols)]),
+                        -A[np.ix_(light.cols, heavy)] @ s.v[heavy])
+    v = s.v.copy()
+    v[light.cols[:light.n_q]] = rate[:light.n_q]
+    return State(s.t, y, v, s.acc, s.a, info.alpha), released
+
+
 def _switch(fr, s: State, i, h_s):
     """The mode change of friction joint i at the state s: a slipping joint at rest takes the stick
     test (:func:`_settle`); a stuck one breaks away towards its net force (sign of its lock
-    multiplier).  Returns the state in the new modes' layout with consistent accelerations, and the
-    step system."""
+    multiplier).  Returns the state in the new modes' layout with consistent accelerations, the
+    step system and the energy released by jumps of massless parts (:func:`_requilibrate`)."""
     if fr.mode[i] != 0:
         return _settle(fr, s, h_s, [i], fr.stuck())
     old = fr.stuck()
@@ -263,14 +325,15 @@ def _switch(fr, s: State, i, h_s):
     fr.events[fr.joints[i].name].append({"t": s.t, "kind": "slip+" if lam > 0 else "slip-"})
     s = State(s.t, fr.convert(s.y, old, fr.stuck(), {}), s.v, s.acc, s.a, s.alpha)
     sysm = fr.system()
-    return _consistent_start(sysm, s, h_s), sysm
+    s, released = _requilibrate(sysm, s)
+    return _consistent_start(sysm, s, h_s), sysm, released
 
 
 def _settle(fr, s: State, h_s, pending, old_stuck):
     """Stick test of the joints ``pending`` (at rest along their guides, or all joints at t = 0):
     each is locked where it is, the consistent start gives its lock multiplier lam, and it stays
     stuck if |lam| <= mu0 N, else slips towards sign(lam).  Returns the state (with the new modes'
-    layout) and the step system."""
+    layout), the step system and the energy released by jumps of massless parts."""
     n_q = fr.base.n_q
     q = s.y[:n_q]
     v = s.v.copy()
@@ -284,6 +347,7 @@ def _settle(fr, s: State, h_s, pending, old_stuck):
     y = fr.convert(s.y, old_stuck, fr.stuck(), {})
     s = State(s.t, y, v, s.acc, s.a, s.alpha)
     sysm = fr.system()
+    s, released = _requilibrate(sysm, s)
     s = _consistent_start(sysm, s, h_s)
     slip = []
     for i in pending:
@@ -301,8 +365,10 @@ def _settle(fr, s: State, h_s, pending, old_stuck):
             fr.events[fr.joints[i].name].append({"t": s.t, "kind": "slip+" if sg > 0 else "slip-"})
         s = State(s.t, fr.convert(s.y, old, fr.stuck(), {}), s.v, s.acc, s.a, s.alpha)
         sysm = fr.system()
+        s, more = _requilibrate(sysm, s)
+        released += more
         s = _consistent_start(sysm, s, h_s)
-    return s, sysm
+    return s, sysm, released
 
 
 @dataclass
@@ -381,7 +447,8 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         sysm = StepSystem(model, masses, C, ground)
         s = _consistent_start(sysm, s, h_s)
     else:
-        s, sysm = _settle(fr, s, h_s, list(range(len(fr.joints))), ())
+        s, sysm, released = _settle(fr, s, h_s, list(range(len(fr.joints))), ())
+        D += released
     Pg, Pd = ground_power(s.y[:n_q], s.v, 0.0), loss_power(s.y, s.v)
     if observe:
         out.rows.append(observe(0.0, s.y, s.alpha, s.v))
@@ -405,7 +472,8 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
                 if switches > 2 * len(fr.joints) + 2:
                     raise SolverFailure(f"simulate: the friction joints' stick/slip modes do not settle at "
                                         f"t = {s.t:.9g} s")
-                s, sysm = _switch(fr, s, int(late[0]), START_STEP * h)
+                s, sysm, released = _switch(fr, s, int(late[0]), START_STEP * h)
+                D += released
                 Pd = loss_power(s.y, s.v)
                 continue
         cand, info = attempt(sysm, s, h)
@@ -449,7 +517,8 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         s = State(t1, y, v1, acc1, a1, alpha1)
         out.steps += 1
         if event is not None:
-            s, sysm = _switch(fr, s, event, START_STEP * h_next)
+            s, sysm, released = _switch(fr, s, event, START_STEP * h_next)
+            D += released
             Pd1 = loss_power(s.y, s.v)
         Pg, Pd = Pg1, Pd1
         T = masses.kinetic(q, v1)

@@ -56,3 +56,42 @@ def test_example_3_base_excitation():
         assert abs(w - we) < 1e-6 and abs(t - te) < 1e-6
     assert any(e["kind"] == "stick" for e in res["events"]["belt"][1:])
     assert res["energy_balance"] < 1e-5
+
+
+# femslide simulate beam-friction --json (the reduced 1-DOF model of femslide/dynamics.py, DOP853 at a
+# tight tolerance, energy balance 2.8e-11): an independent formulation of the same structure
+BEAM_FRICTION_STICK = [0.5980783557781205, 1.1999410820655922, 1.808435723775855, 2.420973032106233]
+BEAM_FRICTION_F2 = 15.735132504141756
+BEAM_FRICTION_SLIDE = (-0.08479172708081142, 0.08018954611890944)
+BEAM_FRICTION_OMEGA = 5.090891795846383
+
+
+@pytest.mark.slow
+def test_beam_friction_twin_with_a_massless_slide():
+    """meshes/structures/beam-friction.toml (friction in the sliding clamp between the massless rod's
+    end and the deck, mu0 > mu: the slide jumps at every breakaway) against the reduced model of the
+    scene beam-friction.  At tolerance 1e-6 (measured in brackets): the same sequence of stick and slip
+    events; every end of slip within 1e-4 s of the reduced model's turning point (7e-5 s: the
+    second-order phase error grows over the run, 1.5e-5 s at 1e-7); peak |F2| within 1e-3 (3.2e-4);
+    slide range within 1e-4 m (1.4e-5); the lowest frequency equals the reduced model's small-
+    oscillation omega / 2 pi within 1e-8 (2e-9); energy balance, jump losses included, below 1e-3
+    (2.7e-4: it follows the global error, ~ tolerance^(2/3))."""
+    res = femslide.simulate("meshes/structures/beam-friction.toml")
+    ev = res["events"]["clamp"]
+    kinds = [e["kind"] for e in ev]
+    assert kinds == ["stick", "slip-", "stick", "slip+", "stick", "slip-", "stick", "slip+", "stick", "slip-"]
+    sticks = [e["t"] for e in ev if e["kind"] == "stick" and e["t"] > 0]
+    assert len(sticks) == len(BEAM_FRICTION_STICK)
+    for t, te in zip(sticks, BEAM_FRICTION_STICK):
+        assert abs(t - te) < 1e-4
+    assert res["peaks"]["reactions"]["B1"]["Fx"] == pytest.approx(BEAM_FRICTION_F2, rel=1e-3)
+    j = res["peaks"]["joints"]["clamp"]
+    assert abs(j["slide_min"] - BEAM_FRICTION_SLIDE[0]) < 1e-4 and abs(j["slide_max"] - BEAM_FRICTION_SLIDE[1]) < 1e-4
+    assert res["frequencies_hz"][0] == pytest.approx(BEAM_FRICTION_OMEGA / (2 * np.pi), rel=1e-8)
+    assert res["energy_balance"] < 1e-3
+    # the slide is exactly at rest while stuck: no drift between a stick and the next breakaway
+    t, s = res.history["t"], res.history["joints.clamp.slide"]
+    for a, b in zip(ev[2::2], ev[3::2]):
+        inside = (t > a["t"] + 1e-9) & (t < b["t"] - 1e-9)
+        if inside.sum() > 1:
+            assert np.ptp(s[inside]) < 1e-12
