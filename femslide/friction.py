@@ -39,17 +39,23 @@ import numpy as np
 
 
 class SlideLock:
-    """Exact constraint s(q) - s_stick = 0 on a slider's or roller's slide (joints.py protocol)."""
+    """Exact constraint s(q) - origin - target = 0 on a slider's or roller's slide s (joints.py
+    protocol): a stuck friction joint (origin 0, target the slide where it stuck) and the held
+    start of a simulation (origin the reference slide, target walked to the initial one)."""
 
     size = 1
 
-    def __init__(self, link, target=0.0, name="lock"):
-        self.link, self.target, self.name = link, target, name
+    def __init__(self, link, target=0.0, name="lock", origin=0.0):
+        self.link, self.target, self.name, self.origin = link, target, name, origin
         self.dofs = link.dofs
+
+    def value(self, z):
+        """The held quantity s - origin (array of one)."""
+        return np.array([self.link.slide(z)[0] - self.origin])
 
     def eval(self, z, mu=None):
         s, ds, H = self.link.slide(z)
-        g = np.array([s - self.target])
+        g = np.array([s - self.origin]) - self.target
         if mu is not None:
             return g, ds[None, :], mu[0] * H
         return g, ds[None, :], H[None]

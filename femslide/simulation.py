@@ -167,29 +167,9 @@ class _BodyHold:
         return g, G, H
 
 
-class _SlideHold:
-    """Exact constraint holding a slider's or roller's slide."""
-
-    size = 1
-
-    def __init__(self, link, s0):
-        self.link, self.s0 = link, s0
-        self.dofs = link.dofs
-        self.target = np.zeros(1)
-
-    def value(self, z):
-        return np.array([self.link.slide(z)[0] - self.s0])
-
-    def eval(self, z, mu=None):
-        s, ds, H = self.link.slide(z)
-        g = np.array([s - self.s0 - self.target[0]])
-        if mu is not None:
-            return g, ds[None, :], mu[0] * H
-        return g, ds[None, :], H[None]
-
-
 def _held_start(fs, counts, L, F, y, alpha, ini):
     """The static state held at the ``initial`` values (model units), walked there in small steps."""
+    from .friction import SlideLock
     from .model import Model
     from .newton import newton
     m = Model(fs, counts, L, F, finalize=False)
@@ -218,7 +198,7 @@ def _held_start(fs, counts, L, F, y, alpha, ini):
         j = next((j for j in fs.joints if j.name == name), None)
         if j is None or j.type not in ("slider", "roller"):
             raise BadInput(f"[simulate] initial.joint = {name!r}: not a slider or roller of the structure")
-        hold = _SlideHold(m.joint[name], m.slide0[name])
+        hold = SlideLock(m.joint[name], np.zeros(1), "initial slide", origin=m.slide0[name])
         target = [ini["slide"] / L]
     m.add_constraint(hold)
     m.finalize()
@@ -547,8 +527,8 @@ def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
 
 def run_api(target, params: dict):
     """``femslide.simulate`` of a Structure, a Frozen structure or a structure file: keyword
-    arguments named like the [simulate] keys (t_end, tolerance, damping, ground, initial, elements)
-    set or override them; ``NAME.FIELD`` ones change the structure (a Structure or a file)."""
+    arguments named like the [simulate] keys (t_end, tolerance, damping, ground, initial, elements;
+    also as ``**{"simulate.tolerance": 1e-7}``, the command line's form) set or override them; ``NAME.FIELD`` ones change the structure (a Structure or a file)."""
     from .run import Result
     from .structfile import apply, load
     from .structure import Frozen, Structure
@@ -560,7 +540,9 @@ def run_api(target, params: dict):
         target, name = sf.structure, sf.name
     else:
         name = "structure"
-    sim = {k: params.pop(k) for k in list(params) if k in SIM_KEYS}
+    # [simulate] keys, bare or in the command line's --set form simulate.KEY
+    sim = {k[len("simulate."):]: params.pop(k) for k in list(params) if k.startswith("simulate.")}
+    sim.update({k: params.pop(k) for k in list(params) if k in SIM_KEYS})
     table.update(sim)
     if isinstance(target, Structure):
         s, elements = apply(target, params)

@@ -6,6 +6,7 @@ import pytest
 
 import femslide
 from femslide import static
+from femslide.errors import BadInput
 from femslide.mass import Masses
 from femslide.modes import modes
 
@@ -401,3 +402,12 @@ def test_block_without_spring_on_a_shaken_frictional_ground():
     assert res["frequencies_of"] == "structure with its friction joints stuck"
     assert abs(ev[1]["t"] - t0) < 1e-9 and abs(ev[2]["t"] - t1) < 1e-6
     assert res["peaks"]["joints"]["belt"]["slide_min"] == pytest.approx(w1, abs=1e-6)
+
+
+def test_api_takes_the_command_line_form_of_simulate_keys():
+    """femslide.simulate(FILE, **{"simulate.t_end": ...}) as `--set simulate.t_end=...`; an unknown
+    simulate key is bad input naming it."""
+    res = femslide.simulate("meshes/structures/belt-ex1.toml", **{"simulate.t_end": 0.2})
+    assert res["t_end"] == 0.2
+    with pytest.raises(BadInput, match="bogus"):
+        femslide.simulate("meshes/structures/belt-ex1.toml", **{"simulate.bogus": 1})
