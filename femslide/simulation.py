@@ -528,7 +528,8 @@ def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
 def run_api(target, params: dict):
     """``femslide.simulate`` of a Structure, a Frozen structure or a structure file: keyword
     arguments named like the [simulate] keys (t_end, tolerance, damping, ground, initial, elements;
-    also as ``**{"simulate.tolerance": 1e-7}``, the command line's form) set or override them; ``NAME.FIELD`` ones change the structure (a Structure or a file)."""
+    also as ``**{"simulate.tolerance": 1e-7}``, the command line's form) set or override them;
+    ``NAME.FIELD`` ones change the structure (a Structure or a file)."""
     from .run import Result
     from .structfile import apply, load
     from .structure import Frozen, Structure
