@@ -164,6 +164,10 @@ class Friction:
             self._models[stuck] = m
         return m
 
+    def stuck_model(self):
+        """The model with every friction joint stuck."""
+        return self._model(tuple(range(len(self.joints))))
+
     def system(self):
         """The step system of the current modes (lock targets set)."""
         stuck = self.stuck()

@@ -251,6 +251,20 @@ def _fixed_mesh(fs, n):
     return replace(fs, rods=rods, derived={})
 
 
+def _stuck_top(fr, y_s, a_s, masses):
+    """Highest of the MODES lowest natural frequencies [Hz] with every friction joint stuck (0 when
+    they cannot be computed); about the frictionless static state, where the locks carry no force."""
+    from .mass import Masses
+    from .modes import modes
+    m = fr.stuck_model()
+    y = np.concatenate([y_s, np.zeros(m.n - y_s.size)])
+    try:
+        freq, _ = modes(m, y, a_s, Masses(m), MODES)
+    except SolverFailure:
+        return 0.0
+    return float(freq[-1]) if len(freq) else 0.0
+
+
 def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
     """Bad input (naming t_end and the usable range) when the run would take more than WORK_BUDGET_S
     by the steps its lowest frequency f1 needs; returns the step count allowed at run time (the
@@ -316,8 +330,6 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
             freq, _ = modes(m_stuck, sol.level.y, sol.level.alpha, Masses(m_stuck), MODES)
         except SolverFailure:   # stuck, nothing can move: no frequencies
             freq = np.zeros(0)
-    f_ref = [float(freq[0]), float(freq[-1])] if len(freq) else [1.0 / spec.t_end] * 2
-    max_steps = check_work(spec, f_ref[0], model.n_q, f_ref[1])
     C = None
     if spec.alpha or spec.beta:
         from .modes import tangent
@@ -327,14 +339,21 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
         C = (spec.alpha * M0 + spec.beta * K0).tocoo()
         C.sum_duplicates()
     counts = {r.name: r.elements for r in fs.rods}
-    y0, a0 = (y_s, a_s) if spec.initial is None else _held_start(fs, counts, L, F, y_s, a_s, spec.initial)
-
-    fric_joints = [j for j in fs.joints if j.mu is not None]
+    f_ref = [float(freq[0]), float(freq[-1])] if len(freq) else [1.0 / spec.t_end] * 2
+    # joints with mu0 = 0 have no friction at all (the stick/slip direction of a massless slide is
+    # then undetermined): they are frictionless sliders and rollers
+    fric_joints = [j for j in fs.joints if j.mu is not None and j.mu0 > 0.0]
     fr = None
     if fric_joints:
         from .friction import Friction
         from .transient import StepSystem
         fr = Friction(model, fric_joints, lambda m, extras: StepSystem(m, masses, C, spec.ground, extras), counts)
+        if frequencies_of == "frictionless structure":
+            # stuck phases may be much stiffer (a massless rod clamped in its guide must stretch):
+            # the run-time step allowance follows the highest frequency of either
+            f_ref[1] = max(f_ref[1], _stuck_top(fr, y_s, a_s, masses))
+    max_steps = check_work(spec, f_ref[0], model.n_q, f_ref[1])
+    y0, a0 = (y_s, a_s) if spec.initial is None else _held_start(fs, counts, L, F, y_s, a_s, spec.initial)
     fric_names = {j.name for j in fric_joints}
 
     def forces(y, n):
