@@ -46,7 +46,7 @@ import scipy.sparse as sp  # noqa: E402
 
 from .corotational import strain_energy  # noqa: E402
 from .errors import BadInput, SolverFailure  # noqa: E402
-from .model import BandMatrix, solve_linear  # noqa: E402
+from .model import BandMatrix  # noqa: E402
 from .newton import newton  # noqa: E402
 
 EPS = float(np.finfo(float).eps)
@@ -253,20 +253,19 @@ def _locate(attempt, fr, phi0, cross, h, cand, max_iter=60):
 class _Light:
     """The static equations of the massless ("light") dofs of a step system's model, friction slip
     forces included, with the massive dofs held: the rows and columns of the light dofs and of the
-    constraint rows that involve them (the interface :func:`femslide.newton.newton` expects)."""
+    constraint rows that involve them.  With the massive dofs held, constraints may be redundant
+    (a rod end welded to a massive piece and also in a slider of a massive deck): the light
+    positions are still determined, the split of the redundant multipliers is not, so the linear
+    solves are least-squares (minimum norm)."""
 
     def __init__(self, sysm, y, alpha, heavy):
-        self.sysm, self.model, self.y = sysm, sysm.model, y
+        self.sysm, self.model = sysm, sysm.model
         n_q = self.model.n_q
         light = np.setdiff1d(np.arange(n_q), heavy).astype(np.intp)
         _, A, _ = self.full(y, alpha)
         rows = np.abs(A[n_q:, light]).max(axis=1) > 0.0 if light.size else np.zeros(A.shape[0] - n_q, bool)
         self.cols = np.concatenate([light, n_q + np.nonzero(rows)[0]]).astype(np.intp)
         self.heavy, self.n_q = heavy, light.size
-        self._rot = np.nonzero(np.isin(light, self.model.rotation_dofs()))[0].astype(np.intp)
-
-    def rotation_dofs(self):
-        return self._rot
 
     def full(self, y, alpha_ref, jacobian=True):
         """The whole model's static residual and dense Jacobian with the slip forces."""
@@ -279,11 +278,30 @@ class _Light:
                 A = add_coo(m, A, *coo)
         return r, A, info
 
-    def system(self, x, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
-        y = self.y.copy()
-        y[self.cols] = x
-        r, A, info = self.full(y, alpha_ref, jacobian)
-        return r[self.cols], (A[np.ix_(self.cols, self.cols)] if jacobian else None), info
+    def solve(self, y, alpha, maxit=30):
+        """Newton (least-squares steps) on the light unknowns from y: (y, alpha, residual history),
+        SolverFailure when it does not converge."""
+        c, n_q = self.cols, self.n_q
+        y = y.copy()
+        hist = []
+        for _ in range(maxit):
+            r, A, info = self.full(y, alpha)
+            rc = r[c]
+            floor = 4.0 * info["noise"] / (1.0 + info["fmax"])
+            res_f = float(np.abs(rc[:n_q]).max(initial=0.0)) / (1.0 + info["fmax"])
+            res_g = float(np.abs(rc[n_q:]).max(initial=0.0))
+            hist.append(max(res_f, res_g))
+            if res_g <= NEWTON_TOL and (res_f <= NEWTON_TOL or (len(hist) > 1 and res_f <= floor)):
+                return y, info["alpha"], hist
+            y[c] -= np.linalg.lstsq(A[np.ix_(c, c)], rc, rcond=None)[0]
+        raise SolverFailure("simulate: the massless parts find no equilibrium in the new friction modes", hist)
+
+    def rates(self, y, alpha, v_heavy):
+        """Velocities of the light dofs (and multiplier rates) for the massive dofs' velocities: the
+        time derivative of the light equations."""
+        _, A, _ = self.full(y, alpha)
+        c = self.cols
+        return np.linalg.lstsq(A[np.ix_(c, c)], -A[np.ix_(c, self.heavy)] @ v_heavy, rcond=None)[0]
 
 
 def _requilibrate(sysm, s: State):
@@ -297,19 +315,12 @@ def _requilibrate(sysm, s: State):
     if heavy.size == sysm.n_q:
         return s, 0.0
     light = _Light(sysm, s.y, s.alpha, heavy)
-    x, info = newton(light, s.y[light.cols], s.alpha, tol=NEWTON_TOL, maxit=30)
-    if not info.converged:
-        raise SolverFailure(f"simulate: the massless parts find no equilibrium in the new friction modes at "
-                            f"t = {s.t:.9g} s: {info.reason}", info.history)
-    y = s.y.copy()
-    y[light.cols] = x
-    released = potential(sysm.model, s.y, s.alpha) - potential(sysm.model, y, info.alpha)
-    _, A, _ = light.full(y, info.alpha)
-    rate = solve_linear(np.ascontiguousarray(A[np.ix_(light.cols, light.cols)]),
-                        -A[np.ix_(light.cols, heavy)] @ s.v[heavy])
+    y, alpha, _ = light.solve(s.y, s.alpha)
+    released = potential(sysm.model, s.y, s.alpha) - potential(sysm.model, y, alpha)
+    rate = light.rates(y, alpha, s.v[heavy])
     v = s.v.copy()
     v[light.cols[:light.n_q]] = rate[:light.n_q]
-    return State(s.t, y, v, s.acc, s.a, info.alpha), released
+    return State(s.t, y, v, s.acc, s.a, alpha), released
 
 
 def _switch(fr, s: State, i, h_s):

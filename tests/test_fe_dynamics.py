@@ -263,10 +263,14 @@ def test_paper_003_example_1_as_a_structure_against_the_exact_oscillator():
 
 
 def test_zero_friction_reproduces_the_frictionless_run():
-    """mu = mu0 = 0: the joint slips with zero friction force; the history (peaks, final slide)
-    equals the frictionless run's to 1e-7 m (event steps aside, the same integrator)."""
+    """mu = mu0 = 0 is no friction: no events, the frictionless run exactly.  mu = mu0 = 1e-9 goes
+    through the stick/slip machinery (a slip event at release) with a negligible force: the history
+    (peaks, final slide) equals the frictionless run's to 1e-7 m (event steps aside, the same
+    integrator)."""
     r0, h0 = _run(_belt(), t_end=0.3, tolerance=1e-7, initial={"joint": "belt", "slide": 0.07})
-    r1, h1 = _run(_belt(mu=0.0), t_end=0.3, tolerance=1e-7, initial={"joint": "belt", "slide": 0.07})
+    rz, hz = _run(_belt(mu=0.0), t_end=0.3, tolerance=1e-7, initial={"joint": "belt", "slide": 0.07})
+    assert rz["events"] == {} and hz["joints.belt.slide"][-1] == h0["joints.belt.slide"][-1]
+    r1, h1 = _run(_belt(mu=1e-9), t_end=0.3, tolerance=1e-7, initial={"joint": "belt", "slide": 0.07})
     assert r1["events"]["belt"][0]["kind"] == "slip-"
     for key in ("slide_min", "slide_max"):
         assert r1["peaks"]["joints"]["belt"][key] == pytest.approx(r0["peaks"]["joints"]["belt"][key], abs=1e-7)
