@@ -195,6 +195,13 @@ class Friction:
         return np.concatenate([y[:n], [vals.get(i, guess.get(i, 0.0)) for i in new_stuck]])
 
     # -- events -------------------------------------------------------------------------------------
+    def event(self, i, t, kind):
+        """Record joint i's new mode at t (a repeat of the joint's last event is not recorded: the
+        stick test may confirm a slip direction twice at one instant)."""
+        ev = self.events[self.joints[i].name]
+        if not ev or ev[-1] != {"t": t, "kind": kind}:
+            ev.append({"t": t, "kind": kind})
+
     def phi(self, y, v):
         """Event functions (positive while the mode holds): sigma s' when slipping, mu0 N - |lam|
         when stuck."""

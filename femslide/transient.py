@@ -333,7 +333,7 @@ def _switch(fr, s: State, i, h_s):
     old = fr.stuck()
     lam = fr.lock_multiplier(s.y, i)
     fr.mode[i] = 1 if lam > 0 else -1
-    fr.events[fr.joints[i].name].append({"t": s.t, "kind": "slip+" if lam > 0 else "slip-"})
+    fr.event(i, s.t, "slip+" if lam > 0 else "slip-")
     s = State(s.t, fr.convert(s.y, old, fr.stuck(), {}), s.v, s.acc, s.a, s.alpha)
     sysm = fr.system()
     s, released = _requilibrate(sysm, s)
@@ -366,14 +366,14 @@ def _settle(fr, s: State, h_s, pending, old_stuck):
         N, _ = fj.normal(s.y)
         lam = fr.lock_multiplier(s.y, i)
         if abs(lam) <= fj.mu0 * N:
-            fr.events[fj.name].append({"t": s.t, "kind": "stick"})
+            fr.event(i, s.t, "stick")
         else:
             slip.append((i, 1 if lam > 0 else -1))
     if slip:
         old = fr.stuck()
         for i, sg in slip:
             fr.mode[i] = sg
-            fr.events[fr.joints[i].name].append({"t": s.t, "kind": "slip+" if sg > 0 else "slip-"})
+            fr.event(i, s.t, "slip+" if sg > 0 else "slip-")
         s = State(s.t, fr.convert(s.y, old, fr.stuck(), {}), s.v, s.acc, s.a, s.alpha)
         sysm = fr.system()
         s, more = _requilibrate(sysm, s)
