@@ -269,8 +269,10 @@ def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
     """Bad input (naming t_end and the usable range) when the run would take more than WORK_BUDGET_S
     by the steps its lowest frequency f1 needs; returns the step count allowed at run time (the
     steps of the highest computed frequency f_top, whose modes a release may excite, times 3)."""
-    c3 = 0.084
-    per_period = 2 * math.pi * (c3 / (0.5 * spec.tolerance)) ** (1.0 / 3.0) * 1.5
+    from .transient import SAFETY, error_constant
+    # steps per period of a harmonic motion at the error control's step h = (SAFETY tol / c3)^(1/3) / w
+    # (|a_{n+1} - a_n| ~ w^3 h amp), with 1.5 for rejected steps and the control's margin
+    per_period = 2 * math.pi * (error_constant() / (SAFETY * spec.tolerance)) ** (1.0 / 3.0) * 1.5
     f_forced = spec.ground.frequency if spec.ground is not None and spec.ground.times is None else 0.0
     periods = spec.t_end * max(f1, f_forced)
     steps = periods * per_period
@@ -375,6 +377,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
     frames, frames_rows = [], []   # (t, row index, y, alpha) every t_end / FRAMES
     next_frame = [0.0]
 
+    rod_elements = [np.nonzero(model.elem_rod == k)[0] for k in range(len(rods))] if rods else []
+
     def observe(t, y, alpha, v):
         row = [t]
         for n in reac:
@@ -383,9 +387,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
         if rods:
             qb, _ = model.element_forces(y[:model.n_q], alpha)
             Mabs = np.abs(qb[:, 1:]).max(axis=1) if qb.size else np.zeros(0)
-            for k in range(len(rods)):
-                e = model.elem_rod == k
-                row.append(float(Mabs[e].max()) * F * L if e.any() else 0.0)
+            for e in rod_elements:
+                row.append(float(Mabs[e].max()) * F * L if e.size else 0.0)
         q = y[:model.n_q]
         for n in slides:
             link = model.joint[n]

@@ -69,6 +69,12 @@ def parameters(rho_inf=RHO_INF):
     return am, af, gamma, beta
 
 
+def error_constant(rho_inf=RHO_INF):
+    """c3 of the local position error c3 h^2 (a_{n+1} - a_n) (Taylor expansion of the update)."""
+    am, af, gamma, beta = parameters(rho_inf)
+    return abs(0.5 * (am - af) + beta - 1.0 / 6.0)
+
+
 def add_coo(model, A, rows, cols, vals):
     """A + the COO entries (which must lie in the Jacobian's pattern), for A dense, banded or sparse."""
     if isinstance(A, np.ndarray):
@@ -409,8 +415,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
     remembered (default: the whole run).  Raises SolverFailure when a step cannot be completed
     (Newton fails at the smallest step)
     or the step count or wall time runs out."""
-    am, af, gamma, beta = parameters()
-    c3 = abs(0.5 * (am - af) + beta - 1.0 / 6.0)
+    c3 = error_constant()
     n_q = model.n_q
     heavy = masses.massive_dofs()
     if heavy.size == 0:
@@ -507,7 +512,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         event = None
         h_next = h * min(2.0, max(0.2, 0.9 * max(err, 1e-12) ** (-1.0 / 3.0)))
         if fr is not None:
-            phi0, phi1 = fr.phi(s.y, s.v), fr.phi(y, v1)
+            phi0, phi1 = ph, fr.phi(y, v1)   # (ph: the modes' event functions at s, above)
             cross = (phi1 < 0.0) & (phi0 >= 0.0)
             if cross.any():
                 h_ev, cand = _locate(lambda hh, sy=sysm, st=s: attempt(sy, st, hh), fr, phi0, cross, h, cand)
