@@ -46,7 +46,7 @@ import scipy.sparse as sp  # noqa: E402
 
 from .corotational import strain_energy  # noqa: E402
 from .errors import BadInput, SolverFailure  # noqa: E402
-from .model import BandMatrix  # noqa: E402
+from .model import BandMatrix, solve_linear  # noqa: E402
 from .newton import newton  # noqa: E402
 
 EPS = float(np.finfo(float).eps)
@@ -261,8 +261,9 @@ class _Light:
     forces included, with the massive dofs held: the rows and columns of the light dofs and of the
     constraint rows that involve them.  With the massive dofs held, constraints may be redundant
     (a rod end welded to a massive piece and also in a slider of a massive deck): the light
-    positions are still determined, the split of the redundant multipliers is not, so the linear
-    solves are least-squares (minimum norm)."""
+    positions are still determined, the split of the redundant multipliers is not: a singular
+    system is solved by least squares (minimum norm), a regular one by LU (least squares would drop
+    the soft directions of a stiff, ill-conditioned rod)."""
 
     def __init__(self, sysm, y, alpha, heavy):
         self.sysm, self.model = sysm, sysm.model
@@ -299,7 +300,9 @@ class _Light:
             hist.append(max(res_f, res_g))
             if res_g <= NEWTON_TOL and (res_f <= NEWTON_TOL or (len(hist) > 1 and res_f <= floor)):
                 return y, info["alpha"], hist
-            y[c] -= np.linalg.lstsq(A[np.ix_(c, c)], rc, rcond=None)[0]
+            if len(hist) > 4 and hist[-1] <= 1e-7 and hist[-1] > 0.5 * min(hist[-4:-1]):
+                return y, info["alpha"], hist   # stagnated at the round-off level (as newton.newton)
+            y[c] -= _solve(A[np.ix_(c, c)], rc)
         raise SolverFailure("simulate: the massless parts find no equilibrium in the new friction modes", hist)
 
     def rates(self, y, alpha, v_heavy):
@@ -307,7 +310,15 @@ class _Light:
         time derivative of the light equations."""
         _, A, _ = self.full(y, alpha)
         c = self.cols
-        return np.linalg.lstsq(A[np.ix_(c, c)], -A[np.ix_(c, self.heavy)] @ v_heavy, rcond=None)[0]
+        return _solve(A[np.ix_(c, c)], -A[np.ix_(c, self.heavy)] @ v_heavy)
+
+
+def _solve(A, b):
+    """x with A x = b: LU, or least squares (minimum norm) when A is singular."""
+    try:
+        return solve_linear(np.ascontiguousarray(A), b)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(A, b, rcond=None)[0]
 
 
 def _requilibrate(sysm, s: State):

@@ -429,3 +429,16 @@ def test_friction_in_a_clamp_held_twice_once_the_masses_are_fixed():
     assert kinds == ["slip-", "slip+", "slip-"]
     assert res["energy"]["dissipated"] > 1e-3
     assert res["energy_balance"] < 1e-4
+
+
+def test_massless_slide_jump_on_a_fine_mesh():
+    """beam-friction.toml with 64 elements (a stiff, ill-conditioned massless rod: the re-solve at a
+    mode change must not drop its soft directions, which least squares did): the same first four
+    events as on the file's 8 elements, at the same instants within 1e-4 s."""
+    f = "meshes/structures/beam-friction.toml"
+    coarse = femslide.simulate(f, t_end=0.7, tolerance=1e-5)
+    fine = femslide.simulate(f, t_end=0.7, tolerance=1e-5, **{"right.elements": 64})
+    ec, ef = coarse["events"]["clamp"], fine["events"]["clamp"]
+    assert [e["kind"] for e in ef] == [e["kind"] for e in ec] == ["stick", "slip-", "stick", "slip+"]
+    for a, b in zip(ec, ef):
+        assert abs(a["t"] - b["t"]) < 1e-4

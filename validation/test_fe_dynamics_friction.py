@@ -64,6 +64,8 @@ BEAM_FRICTION_STICK = [0.5980783557781205, 1.1999410820655922, 1.808435723775855
 BEAM_FRICTION_F2 = 15.735132504141756
 BEAM_FRICTION_SLIDE = (-0.08479172708081142, 0.08018954611890944)
 BEAM_FRICTION_OMEGA = 5.090891795846383
+BEAM_FRICTION_WORK = (0.3886431132621047 + 4.688917117104702e-06, 0.7568608325916912)  # friction_work +
+#   jump_loss, work_in [J]
 
 
 @pytest.mark.slow
@@ -75,7 +77,9 @@ def test_beam_friction_twin_with_a_massless_slide():
     second-order phase error grows over the run, 1.5e-5 s at 1e-7); peak |F2| within 1e-3 (3.2e-4);
     slide range within 1e-4 m (1.4e-5); the lowest frequency equals the reduced model's small-
     oscillation omega / 2 pi within 1e-8 (2e-9); energy balance, jump losses included, below 1e-3
-    (2.7e-4: it follows the global error, ~ tolerance^(2/3))."""
+    (2.7e-4: it follows the global error, ~ tolerance^(2/3)); the energy dissipated by friction, the
+    jumps included, and the work of the ground motion within 1e-3 of the reduced model's (2.6e-4,
+    1.2e-4)."""
     res = femslide.simulate("meshes/structures/beam-friction.toml")
     ev = res["events"]["clamp"]
     kinds = [e["kind"] for e in ev]
@@ -89,6 +93,8 @@ def test_beam_friction_twin_with_a_massless_slide():
     assert abs(j["slide_min"] - BEAM_FRICTION_SLIDE[0]) < 1e-4 and abs(j["slide_max"] - BEAM_FRICTION_SLIDE[1]) < 1e-4
     assert res["frequencies_hz"][0] == pytest.approx(BEAM_FRICTION_OMEGA / (2 * np.pi), rel=1e-8)
     assert res["energy_balance"] < 1e-3
+    assert res["energy"]["dissipated"] == pytest.approx(BEAM_FRICTION_WORK[0], rel=1e-3)
+    assert res["energy"]["work_in"] == pytest.approx(BEAM_FRICTION_WORK[1], rel=1e-3)
     # the slide is exactly at rest while stuck: no drift between a stick and the next breakaway
     t, s = res.history["t"], res.history["joints.clamp.slide"]
     for a, b in zip(ev[2::2], ev[3::2]):
