@@ -212,8 +212,18 @@ class Friction:
                 out.append(mo * fj.slide_rate(q, v)[1])
             else:
                 N, _ = fj.normal(y)
-                out.append(fj.mu0 * N - abs(self.lock_multiplier(y, i)))
+                out.append(self.holding(i, y))
         return np.array(out)
+
+    def started_slip(self, i, t):
+        """Whether joint i started to slip at t (its last event, and it is slipping)."""
+        ev = self.events[self.joints[i].name]
+        return self.mode[i] != 0 and bool(ev) and ev[-1]["t"] == t
+
+    def holding(self, i, y):
+        """Stuck joint i's margin mu0 N - |lam|: >= 0 while static friction holds."""
+        N, _ = self.joints[i].normal(y)
+        return self.joints[i].mu0 * N - abs(self.lock_multiplier(y, i))
 
     def power(self, y, v):
         """Friction power dissipated (model units), sum of mu N |s'| over the slipping joints."""

@@ -379,10 +379,8 @@ def _settle(fr, s: State, h_s, pending, old_stuck):
     s = _consistent_start(sysm, s, h_s)
     slip = []
     for i in pending:
-        fj = fr.joints[i]
-        N, _ = fj.normal(s.y)
         lam = fr.lock_multiplier(s.y, i)
-        if abs(lam) <= fj.mu0 * N:
+        if fr.holding(i, s.y) >= 0.0:
             fr.event(i, s.t, "stick")
         else:
             slip.append((i, 1 if lam > 0 else -1))
@@ -492,8 +490,10 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
             # a joint whose mode no longer holds at the start of a step (two events at one instant):
             # switch it now
             ph = fr.phi(s.y, s.v)
-            late = np.nonzero(ph < -1e-10)[0]
-            if late.size:
+            # (a joint that has just started to slip is not late: a massless slide's velocity follows
+            # the masses, and at a reversal it may still carry the old sign at round-off level)
+            late = [i for i in np.nonzero(ph < -1e-10)[0] if not fr.started_slip(i, s.t)]
+            if late:
                 switches = switches + 1 if s.t == t_switch else 1
                 t_switch = s.t
                 if switches > 2 * len(fr.joints) + 2:
