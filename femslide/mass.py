@@ -32,6 +32,8 @@ import numpy as np
 class Masses:
     """The masses of a :class:`femslide.model.Model` (model units, see the module docstring)."""
 
+    SCALAR_BODIES = 8   # up to this many bodies, inertia() loops in Python; above, numpy over bodies
+
     def __init__(self, model):
         fs = model.structure
         L, F = model.Lref, model.Fref
@@ -117,7 +119,7 @@ class Masses:
                 f[nd[k:]] += self.node_vals[k:] * ground[1]
         if not self.body_d.size:
             return f, (self.coo_rows, self.coo_cols, c_acc * self.node_vals)
-        if self.body_d.size <= 8:   # a few bodies: scalar arithmetic is faster than numpy's per-call cost
+        if self.body_d.size <= self.SCALAR_BODIES:   # a few bodies: scalar arithmetic is faster than numpy's calls
             vals = [c_acc * self.node_vals]
             gx, gy = (float(ground[0]), float(ground[1])) if ground is not None else (0.0, 0.0)
             for d, m, J, (rx, ry) in self._body_list:
