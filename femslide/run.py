@@ -199,7 +199,7 @@ class Result(dict):
             flattened with dots, numpy numbers as floats, NaN and inf as None; lists (turning
             points, files) are left out.
         """
-        return flatten(clean(self))
+        return dotted(clean(self))
 
     def to_dataframe(self) -> pandas.DataFrame:
         """The result as a :class:`pandas.DataFrame`.
@@ -269,12 +269,12 @@ HISTORY_UNITS = {"t": "s", "w": "m", "v": "m/s", "state": "-", "F": "N", "f": "N
                  "N1": "N", "F2": "N", "N2": "N"}
 
 
-def flatten(obj: dict, prefix: str = "") -> dict:
+def dotted(obj: dict, prefix: str = "") -> dict:
     """Nested dicts to one dict with dotted keys; lists are left out (see :meth:`Result.flat`)."""
     out = {}
     for k, v in obj.items():
         if isinstance(v, dict):
-            out.update(flatten(v, f"{prefix}{k}."))
+            out.update(dotted(v, f"{prefix}{k}."))
         elif not isinstance(v, (list, tuple)):
             out[f"{prefix}{k}"] = v
     return out
@@ -438,7 +438,7 @@ def sweep_table(target, varied: dict, fixed: dict | None = None, jobs: int = 1, 
                 rows[i] = {**{nm: cases[i].get(nm, combos[i][nm]) for nm in names},
                            "converged": bool(row.get("converged", True)), "status": status,
                            "reason": row.get("reason"),
-                           **flatten({k: v for k, v in row.items() if k not in ("converged", "reason")})}
+                           **dotted({k: v for k, v in row.items() if k not in ("converged", "reason")})}
                 bar.update(1)
         finally:
             bar.close()
