@@ -130,6 +130,7 @@ class StepSystem:
         self.c_a = 1.0 / (beta * h * h)       # d a_{n+1} / d q_{n+1}
         self.c_acc = (1.0 - am) / (1.0 - af) * self.c_a
         self.c_vel = gamma * h * self.c_a
+        self.noise_in = EPS * self.c_acc * self.m_max * (float(np.abs(self.qn).max()) + float(np.abs(self.base).max()))
         ag = self.ground.accel(self.t1) if self.ground is not None else 0.0
         # m/s^2 -> model lengths / s^2
         self.ag_vec = None if self.ground is None else ag * self.ground.direction / self.model.Lref
@@ -168,9 +169,9 @@ class StepSystem:
         # round-off of the inertia term: q'' ~ (q - base) / (beta h^2) resolves q only to eps |q|;
         # when that level is above 1e-6 of the forces (steps far shorter than the motion's time
         # scale) Newton accepts a residual at this level, as for the element forces' round-off
-        noise_in = EPS * self.c_acc * self.m_max * (float(np.abs(q).max()) + float(np.abs(self.base).max()))
-        if self.roundoff_floor and noise_in > 1e-6 * (1.0 + info["fmax"]):
-            info["noise"] = info["noise"] + noise_in
+        # (with |q| from the step's start: it moves by a step's increment, irrelevant at this level)
+        if self.roundoff_floor and self.noise_in > 1e-6 * (1.0 + info["fmax"]):
+            info["noise"] = info["noise"] + self.noise_in
         if jacobian:
             A = add_coo(self.model, A, rows, cols, vals)
             if self.Csr is not None:
