@@ -23,8 +23,11 @@ point along the guide carried by b; femslide/joints.py) by a friction force alon
   modes with the massive dofs held, their velocities made consistent with the massive ones, and the
   integrator restarts with consistent accelerations (the friction force jumps).  A massless slide
   that breaks away with mu0 > mu therefore jumps at once to the position where the forces on it equal
-  the sliding friction (it has no inertia to slow it); the potential energy that releases counts as
-  dissipated by friction (femslide/transient.py, ``_requilibrate``).
+  the sliding friction and stops there: the quasi-static limit of a vanishing slide mass with the
+  jump's energy lost on the way (a small slide mass on a spring would overshoot before it sticks);
+  the potential energy released counts as dissipated (femslide/transient.py, ``_requilibrate``).
+- a joint with mu0 = 0 has no friction at all: femslide/simulation.py treats it as an ordinary slider
+  or roller.
 
 The structure's model gets one extra constraint per stuck joint: a model per set of stuck joints,
 built when first needed (the lock multipliers come after the joints', so the joints' layout stays).
@@ -211,7 +214,6 @@ class Friction:
             if mo != 0:
                 out.append(mo * fj.slide_rate(q, v)[1])
             else:
-                N, _ = fj.normal(y)
                 out.append(self.holding(i, y))
         return np.array(out)
 

@@ -226,6 +226,11 @@ def _held_start(fs, counts, L, F, y, alpha, ini):
 
 # -- the run ----------------------------------------------------------------------------------------
 
+def _has_friction(j):
+    """Whether joint j has friction: a mu, and mu0 > 0 (mu0 = 0 is an ordinary slider or roller)."""
+    return j.mu is not None and j.mu0 > 0.0
+
+
 def _stuck_statics(fs, exc):
     """Static solution of the structure with its friction joints stuck (sliders as welds, rollers as
     pins, at the same points); SolverFailure (the original reason) if that fails too."""
@@ -251,7 +256,7 @@ def _fixed_mesh(fs, n):
     return replace(fs, rods=rods, derived={})
 
 
-def _stuck_top(fr, y_s, a_s, masses):
+def _stuck_top(fr, y_s, a_s):
     """Highest of the MODES lowest natural frequencies [Hz] with every friction joint stuck (0 when
     they cannot be computed); about the frictionless static state, where the locks carry no force."""
     from .mass import Masses
@@ -311,13 +316,15 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
             raise
         # frictionless, the structure has no equilibrium of its own (a block on a ground slider
         # without a spring): at rest its friction joints are stuck - solve the statics so
-        # (a stuck slider holds like a weld, a stuck roller like a pin) and start from there
+        # (a stuck slider holds like a weld, a stuck roller like a pin) and start from there.  A
+        # joint declared with mu0 = 0 is held so too for the start only (at rest, released at t = 0)
         sol = _stuck_statics(fs, exc)
         model = _model_like(fs, sol.level.model)
         y_s = np.zeros(model.n)
         y_s[:model.n_q] = sol.level.y[:model.n_q]
         a_s = sol.level.alpha
-        frequencies_of = "structure with its friction joints stuck"
+        frequencies_of = ("structure with its friction joints stuck" if any(_has_friction(j) for j in fs.joints)
+                          else "structure with its sliders and rollers held (frictionless it has no equilibrium)")
     L, F = model.Lref, model.Fref
     masses = Masses(model)
     if masses.massive_dofs().size == 0:
@@ -344,7 +351,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
     f_ref = [float(freq[0]), float(freq[-1])] if len(freq) else [1.0 / spec.t_end] * 2
     # joints with mu0 = 0 have no friction at all (the stick/slip direction of a massless slide is
     # then undetermined): they are frictionless sliders and rollers
-    fric_joints = [j for j in fs.joints if j.mu is not None and j.mu0 > 0.0]
+    fric_joints = [j for j in fs.joints if _has_friction(j)]
     fr = None
     if fric_joints:
         from .friction import Friction
@@ -353,7 +360,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
         if frequencies_of == "frictionless structure":
             # stuck phases may be much stiffer (a massless rod clamped in its guide must stretch):
             # the run-time step allowance follows the highest frequency of either
-            f_ref[1] = max(f_ref[1], _stuck_top(fr, y_s, a_s, masses))
+            f_ref[1] = max(f_ref[1], _stuck_top(fr, y_s, a_s))
     max_steps = check_work(spec, f_ref[0], model.n_q, f_ref[1])
     y0, a0 = (y_s, a_s) if spec.initial is None else _held_start(fs, counts, L, F, y_s, a_s, spec.initial)
     fric_names = {j.name for j in fric_joints}
@@ -565,6 +572,9 @@ def run_api(target, params: dict):
         name = "structure"
     # [simulate] keys, bare or in the command line's --set form simulate.KEY
     sim = {k[len("simulate."):]: params.pop(k) for k in list(params) if k.startswith("simulate.")}
+    both = sorted(set(sim) & set(params) & set(SIM_KEYS))
+    if both:
+        raise BadInput(f"simulate: {both[0]} given both as {both[0]} and as simulate.{both[0]}; allowed: one of them")
     sim.update({k: params.pop(k) for k in list(params) if k in SIM_KEYS})
     table.update(sim)
     if isinstance(target, Structure):

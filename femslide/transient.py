@@ -28,9 +28,10 @@ smaller h, the next step is h (0.9 / err)^(1/3) (between 0.2 h and 2 h).
 
 Damping: Rayleigh, C = alpha M0 + beta K0 with M0 and K0 the mass matrix and the tangent at the
 static state (constant).  Energy balance: kinetic + potential (strain, springs, dead loads including
-gravity) + dissipated (integral of v.C v) - work of the ground-motion inertia loads (integral of
-F_g . v), both integrals by the trapezoidal rule per step; reported relative to the largest energy
-of the run.
+gravity) + dissipated - work of the ground-motion inertia loads (integral of F_g . v); dissipated is
+the integral of the damping and friction power (v.C v + mu N |s'|) plus the energy released by the
+jumps of massless parts at friction events (``_requilibrate``); the integrals by the trapezoidal
+rule per step; reported relative to the largest energy of the run.
 """
 from __future__ import annotations
 
@@ -258,84 +259,105 @@ def _locate(attempt, fr, phi0, cross, h, cand, max_iter=60):
 
 
 class _Light:
-    """The static equations of the massless ("light") dofs of a step system's model, friction slip
-    forces included, with the massive dofs held: the rows and columns of the light dofs and of the
-    constraint rows that involve them.  With the massive dofs held, constraints may be redundant
-    (a rod end welded to a massive piece and also in a slider of a massive deck): the light
-    positions are still determined, the split of the redundant multipliers is not: a singular
-    system is solved by least squares (minimum norm), a regular one by LU (least squares would drop
-    the soft directions of a stiff, ill-conditioned rod)."""
+    """The equations of the massless ("light") dofs of a step system's model with the massive dofs
+    held and the velocities ``v`` held: static forces, friction slip forces and the Rayleigh damping
+    forces C v (as in the step's equations), on the rows and columns of the light dofs and of the
+    constraint rows that involve them.  With the masses held, constraints may be redundant (a rod end
+    welded to a massive piece and also in the slider of a massive deck): the light positions are
+    still determined, the split of the multipliers is not.  The redundant rows are dropped up front
+    (:func:`_independent_rows` on the constraint gradients, which are O(1) in model units), so the
+    system solved is regular (LU) whatever the rod's stiffness."""
 
-    def __init__(self, sysm, y, alpha, heavy):
-        self.sysm, self.model = sysm, sysm.model
+    def __init__(self, sysm, y, alpha, v, heavy):
+        self.sysm, self.model, self.v = sysm, sysm.model, v
         n_q = self.model.n_q
         light = np.setdiff1d(np.arange(n_q), heavy).astype(np.intp)
-        _, A, _ = self.full(y, alpha)
-        rows = np.abs(A[n_q:, light]).max(axis=1) > 0.0 if light.size else np.zeros(A.shape[0] - n_q, bool)
-        self.cols = np.concatenate([light, n_q + np.nonzero(rows)[0]]).astype(np.intp)
+        self.first = self.full(y, alpha)
+        A = self.first[1]
+        G = A[n_q:, light]
+        rows = np.nonzero(np.abs(G).max(axis=1) > 0.0)[0] if light.size else np.zeros(0, np.intp)
+        rows = rows[_independent_rows(G[rows])]
+        self.cols = np.concatenate([light, n_q + rows]).astype(np.intp)
         self.heavy, self.n_q = heavy, light.size
 
     def full(self, y, alpha_ref, jacobian=True):
-        """The whole model's static residual and dense Jacobian with the slip forces."""
-        m = self.model
+        """The whole model's residual (static, slip and damping forces) and its dense Jacobian."""
+        m, sysm = self.model, self.sysm
         r, A, info = m.system(y, alpha_ref, 1.0, None, jacobian, dense=True)
-        for ex in self.sysm.extra:
+        for ex in sysm.extra:
             fe, coo = ex(y, None, 0.0)
             r[:m.n_q] += fe
             if jacobian:
                 A = add_coo(m, A, *coo)
+        if sysm.Csr is not None:
+            r[:m.n_q] += sysm.Csr @ self.v
         return r, A, info
 
     def solve(self, y, alpha, maxit=30):
-        """Newton (least-squares steps) on the light unknowns from y: (y, alpha, residual history),
-        SolverFailure when it does not converge."""
+        """Newton on the light unknowns from y: (y, alpha, residual history); SolverFailure when it
+        does not converge."""
         c, n_q = self.cols, self.n_q
         y = y.copy()
         hist = []
+        r, A, info = self.first
         for _ in range(maxit):
-            r, A, info = self.full(y, alpha)
             rc = r[c]
             floor = 4.0 * info["noise"] / (1.0 + info["fmax"])
             res_f = float(np.abs(rc[:n_q]).max(initial=0.0)) / (1.0 + info["fmax"])
             res_g = float(np.abs(rc[n_q:]).max(initial=0.0))
             hist.append(max(res_f, res_g))
             if res_g <= NEWTON_TOL and (res_f <= NEWTON_TOL or (len(hist) > 1 and res_f <= floor)):
+                self.first = (r, A, info)
                 return y, info["alpha"], hist
             if len(hist) > 4 and hist[-1] <= 1e-7 and hist[-1] > 0.5 * min(hist[-4:-1]):
+                self.first = (r, A, info)
                 return y, info["alpha"], hist   # stagnated at the round-off level (as newton.newton)
-            y[c] -= _solve(A[np.ix_(c, c)], rc)
+            y[c] -= solve_linear(np.ascontiguousarray(A[np.ix_(c, c)]), rc)
+            r, A, info = self.full(y, alpha)
         raise SolverFailure("simulate: the massless parts find no equilibrium in the new friction modes", hist)
 
-    def rates(self, y, alpha, v_heavy):
-        """Velocities of the light dofs (and multiplier rates) for the massive dofs' velocities: the
-        time derivative of the light equations."""
-        _, A, _ = self.full(y, alpha)
-        c = self.cols
-        return _solve(A[np.ix_(c, c)], -A[np.ix_(c, self.heavy)] @ v_heavy)
+    def rates(self, v_heavy):
+        """Velocities of the light dofs (and multiplier rates) for the massive dofs' velocities at the
+        state :meth:`solve` returned: the time derivative of the light equations (the damping
+        forces' own rate, which needs accelerations, left out)."""
+        A, c = self.first[1], self.cols
+        return solve_linear(np.ascontiguousarray(A[np.ix_(c, c)]), -A[np.ix_(c, self.heavy)] @ v_heavy)
 
 
-def _solve(A, b):
-    """x with A x = b: LU, or least squares (minimum norm) when A is singular."""
-    try:
-        return solve_linear(np.ascontiguousarray(A), b)
-    except np.linalg.LinAlgError:
-        return np.linalg.lstsq(A, b, rcond=None)[0]
+def _independent_rows(G, rtol=1e-9):
+    """Indices of a maximal set of linearly independent rows of G (in order; a row is dropped when
+    its part orthogonal to the rows kept is below rtol times its norm)."""
+    keep, basis = [], []
+    for i, g in enumerate(G):
+        n0 = float(np.linalg.norm(g))
+        if n0 == 0.0:
+            continue
+        r = g.copy()
+        for _ in range(2):                       # Gram-Schmidt, twice for round-off
+            for b in basis:
+                r -= (b @ r) * b
+        nr = float(np.linalg.norm(r))
+        if nr > rtol * n0:
+            keep.append(i)
+            basis.append(r / nr)
+    return np.array(keep, dtype=np.intp)
 
 
 def _requilibrate(sysm, s: State):
-    """The massless dofs at a change of the friction modes: solved for their static equilibrium in
-    the new modes with the massive dofs held where they are, and their velocities made consistent
-    with the massive ones (the time derivative of that equilibrium).  A massless slide that breaks
-    away with mu0 > mu jumps here to the position where its spring and elastic forces equal the
-    sliding friction; the potential energy the jump releases is returned (model units): friction
-    dissipates it.  Returns (state, released energy)."""
+    """The massless dofs at a change of the friction modes: solved for their equilibrium in the new
+    modes with the massive dofs (and the velocities) held where they are, and their velocities made
+    consistent with the massive ones (the time derivative of that equilibrium).  This is the
+    quasi-static limit of a vanishing slide mass with the jump's energy lost on the way: a massless
+    slide that breaks away with mu0 > mu moves at once to the position where its spring and elastic
+    forces equal the sliding friction (and stops there, with no overshoot).  Returns the state and
+    the potential energy the jump releases (model units; dissipated)."""
     heavy = sysm.masses.massive_dofs()
     if heavy.size == sysm.n_q:
         return s, 0.0
-    light = _Light(sysm, s.y, s.alpha, heavy)
+    light = _Light(sysm, s.y, s.alpha, s.v, heavy)
     y, alpha, _ = light.solve(s.y, s.alpha)
     released = potential(sysm.model, s.y, s.alpha) - potential(sysm.model, y, alpha)
-    rate = light.rates(y, alpha, s.v[heavy])
+    rate = light.rates(s.v[heavy])
     v = s.v.copy()
     v[light.cols[:light.n_q]] = rate[:light.n_q]
     return State(s.t, y, v, s.acc, s.a, alpha), released
@@ -442,6 +464,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
     V0 = potential(model, y0, alpha0)
     T0 = masses.kinetic(y0[:n_q], s.v)
     D = W = 0.0
+    J = 0.0            # of D: the energy released by jumps of massless parts at friction events
     Emax = 0.0
     bal = 0.0
     Csr = C.tocsr() if C is not None else None
@@ -475,6 +498,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
     else:
         s, sysm, released = _settle(fr, s, h_s, list(range(len(fr.joints))), ())
         D += released
+        J += released
     Pg, Pd = ground_power(s.y[:n_q], s.v, 0.0), loss_power(s.y, s.v)
     if observe:
         out.rows.append(observe(0.0, s.y, s.alpha, s.v))
@@ -491,9 +515,11 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
             # a joint whose mode no longer holds at the start of a step (two events at one instant):
             # switch it now
             ph = fr.phi(s.y, s.v)
-            # (a joint that has just started to slip is not late: a massless slide's velocity follows
-            # the masses, and at a reversal it may still carry the old sign at round-off level)
-            late = [i for i in np.nonzero(ph < -1e-10)[0] if not fr.started_slip(i, s.t)]
+            # (a joint that has just started to slip is not late at that instant: a massless slide's
+            # velocity follows the masses, and at a reversal it may still carry the old sign by a
+            # hair; if it really moves the other way, the next step's start finds it late)
+            fresh = [fr.started_slip(i, s.t) for i in range(ph.size)]
+            late = [i for i in np.nonzero(ph < -1e-10)[0] if not fresh[i]]
             if late:
                 switches = switches + 1 if s.t == t_switch else 1
                 t_switch = s.t
@@ -502,6 +528,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
                                         f"t = {s.t:.9g} s")
                 s, sysm, released = _switch(fr, s, int(late[0]), START_STEP * h)
                 D += released
+                J += released
                 Pd = loss_power(s.y, s.v)
                 continue
         cand, info = attempt(sysm, s, h)
@@ -547,10 +574,11 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         if event is not None:
             s, sysm, released = _switch(fr, s, event, START_STEP * h_next)
             D += released
+            J += released
             Pd1 = loss_power(s.y, s.v)
         Pg, Pd = Pg1, Pd1
-        T = masses.kinetic(q, v1)
-        V = potential(model, y, s.alpha) - V0
+        T = masses.kinetic(s.y[:n_q], s.v)         # (after a switch: the state it left)
+        V = potential(model, s.y, s.alpha) - V0
         Emax = max(Emax, abs(T), abs(V), abs(D), abs(W))
         bal = max(bal, abs(T + V + D - W - T0))
         if observe:
@@ -561,5 +589,6 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
     out.energy_balance = bal / Emax if Emax > 0 else 0.0
     out.energy = {"kinetic": masses.kinetic(s.y[:n_q], s.v) * model.Fref * model.Lref,
                   "potential": (potential(model, s.y, s.alpha) - V0) * model.Fref * model.Lref,
-                  "dissipated": D * model.Fref * model.Lref, "work_in": W * model.Fref * model.Lref}
+                  "dissipated": D * model.Fref * model.Lref, "work_in": W * model.Fref * model.Lref,
+                  "jump_loss": J * model.Fref * model.Lref}
     return out

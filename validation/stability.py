@@ -48,7 +48,7 @@ Checks (TOL = 1e-6 relative unless stated):
 * FE dynamics of the shipped structure files (simulate FILE.toml with --set overrides: tolerance
   1e-9 .. 1e-3, stiff and soft rods, massive rods, Rayleigh damping, friction from a trace to
   locking, bearings, fine meshes, recorded ground motion in any direction): the energy balance
-  within 30 tolerance^(2/3) (the second-order integrator's global error), and where a reference
+  within 30 tolerance^(2/3) and 1e-2 (the second-order integrator's global error), and where a reference
   exists - section 5.2's peak |F2| (the reduced model, 10 tolerance^(2/3)), beam-friction's ends of
   slip (the reduced model, 1e-4 s), the belt's ends of slip (the exact oscillator, 1e-6 s).
 * issue 12 groups (extreme loads, huge records, stiff damping, long t_end, friction limits): inputs
@@ -635,7 +635,7 @@ def check_fe_dynamics(row, r):
     detail = f"{r['steps']} steps ({r['rejected_steps']} rejected); energy_balance {bal:.1e} at tolerance {tol:g}"
     if scale < 1e-9:
         return "solved (round-off level)", detail + f"; energies below {scale:.1e} J: nothing to balance"
-    ok = bal <= FE_ENERGY_C * tol ** (2.0 / 3.0)
+    ok = bal <= min(FE_ENERGY_C * tol ** (2.0 / 3.0), 1e-2)
     name = pathlib.Path(row["scene"]).stem
     plain = not any(k for k in sets if not k.startswith("simulate.tolerance"))
     if name == "beam-oscillation" and plain:
