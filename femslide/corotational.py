@@ -15,7 +15,6 @@ axial springs (EA/EI up to 1e12 m^-2) do not amplify round-off in the node coord
 """
 from __future__ import annotations
 
-import copy
 from dataclasses import dataclass
 
 import numpy as np
@@ -78,18 +77,19 @@ class ElementSet:
 
     def with_stiffness(self, kb: np.ndarray) -> "ElementSet":
         """The same elements with the basic stiffness kb (n, 3, 3): the geometric data are shared."""
-        new = copy.copy(self)
+        new = object.__new__(ElementSet)
+        new.__dict__.update(self.__dict__)
         new.kb = kb
         new._stiffness()
         return new
 
     def _stiffness(self):
-        S = np.ascontiguousarray(self.kb.reshape(-1, 9).T)   # (9, n): k00 k01 k02 k10 k11 k12 k20 k21 k22
+        S = self.kb.reshape(-1, 9).T.copy()   # (9, n): k00 k01 k02 k10 k11 k12 k20 k21 k22
         self.k00 = S[0]
-        self.kA = S[[4, 7]]                               # M = kA t1 + kB t2
-        self.kB = S[[5, 8]]
+        self.kA = S[4::3]                     # (k11, k21): M = kA t1 + kB t2
+        self.kB = S[5::3]                     # (k12, k22)
         self.kappa = S[4] + S[5] + S[7] + S[8]
-        self.rho = self.kA + self.kB                      # (2, n): rho1, rho2 (row sums)
+        self.rho = self.kA + self.kB          # (2, n): rho1, rho2 (row sums)
         # the round-off estimate's coefficients, times eps (a power of 2: exact)
         self.k_noise_eps = _EPS * (S[4] + np.abs(S[5]))
         self.k00_2_eps = _EPS * (2.0 * S[0])

@@ -141,13 +141,22 @@ class Link:
             G.append(row)
         return g, G, hess
 
+    def _linear(self):
+        """The constant parts of a linear joint, built once: g = G z + g(0), no Hessian."""
+        if self._G is None:
+            k = self.k
+            g0, G, _ = self._parts([0.0] * k)
+            self._G, self._g0, self._H0 = np.array(G), np.array(g0), np.zeros((k, k))
+            nz = [[(j, c) for j, c in enumerate(row) if c] for row in G]
+            flat = [c for row in G for c in row]
+            self._lin = (nz, g0, [0.0] * (k * k) + flat + flat)
+        return self._lin
+
     def eval(self, z, mu=None):
         """g, G and the Hessians (m, k, k), or with ``mu`` the weighted Hessian (k, k)."""
         if self.linear and mu is not None:
             # g = (p_a - p_b, theta_a - theta_b) = G z + g(0)
-            if self._G is None:
-                g0, G, _ = self._parts([0.0] * self.k)
-                self._G, self._g0, self._H0 = np.array(G), np.array(g0), np.zeros((self.k, self.k))
+            self._linear()
             return self._G @ z + self._g0, self._G, self._H0
         g, G, hess = self._parts(z.tolist())
         k = self.k
@@ -170,12 +179,7 @@ class Link:
         and G again (the transposed block).  The same numbers as :meth:`eval`."""
         k = self.k
         if self.linear:
-            if self._lin is None:
-                g0, G, _ = self._parts([0.0] * k)
-                nz = [[(j, c) for j, c in enumerate(row) if c] for row in G]
-                flat = [c for row in G for c in row]
-                self._lin = (nz, g0, [0.0] * (k * k) + flat + flat)
-            nz, g0, const = self._lin
+            nz, g0, const = self._linear()
             f = [0.0] * k
             g = []
             for i, row in enumerate(nz):
@@ -208,7 +212,8 @@ class Link:
 
     def gradient(self, z):
         """G (m, k) alone."""
-        if self.linear and self._G is not None:
+        if self.linear:
+            self._linear()
             return self._G
         return np.array(self._parts(z.tolist())[1])
 

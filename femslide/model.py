@@ -190,6 +190,7 @@ class _Topology:
             parts += [d, g]
         self.rbins = np.concatenate(parts).astype(ip)
         self.rbins_control = np.concatenate([self.rbins, [self.n]]).astype(ip)
+        self.rbins_applied = self.rbins[parts[0].size:]
         self.fbins = np.concatenate([lin_dofs, *term_dofs]).astype(ip)
         # the dofs of the terms and joints, gathered in one call (their slices: Model.finalize)
         self.jt_dofs = np.concatenate([np.zeros(0, ip), *term_dofs, *con_dofs]).astype(ip)
@@ -397,10 +398,12 @@ class Model:
             self.elements = mesh.element_set().with_stiffness(kbs[0] if len(kbs) == 1 else np.concatenate(kbs))
             self.elem_rod = mesh.elem_rod
             self.elem_q = np.repeat([rp.q for rp in plan.rods], counts, axis=0)
+            self.rods_loaded = any(rp.loaded for rp in plan.rods)   # a distributed load on some rod
         else:
             self.elements = None
             self.elem_rod = np.zeros(0, np.intp)
             self.elem_q = np.zeros((0, 2))
+            self.rods_loaded = False
         p_lin = [-distributed_nodal_loads(self.X0[nodes], rp.q) if rp.loaded else None
                  for rp, nodes in zip(plan.rods, self.rod_nodes)]
         # bodies: frames after the nodes, at their origins (a ground pin, else the centroid)
@@ -531,14 +534,17 @@ class Model:
         ``lam``), springs and joint multipliers - in the residual's sign (minus the force on the
         frame), model units.  At equilibrium the elements' internal forces balance them; results
         recover cut forces and moments along rods from them (exact to the residual)."""
-        q, mu = y[:self.n_q], y[self.n_q:self.n_q + self.n_c]
-        g = lam * self.p_lin
-        for t, d in zip(self.terms, self._term_dofs):
-            g[d] += t.eval(q[d], lam)[1]
-        for c, d, ci in zip(self.constraints, self._con_dofs, self._con_mu):
-            G = c.gradient(q[d]) if hasattr(c, "gradient") else c.eval(q[d], mu[ci])[1]
-            g[d] += mu[ci] @ G
-        return g
+        n_q, topo = self.n_q, self._topo
+        z = y[:n_q][topo.jt_dofs].tolist()
+        mu = y[n_q:n_q + self.n_c].tolist()
+        rv, fv = [], []
+        for ev, a, b in self._term_evals:
+            ev(z[a:b], lam, rv, None, fv)
+        for ev, a, b, ma, mb in self._con_evals:
+            ev(z[a:b], mu[ma:mb], rv, None)
+        # the residual's bincount without the elements (the joints' equations land beyond n_q)
+        return np.bincount(topo.rbins_applied, weights=np.concatenate([lam * self._p_sel, rv]),
+                           minlength=self.n)[:n_q]
 
     def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
         """Residual and Jacobian of the equations at y.

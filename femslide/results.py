@@ -129,7 +129,7 @@ def largest_moment(model, y, alpha, cuts=None) -> float:
         return 0.0
     if cuts is None:
         cuts = end_moments(model, y, resultant=True)
-    if model.elem_q.any():
+    if model.rods_loaded:
         return max(a["M_max"] for a in rod_arrays(model, y, alpha, cuts).values())
     return float(np.abs(cuts[0]).max()) * model.Fref * model.Lref
 
