@@ -66,11 +66,8 @@ class ElementSet:
 
     def __post_init__(self):
         self.i, self.j = self.conn[:, 0].copy(), self.conn[:, 1].copy()
-        # flat indices of (u1, v1, theta1, u2, v2, theta2) of every element in U.ravel(): (6, n)
-        self.gather = (3 * self.conn[:, [0, 0, 0, 1, 1, 1]] + np.array([0, 1, 2, 0, 1, 2])).T.copy()
-        # flat indices of (u, v) of every node (for the displacement magnitude of the round-off level)
-        nodes = np.arange(int(self.conn.max()) + 1 if self.conn.size else 0)
-        self.uv = (3 * nodes[:, None] + np.arange(2)).ravel()
+        # flat indices of (u1, v1, u2, v2, theta1, theta2) of every element in U.ravel(): (6, n)
+        self.gather = (3 * self.conn[:, [0, 0, 1, 1, 0, 1]] + np.array([0, 1, 0, 1, 2, 2])).T.copy()
         self.D0T = self.D0.T.copy()                       # (2, n): D0x, D0y
         self.inv_L0 = 1.0 / self.L0
         self._stiffness()
@@ -101,12 +98,12 @@ class ElementSet:
 
 
 def _kinematics(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray):
-    """Displacement differences d (2, n), deformed chord D (2, n) and its length Ln, stretch u_bar
-    [m], chord rotation alpha (continued from ``alpha_ref``) and the end rotations relative to the
-    chord t (2, n) [rad] of every element (the one place they are computed); ``x`` = U.ravel(), the
-    nodal (u, v, theta) node after node."""
-    Z = x[es.gather]    # (6, n)
-    d = Z[3:5] - Z[0:2]
+    """Nodal values Z (6, n) (rows u1, v1, u2, v2, theta1, theta2), displacement differences d (2, n),
+    deformed chord D (2, n) and its length Ln, stretch u_bar [m], chord rotation alpha (continued
+    from ``alpha_ref``) and the end rotations relative to the chord t (2, n) [rad] of every element
+    (the one place they are computed); ``x`` = U.ravel(), the nodal (u, v, theta) node after node."""
+    Z = x[es.gather]
+    d = Z[2:4] - Z[0:2]
     D = es.D0T + d
     Ln = np.hypot(D[0], D[1])
     e = (es.D0T + D) * d
@@ -114,13 +111,13 @@ def _kinematics(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray):
     b_ref = es.beta0 + alpha_ref
     Dc, Ds = np.cos(b_ref) * D, np.sin(b_ref) * D
     alpha = alpha_ref + np.arctan2(Dc[1] - Ds[0], Dc[0] + Ds[1])
-    return d, D, Ln, u_bar, alpha, Z[2::3] - alpha
+    return Z, d, D, Ln, u_bar, alpha, Z[4:6] - alpha
 
 
 def basic_deformations(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray):
     """Displacement differences dU (n, 2), chord length Ln, stretch u_bar [m], chord rotation alpha and
     the end rotations relative to the chord t1, t2 [rad] of every element."""
-    d, _, Ln, u_bar, alpha, t = _kinematics(es, U.reshape(-1), alpha_ref)
+    _, d, _, Ln, u_bar, alpha, t = _kinematics(es, U.reshape(-1), alpha_ref)
     return d.T.copy(), Ln, u_bar, alpha, t[0], t[1]
 
 
@@ -134,11 +131,11 @@ def strain_energy(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray) -> float
     return 0.5 * float(np.sum(e))
 
 
-def _noise(es, x, d, t, alpha, inv):
+def _noise(es, Z, d, t, alpha, inv):
     """Round-off level of every element's basic forces (see :func:`element_terms`)."""
     ad = np.abs(d)
     dmag = np.maximum(ad[0], ad[1])
-    umag = float(np.abs(x[es.uv]).max())   # largest nodal displacement component
+    umag = float(np.abs(Z[0:4]).max())   # largest displacement component of the elements' nodes
     at = np.abs(t)
     ang = at[0] + at[1] + np.abs(alpha) + (2.0 * (es.xmax + umag)) * es.inv_L0
     return (es.k00_2_eps * (umag + dmag) * (1.0 + dmag * es.inv_L0)
@@ -148,9 +145,8 @@ def _noise(es, x, d, t, alpha, inv):
 def force_noise(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray) -> np.ndarray:
     """The round-off level of every element's forces (the estimate :func:`evaluate` returns with the
     tangent), without the forces."""
-    x = U.reshape(-1)
-    d, _, Ln, _, alpha, t = _kinematics(es, x, alpha_ref)
-    return _noise(es, x, d, t, alpha, 1.0 / Ln)
+    Z, d, _, Ln, _, alpha, t = _kinematics(es, U.reshape(-1), alpha_ref)
+    return _noise(es, Z, d, t, alpha, 1.0 / Ln)
 
 
 def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool = True):
@@ -163,7 +159,7 @@ def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool
     F, K, NM, alpha, noise = element_terms(es, U.reshape(-1), alpha_ref, tangent)
     if not tangent:
         return F.T, None, NM.T, alpha
-    return F.T, K.reshape(-1, 6, 6), NM.T, alpha, noise
+    return F.T, K.reshape(-1, 6, 6), NM.T, alpha, noise()
 
 
 def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent: bool = True):
@@ -171,13 +167,14 @@ def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent:
     node after node (U.ravel(), or the model's dof vector, which starts with them).
 
     Returns internal forces F (6, n) (rows: the dofs u1, v1, theta1, u2, v2, theta2), tangents (n, 36) or
-    None, basic forces (N, M1, M2) (3, n), alpha (n,) and, with the tangent, the round-off level of
-    each element's forces (n,) (else None).
+    None, basic forces (N, M1, M2) (3, n), alpha (n,) and, with the tangent, a function that returns
+    the round-off level of each element's forces (n,) (else None): computed only if asked for, from
+    copies of this state's kinematics.
 
     Written for few numpy calls: with a handful of elements the cost is the number of calls, not
     their size; quantities of both ends or both components share one call as rows of (2, n) arrays.
     """
-    d, D, Ln, u_bar, alpha, t = _kinematics(es, x, alpha_ref)
+    Z, d, D, Ln, u_bar, alpha, t = _kinematics(es, x, alpha_ref)
     n = u_bar.size
     NM = np.empty((3, n))
     N = np.multiply(es.k00, u_bar, out=NM[0])
@@ -199,7 +196,8 @@ def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent:
     # the chord angle carries eps |x| / L0 (node coordinates rounded), which EI/L0 turns into moment
     # noise and 1/Ln into shear noise in the nodal forces.  u_j - u_i is rounded to eps |u| (the
     # displacement magnitude), and u_bar ~ D0 . dU / L0
-    noise = _noise(es, x, d, t, alpha, inv)
+    def noise():
+        return _noise(es, Z, d, t, alpha, inv)
     # K = B^T kb B + N z z^T/Ln + (M1 + M2)/Ln^2 (r z^T + z r^T) has the translational block
     # [[X, -X], [-X, X]] with X = k00 p p^T + (kappa + N Ln)/Ln^2 w w^T - m/Ln (p w^T + w p^T),
     # translation-rotation columns -+ rho_a w/Ln (rho_a: row sums of the bending block) and the

@@ -571,31 +571,34 @@ class Model:
             ev(z[a:b], lam, rv, jv, fv)
         for ev, a, b, ma, mb in self._con_evals:
             ev(z[a:b], mu[ma:mb], rv, jv)
-        fmax = noise = 0.0
+        fmax = 0.0
         alpha = alpha_ref
         parts = []
+        info = _Info(lam=lam)
         if self.elements is not None:
-            F, K, _, alpha, nz = corotational.element_terms(self.elements, q, alpha_ref, jacobian)
+            F, K, _, alpha, noise = corotational.element_terms(self.elements, q, alpha_ref, jacobian)
             parts.append(F.ravel())
             fmax = float(np.abs(F).max())
             if jacobian:
-                noise = 4.0 * float(nz.max())
+                info.later("noise", lambda: 4.0 * float(noise().max()))
         if self._p_sel.size:
             parts.append(lam * self._p_sel)
-        fl = (np.bincount(topo.fbins, weights=np.concatenate([self._p_sel, fv]), minlength=n_q)
-              if topo.fbins.size else np.zeros(n_q))
+        info.later("fl", lambda: np.bincount(topo.fbins, weights=np.concatenate([self._p_sel, fv]), minlength=n_q)
+                   if topo.fbins.size else np.zeros(n_q))
         if control is not None:
             dof, value = control
             rv.append(float(q[dof]) - value)
         parts.append(rv)
         r = np.bincount(topo.rbins if control is None else topo.rbins_control, weights=np.concatenate(parts),
                         minlength=size)
-        info = {"fl": fl, "fmax": fmax, "noise": noise, "lam": lam, "alpha": alpha}
+        info.update(fmax=fmax, alpha=alpha)
+        if not jacobian or self.elements is None:
+            info["noise"] = 0.0
         if not jacobian:
             return r, None, info
         if control is not None:
             jv.append(1.0)
-            jv += fl[self._load_dofs].tolist()
+            jv += info["fl"][self._load_dofs].tolist()
         rows, cols, size, band, sparse, flat = self._pattern(None if control is None else control[0])
         vals = np.concatenate([K.ravel(), jv]) if self.elements is not None else np.array(jv)
         if band is not None and not dense:
@@ -607,6 +610,22 @@ class Model:
             flat = rows * size + cols if flat is None else flat
             A = np.bincount(flat, weights=vals, minlength=size * size).reshape(size, size)
         return r, A, info
+
+
+class _Info(dict):
+    """The info of :meth:`Model.system`: "fmax" (largest element force), "noise" (round-off level of
+    the element forces, with the Jacobian), "fl" (d r / d lam over the frame dofs), "lam", "alpha";
+    "noise" and "fl" are computed when first read (from copies of the evaluated state)."""
+
+    def later(self, key, compute):
+        self.__dict__[key] = compute
+
+    def __missing__(self, key):
+        compute = self.__dict__.pop(key, None)
+        if compute is None:
+            raise KeyError(key)
+        self[key] = value = compute()
+        return value
 
 
 def _term_assembler(t):

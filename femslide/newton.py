@@ -50,7 +50,7 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
     rot = model.rotation_dofs()
     hist = []
     prev = best = math.inf
-    floor = 0.0
+    finfo = None
     stalled = floor_its = 0
     floor_step = False
     for it in range(1, maxit + 1):
@@ -63,7 +63,7 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
         res_f = float(ar[:n_q].max()) / (1.0 + info["fmax"])
         res_g = float(ar[n_q:].max()) if r.size > n_q else 0.0
         if A is not None:
-            floor = info["noise"] / (1.0 + info["fmax"])
+            finfo = info   # the round-off floor of this state, estimated when first needed
         res = max(res_f, res_g)
         hist.append(res)
         if A is not None and control is None and isinstance(A, np.ndarray):
@@ -72,15 +72,15 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
             return y, NewtonInfo(False, it, hist, "residual is not finite")
         # converged: below tol, or below the (worst-case) round-off bound, under which the residual
         # no longer measures the error, both before and after a Newton step
-        if res_g <= tol and (res_f <= tol or (floor_step and res_f <= floor)):
+        if res_g <= tol and (res_f <= tol or (floor_step and res_f <= _floor(finfo))):
             return y, NewtonInfo(True, it - 1, hist, "" if res_f <= tol else "at round-off level",
                                  alpha=info["alpha"])
         if A is None:
             r, A, info = model.system(y, alpha_ref, lam, control)
-            floor = info["noise"] / (1.0 + info["fmax"])
+            finfo = info
             if control is None and isinstance(A, np.ndarray):
                 model.last_tangent = A
-        at_floor = res_f <= floor and res_g <= tol
+        at_floor = res_g <= tol and res_f <= _floor(finfo)
         floor_its = floor_its + 1 if at_floor else 0
         # stagnation at the round-off level of a stiff model: no progress for 4 iterations
         stalled = stalled + 1 if res > 0.5 * best else 0
@@ -112,6 +112,11 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
             return y, NewtonInfo(True, it, hist, alpha=info["alpha"])
         prev = res
     return y, NewtonInfo(False, maxit, hist, f"no convergence in {maxit} iterations")
+
+
+def _floor(info):
+    """The relative round-off floor of the force residual (the model's estimate, computed when read)."""
+    return info["noise"] / (1.0 + info["fmax"])
 
 
 @dataclass
