@@ -90,7 +90,8 @@ class ElementSet:
         # the round-off estimate's coefficients, times eps (a power of 2: exact)
         self.k_noise_eps = _EPS * (S[4] + np.abs(S[5]))
         self.k00_2_eps = _EPS * (2.0 * S[0])
-        self.K_bend = S[[4, 5, 7, 8]].T @ _K_MAP[7:]
+        self.K_bend = Kb = np.zeros((S.shape[1], 36))     # entries (2, 2), (2, 5), (5, 2), (5, 5)
+        Kb[:, 14], Kb[:, 17], Kb[:, 32], Kb[:, 35] = S[4], S[5], S[7], S[8]
 
     @property
     def size(self):
