@@ -352,6 +352,12 @@ class _Plan:
             jp.at = (j.at[0] / L, j.at[1] / L)
             jp.k, jp.preload, jp.c = j.k * L / F, j.preload / F, j.c / (F * L)
             self.joints.append(jp)
+        # everything a model's frames, joints, springs and loads depend on, not the rods' stiffness:
+        # models of one key and mesh share them (the cases of a sweep over EI, Model._share)
+        self.key = (L, F, self.geometry, tuple((rp.name, tuple(rp.q.tolist())) for rp in self.rods),
+                    tuple(self.body_index), self.body_X0.tobytes(), self.body_p.tobytes(),
+                    tuple((r, e, tuple(v.tolist())) for r, e, v in self.node_loads), tuple(self.point_forces),
+                    tuple((j.name, j.kind, j.ra, j.rb, j.at, j.axis, j.k, j.preload, j.c) for j in self.joints))
 
 
 def body_origin(fs: Frozen, body) -> tuple:
@@ -397,13 +403,17 @@ class Model:
                    for rp, e in zip(plan.rods, mesh.rod_elements)]
             self.elements = mesh.element_set().with_stiffness(kbs[0] if len(kbs) == 1 else np.concatenate(kbs))
             self.elem_rod = mesh.elem_rod
-            self.elem_q = np.repeat([rp.q for rp in plan.rods], counts, axis=0)
-            self.rods_loaded = any(rp.loaded for rp in plan.rods)   # a distributed load on some rod
         else:
             self.elements = None
             self.elem_rod = np.zeros(0, np.intp)
-            self.elem_q = np.zeros((0, 2))
-            self.rods_loaded = False
+        if finalize:
+            shared = self.cache.frames((plan.key, counts))
+            if shared is not None:
+                self._share(shared)
+                return
+        self.rods_loaded = any(rp.loaded for rp in plan.rods)   # a distributed load on some rod
+        self.elem_q = np.repeat([rp.q for rp in plan.rods], counts, axis=0) if mesh.conn is not None \
+            else np.zeros((0, 2))
         p_lin = [-distributed_nodal_loads(self.X0[nodes], rp.q) if rp.loaded else None
                  for rp, nodes in zip(plan.rods, self.rod_nodes)]
         # bodies: frames after the nodes, at their origins (a ground pin, else the centroid)
@@ -438,6 +448,19 @@ class Model:
             self.add_term(PointForce(np.arange(d, d + 3), r, Fv, M, name))
         if finalize:
             self.finalize()
+            self.cache.frames((plan.key, counts), self)
+
+    _OWN = frozenset(("structure", "Lref", "Fref", "cache", "rod_index", "X0", "rod_nodes", "n_nodes", "node_first",
+                      "mesh", "elements", "elem_rod", "last_tangent"))
+
+    def _share(self, other: "Model"):
+        """Take the frames, joints, terms, loads and dof layout of a finalized model of the same
+        plan key and mesh (they do not depend on the rods' stiffness): the joints, terms and
+        (read-only) arrays are shared, the lists and dicts copied."""
+        d = self.__dict__
+        for k, v in other.__dict__.items():
+            if k not in self._OWN:
+                d[k] = v.copy() if isinstance(v, (list, dict)) else v
 
     # -- layout -----------------------------------------------------------------------------------
     def node(self, rod: str, i: int) -> int:
