@@ -268,6 +268,10 @@ class Link:
             d[self.ib + 2] = -1.0
         return t, d
 
+    def lever(self, z):
+        """The lever (Rx, Ry) of a's joint point about a's frame origin, Python floats (``z`` a list)."""
+        return _point(z, self.ia, self.a)[2:4]
+
     def point_a(self, z):
         """Position of a's joint point (model units) and the lever of a's forces about a's frame."""
         px, py, Rx, Ry, _ = _point(z.tolist(), self.ia, self.a)
