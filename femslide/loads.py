@@ -37,7 +37,6 @@ class PointForce:
         H[2, 2] = lam * (Fx * Rx + Fy * Ry)
         return lam * E, lam * g0, H, g0
 
-
     def assemble(self, z, lam, rv, jv, fv):
         """:meth:`eval` as Python floats for the model's assembly (``z`` a list): appends the
         generalised force to ``rv``, the Hessian (3 x 3) to ``jv`` (unless None) and d/d lam of the
