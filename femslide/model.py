@@ -26,7 +26,6 @@ from .loads import PointForce, distributed_nodal_loads
 from .patterns import PatternCache
 from .structure import Frozen, Table
 
-_ONE = np.ones(1)
 DENSE_LIMIT = 100  # unknowns; above it a banded LU is faster when the band is narrow
 RCM_LOCAL_LIMIT = 5000  # unknowns; up to it the banded ordering is computed without scipy
 SPARSE_LIMIT = 600  # unknowns; above it a wide-band system goes to sparse LU
