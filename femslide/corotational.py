@@ -41,8 +41,11 @@ def _k_map():
 
 
 _K_MAP = _k_map()
-_K_MAP7 = np.ascontiguousarray(_K_MAP[:7])
+# the 7 varying parameters in the order evaluate computes them: X00, X01, X11, rho1 s/Ln, rho2 s/Ln,
+# rho1 c/Ln, rho2 c/Ln (w = (s, -c): the last two enter with the opposite sign)
+_K_MAP7 = np.ascontiguousarray(_K_MAP[[0, 1, 2, 3, 5, 4, 6]] * np.array([1, 1, 1, 1, 1, -1, -1.0])[:, None])
 _EPS = float(np.finfo(float).eps)
+_SIGN = np.array([[1.0], [-1.0]])
 
 
 @dataclass
@@ -51,7 +54,8 @@ class ElementSet:
     lengths L0 (n,), initial chord angles beta0 (n,), basic stiffness kb (n, 3, 3).
 
     The per-element constants of :func:`evaluate` (stiffness entries, their combinations and the
-    constant bending part of the tangent) are derived once here."""
+    constant bending part of the tangent) are derived once here, stacked as rows (k, n) so that one
+    numpy call treats both ends or both components of every element."""
 
     conn: np.ndarray
     D0: np.ndarray
@@ -61,44 +65,61 @@ class ElementSet:
     xmax: float = 1.0  # largest |initial coordinate|: sets the round-off of the chord angles
 
     def __post_init__(self):
-        kb = self.kb
         self.i, self.j = self.conn[:, 0].copy(), self.conn[:, 1].copy()
-        self.D0x, self.D0y = self.D0[:, 0].copy(), self.D0[:, 1].copy()
-        self.k00, self.k11, self.k12 = kb[:, 0, 0].copy(), kb[:, 1, 1].copy(), kb[:, 1, 2].copy()
-        self.k21, self.k22 = kb[:, 2, 1].copy(), kb[:, 2, 2].copy()
-        self.kappa = self.k11 + self.k12 + self.k21 + self.k22
-        self.rho1, self.rho2 = self.k11 + self.k12, self.k21 + self.k22
-        self.k_noise = self.k11 + np.abs(self.k12)
-        self.k00_2 = 2.0 * self.k00
+        # flat indices of (u1, v1, u2, v2, theta1, theta2) of every element in U.ravel(): (6, n)
+        self.gather = (3 * self.conn[:, [0, 0, 1, 1, 0, 1]] + np.array([0, 1, 0, 1, 2, 2])).T.copy()
+        self.D0T = self.D0.T.copy()                       # (2, n): D0x, D0y
         self.inv_L0 = 1.0 / self.L0
-        self.K_bend = np.stack([self.k11, self.k12, self.k21, self.k22], axis=1) @ _K_MAP[7:]
+        self._stiffness()
+
+    def with_stiffness(self, kb: np.ndarray) -> "ElementSet":
+        """The same elements with the basic stiffness kb (n, 3, 3): the geometric data are shared."""
+        new = object.__new__(ElementSet)
+        new.__dict__.update(self.__dict__)
+        new.kb = kb
+        new._stiffness()
+        return new
+
+    def _stiffness(self):
+        S = self.kb.reshape(-1, 9).T.copy()   # (9, n): k00 k01 k02 k10 k11 k12 k20 k21 k22
+        self.k00 = S[0]
+        self.kA = S[4::3]                     # (k11, k21): M = kA t1 + kB t2
+        self.kB = S[5::3]                     # (k12, k22)
+        self.kappa = S[4] + S[5] + S[7] + S[8]
+        self.rho = self.kA + self.kB          # (2, n): rho1, rho2 (row sums)
+        # the round-off estimate's coefficients, times eps (a power of 2: exact)
+        self.k_noise_eps = _EPS * (S[4] + np.abs(S[5]))
+        self.k00_2_eps = _EPS * (2.0 * S[0])
+        self.K_bend = Kb = np.zeros((S.shape[1], 36))     # entries (2, 2), (2, 5), (5, 2), (5, 5)
+        Kb[:, 14], Kb[:, 17], Kb[:, 32], Kb[:, 35] = S[4], S[5], S[7], S[8]
 
     @property
     def size(self):
         return self.L0.size
 
 
-def _kinematics(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray):
-    """Displacement differences dx, dy, deformed chord components Dx, Dy and length Ln, stretch
-    u_bar [m], chord rotation alpha (continued from ``alpha_ref``) and the end rotations relative to
-    the chord t1, t2 [rad] of every element (the one place they are computed)."""
-    Ui, Uj = U[es.i], U[es.j]
-    d = Uj - Ui
-    dx, dy = d[:, 0], d[:, 1]
-    Dx, Dy = es.D0x + dx, es.D0y + dy
-    Ln = np.hypot(Dx, Dy)
-    u_bar = ((es.D0x + Dx) * dx + (es.D0y + Dy) * dy) / (Ln + es.L0)
+def _kinematics(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray):
+    """Nodal values Z (6, n) (rows u1, v1, u2, v2, theta1, theta2), displacement differences d (2, n),
+    deformed chord D (2, n) and its length Ln, stretch u_bar [m], chord rotation alpha (continued
+    from ``alpha_ref``) and the end rotations relative to the chord t (2, n) [rad] of every element
+    (the one place they are computed); ``x`` = U.ravel(), the nodal (u, v, theta) node after node."""
+    Z = x[es.gather]
+    d = Z[2:4] - Z[0:2]
+    D = es.D0T + d
+    Ln = np.hypot(D[0], D[1])
+    e = (es.D0T + D) * d
+    u_bar = (e[0] + e[1]) / (Ln + es.L0)
     b_ref = es.beta0 + alpha_ref
-    cr, sr = np.cos(b_ref), np.sin(b_ref)
-    alpha = alpha_ref + np.arctan2(cr * Dy - sr * Dx, cr * Dx + sr * Dy)
-    return dx, dy, Dx, Dy, Ln, u_bar, alpha, Ui[:, 2] - alpha, Uj[:, 2] - alpha
+    Dc, Ds = np.cos(b_ref) * D, np.sin(b_ref) * D
+    alpha = alpha_ref + np.arctan2(Dc[1] - Ds[0], Dc[0] + Ds[1])
+    return Z, d, D, Ln, u_bar, alpha, Z[4:6] - alpha
 
 
 def basic_deformations(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray):
     """Displacement differences dU (n, 2), chord length Ln, stretch u_bar [m], chord rotation alpha and
     the end rotations relative to the chord t1, t2 [rad] of every element."""
-    dx, dy, _, _, Ln, u_bar, alpha, t1, t2 = _kinematics(es, U, alpha_ref)
-    return np.column_stack([dx, dy]), Ln, u_bar, alpha, t1, t2
+    _, d, _, Ln, u_bar, alpha, t = _kinematics(es, U.reshape(-1), alpha_ref)
+    return d.T.copy(), Ln, u_bar, alpha, t[0], t[1]
 
 
 def strain_energy(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray) -> float:
@@ -111,50 +132,73 @@ def strain_energy(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray) -> float
     return 0.5 * float(np.sum(e))
 
 
-def _noise(es, U, dx, dy, t1, t2, alpha, inv):
-    dmag = np.maximum(np.abs(dx), np.abs(dy))
-    umag = float(np.abs(U[:, :2]).max())
-    ang = np.abs(t1) + np.abs(t2) + np.abs(alpha) + (2.0 * (es.xmax + umag)) * es.inv_L0
-    return _EPS * (es.k00_2 * (umag + dmag) * (1.0 + dmag * es.inv_L0)
-                   + es.k_noise * ang * (1.0 + 2.0 * inv))
+def _noise(es, Z, d, t, alpha, inv):
+    """Round-off level of every element's basic forces (see :func:`element_terms`)."""
+    ad = np.abs(d)
+    dmag = np.maximum(ad[0], ad[1])
+    umag = float(np.abs(Z[0:4]).max())   # largest displacement component of the elements' nodes
+    at = np.abs(t)
+    ang = at[0] + at[1] + np.abs(alpha) + (2.0 * (es.xmax + umag)) * es.inv_L0
+    return (es.k00_2_eps * (umag + dmag) * (1.0 + dmag * es.inv_L0)
+            + es.k_noise_eps * ang * (1.0 + 2.0 * inv))
 
 
 def force_noise(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray) -> np.ndarray:
     """The round-off level of every element's forces (the estimate :func:`evaluate` returns with the
     tangent), without the forces."""
-    dx, dy, _, _, Ln, _, alpha, t1, t2 = _kinematics(es, U, alpha_ref)
-    return _noise(es, U, dx, dy, t1, t2, alpha, 1.0 / Ln)
+    Z, d, _, Ln, _, alpha, t = _kinematics(es, U.reshape(-1), alpha_ref)
+    return _noise(es, Z, d, t, alpha, 1.0 / Ln)
 
 
 def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool = True):
     """Internal forces (n, 6), tangents (n, 6, 6) or None, basic forces (n, 3), alpha (n,) and,
     with the tangent, the round-off level of each element's forces (n,).
 
-    ``U`` (n_nodes, 3) holds the nodal (u, v, theta).  Written for few numpy calls: with a handful of
-    elements the cost is the number of calls, not their size.
+    ``U`` (n_nodes, 3) holds the nodal (u, v, theta).  (:func:`element_terms` is the same evaluation
+    in the layout the assembly uses.)
     """
-    dx, dy, Dx, Dy, Ln, u_bar, alpha, t1, t2 = _kinematics(es, U, alpha_ref)
-    N = es.k00 * u_bar
-    M1 = es.k11 * t1 + es.k12 * t2
-    M2 = es.k21 * t1 + es.k22 * t2
-    inv = 1.0 / Ln
-    c, s = Dx * inv, Dy * inv  # cos and sin of the chord angle beta = beta0 + alpha
-    # With p = (c, s), w = (s, -c): d Ln/d d = r = (-p, 0, p, 0), d beta/d d = (w, 0, -w, 0)/Ln.
-    # f = N r - (M1 + M2) z/Ln + M1 e3 + M2 e6
-    m = (M1 + M2) * inv
-    fu = -(N * c + m * s)
-    fv = m * c - N * s
-    # np.array of a list and a transposed view: a third of the cost of np.stack for few elements
-    f = np.array([fu, fv, M1, -fu, -fv, M2]).T
-    q = np.array([N, M1, M2]).T
+    F, K, NM, alpha, noise = element_terms(es, U.reshape(-1), alpha_ref, tangent)
     if not tangent:
-        return f, None, q, alpha
+        return F.T, None, NM.T, alpha
+    return F.T, K.reshape(-1, 6, 6), NM.T, alpha, noise()
+
+
+def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent: bool = True):
+    """:func:`evaluate` in the layout of the model's assembly: ``x`` holds the nodal (u, v, theta)
+    node after node (U.ravel(), or the model's dof vector, which starts with them).
+
+    Returns internal forces F (6, n) (rows: the dofs u1, v1, theta1, u2, v2, theta2), tangents (n, 36) or
+    None, basic forces (N, M1, M2) (3, n), alpha (n,) and, with the tangent, a function that returns
+    the round-off level of each element's forces (n,) (else None): computed only if asked for, from
+    copies of this state's kinematics.
+
+    Written for few numpy calls: with a handful of elements the cost is the number of calls, not
+    their size; quantities of both ends or both components share one call as rows of (2, n) arrays.
+    """
+    Z, d, D, Ln, u_bar, alpha, t = _kinematics(es, x, alpha_ref)
+    n = u_bar.size
+    NM = np.empty((3, n))
+    N = np.multiply(es.k00, u_bar, out=NM[0])
+    M = NM[1:]
+    np.add(es.kA * t[0], es.kB * t[1], out=M)
+    inv = 1.0 / Ln
+    p = D * inv                # (c, s): cos and sin of the chord angle beta = beta0 + alpha
+    # With p = (c, s), w = (s, -c): d Ln/d d = r = (-p, 0, p, 0), d beta/d d = (w, 0, -w, 0)/Ln.
+    # f = N r - (M1 + M2) z/Ln + M1 e3 + M2 e6: (fu, fv) = -(N p + m w) at node 1, + at node 2
+    m = (M[0] + M[1]) * inv
+    F = np.empty((6, n))
+    np.add(N * p, (m * p[::-1]) * _SIGN, out=F[3:5])
+    np.negative(F[3:5], out=F[0:2])
+    F[2::3] = M
+    if not tangent:
+        return F, None, NM, alpha, None
     # round-off floor of the basic forces: u_bar and the angles carry absolute errors ~ eps times
     # the displacement and rotation magnitudes; EA/L amplifies the first (EA/EI up to 1e12 m^-2);
     # the chord angle carries eps |x| / L0 (node coordinates rounded), which EI/L0 turns into moment
     # noise and 1/Ln into shear noise in the nodal forces.  u_j - u_i is rounded to eps |u| (the
     # displacement magnitude), and u_bar ~ D0 . dU / L0
-    noise = _noise(es, U, dx, dy, t1, t2, alpha, inv)
+    def noise():
+        return _noise(es, Z, d, t, alpha, inv)
     # K = B^T kb B + N z z^T/Ln + (M1 + M2)/Ln^2 (r z^T + z r^T) has the translational block
     # [[X, -X], [-X, X]] with X = k00 p p^T + (kappa + N Ln)/Ln^2 w w^T - m/Ln (p w^T + w p^T),
     # translation-rotation columns -+ rho_a w/Ln (rho_a: row sums of the bending block) and the
@@ -162,11 +206,17 @@ def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool
     # (the 4 of the bending block are constant: es.K_bend).
     a_ww = (es.kappa + N * Ln) * inv * inv
     b_pw = m * inv
-    cc, cs, ss = c * c, c * s, s * s
+    pp = p * p                 # (cc, ss)
+    cs = p[0] * p[1]
     b2 = 2.0 * b_pw * cs
-    r1, r2 = es.rho1 * inv, es.rho2 * inv
     k00 = es.k00
-    P = np.array([k00 * cc + a_ww * ss - b2, (k00 - a_ww) * cs + b_pw * (cc - ss),
-                  k00 * ss + a_ww * cc + b2, r1 * s, -r1 * c, r2 * s, -r2 * c])
-    K = (P.T @ _K_MAP7 + es.K_bend).reshape(-1, 6, 6)
-    return f, K, q, alpha, noise
+    P = np.empty((7, n))
+    # X00 = k00 cc + a_ww ss - b2, X11 = k00 ss + a_ww cc + b2
+    np.add(k00 * pp + a_ww * pp[::-1], b2 * _SIGN[::-1], out=P[0:3:2])
+    np.add((k00 - a_ww) * cs, b_pw * (pp[0] - pp[1]), out=P[1])
+    r = es.rho * inv           # (rho1, rho2) / Ln
+    np.multiply(r, p[1], out=P[3:5])
+    np.multiply(r, p[0], out=P[5:7])
+    K = P.T @ _K_MAP7
+    K += es.K_bend
+    return F, K, NM, alpha, noise

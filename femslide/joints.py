@@ -64,7 +64,7 @@ class Link:
         self.size = SIZES[kind]
         self.ia = 0 if a.dof0 is not None else None
         self.ib = (3 if a.dof0 is not None else 0) if b.dof0 is not None else None
-        self.dofs = np.concatenate([a.dofs, b.dofs]).astype(np.intp)
+        self.dofs = np.array([c.dof0 + i for c in (a, b) if c.dof0 is not None for i in range(3)], np.intp)
         self.k = self.dofs.size
         # a lever: the joint point is off the frame's origin of a part that turns (not the ground)
         self.lever_a = a.dof0 is not None and a.r != (0.0, 0.0)
@@ -73,7 +73,7 @@ class Link:
         self.n0 = (-self.e0[1], self.e0[0])
         # a pin or weld between rod nodes and the ground is linear: constant gradient, no Hessian
         self.linear = kind in ("pin", "weld") and not self.lever_a and not self.lever_b
-        self._G = None
+        self._G = self._lin = None
 
     # -- kinematics ----------------------------------------------------------------------------------
     def _w(self, z):
@@ -141,14 +141,30 @@ class Link:
             G.append(row)
         return g, G, hess
 
+    def _linear(self):
+        """The constant parts of a linear joint (g = G z + g(0), no Hessian) as Python floats, built
+        once: the nonzeros of G's rows, g(0), G and the Jacobian entries of :meth:`assemble`."""
+        if self._lin is None:
+            k = self.k
+            g0, G, _ = self._parts([0.0] * k)
+            nz = [[(j, c) for j, c in enumerate(row) if c] for row in G]
+            flat = [c for row in G for c in row]
+            self._lin = (nz, g0, G, [0.0] * (k * k) + flat + flat)
+        return self._lin
+
+    def _linear_arrays(self):
+        """:meth:`_linear`'s G, g(0) and zero Hessian as arrays (for :meth:`eval`, :meth:`gradient`)."""
+        if self._G is None:
+            _, g0, G, _ = self._linear()
+            self._G, self._g0, self._H0 = np.array(G), np.array(g0), np.zeros((self.k, self.k))
+        return self._G, self._g0, self._H0
+
     def eval(self, z, mu=None):
         """g, G and the Hessians (m, k, k), or with ``mu`` the weighted Hessian (k, k)."""
         if self.linear and mu is not None:
             # g = (p_a - p_b, theta_a - theta_b) = G z + g(0)
-            if self._G is None:
-                g0, G, _ = self._parts([0.0] * self.k)
-                self._G, self._g0, self._H0 = np.array(G), np.array(g0), np.zeros((self.k, self.k))
-            return self._G @ z + self._g0, self._G, self._H0
+            G, g0, H0 = self._linear_arrays()
+            return G @ z + g0, G, H0
         g, G, hess = self._parts(z.tolist())
         k = self.k
         if mu is None:
@@ -162,40 +178,87 @@ class Link:
             Hmu[a * k + b] += mu[i] * v
         return np.array(g), np.array(G), np.array(Hmu).reshape(k, k)
 
+    def assemble(self, z, mu, rv, jv):
+        """The joint's share of the model's equations, as Python floats (``z``: its dofs' values,
+        ``mu``: its multipliers, lists): appends the generalised forces mu . G (k, the residual
+        rows of its dofs) and the equations g (m) to ``rv`` and, unless ``jv`` is None, the
+        Jacobian entries in the model's pattern order to ``jv``: sum_i mu_i H_i (k x k), G (m x k)
+        and G again (the transposed block).  The same numbers as :meth:`eval`."""
+        k = self.k
+        if self.linear:
+            nz, g0, _, const = self._linear()
+            f = [0.0] * k
+            g = []
+            for i, row in enumerate(nz):
+                mi, gi = mu[i], 0.0
+                for j, c in row:
+                    f[j] += mi * c
+                    gi += c * z[j]
+                g.append(gi + g0[i])
+            rv += f
+            rv += g
+            if jv is not None:
+                jv += const
+            return
+        g, G, hess = self._parts(z)
+        f = [0.0] * k
+        for mi, row in zip(mu, G):
+            for j in range(k):
+                f[j] += mi * row[j]
+        rv += f
+        rv += g
+        if jv is not None:
+            Hmu = [0.0] * (k * k)
+            for i, a, b, v in hess:
+                Hmu[a * k + b] += mu[i] * v
+            jv += Hmu
+            for row in G:
+                jv += row
+            for row in G:
+                jv += row
+
     def gradient(self, z):
         """G (m, k) alone."""
-        if self.linear and self._G is not None:
-            return self._G
+        if self.linear:
+            return self._linear_arrays()[0]
         return np.array(self._parts(z.tolist())[1])
 
     # -- joint quantities ------------------------------------------------------------------------------
     def slide(self, z):
         """Slide s = w . e (model units), its gradient and Hessian over the joint dofs (slider, roller).
         The reference slide (0 when a starts at ``at``) is subtracted by the caller."""
-        z = z.tolist()
+        s, ds, H = self._slide(z.tolist())
+        return s, np.array(ds), np.array(H).reshape(self.k, self.k)
+
+    def _slide(self, z):
+        """:meth:`slide` as Python floats: s, ds (k), H (k x k, row-major); ``z`` a list."""
         k, ib = self.k, self.ib
         wx, wy, dw, d2w, _, thb = self._w(z)
         ex, ey, nx, ny = self._frame(thb)
-        ds = np.zeros(k)
-        H = np.zeros((k, k))
+        ds = [0.0] * k
+        H = [0.0] * (k * k)
         for i, dx, dy in dw:
             ds[i] += dx * ex + dy * ey
         for i, hx, hy in d2w:
-            H[i, i] += hx * ex + hy * ey
+            H[i * k + i] += hx * ex + hy * ey
         if ib is not None:
             j = ib + 2
             ds[j] += wx * nx + wy * ny               # de/dthb = n
             for i, dx, dy in dw:
                 v = dx * nx + dy * ny
-                H[i, j] += v
-                H[j, i] += v
-            H[j, j] -= wx * ex + wy * ey             # d2e/dthb2 = -e
+                H[i * k + j] += v
+                H[j * k + i] += v
+            H[j * k + j] -= wx * ex + wy * ey        # d2e/dthb2 = -e
         return wx * ex + wy * ey, ds, H
 
     def rotation(self, z):
         """theta_a - theta_b [rad] and its gradient over the joint dofs."""
-        z = z.tolist()
-        d = np.zeros(self.k)
+        t, d = self._rotation(z.tolist())
+        return t, np.array(d)
+
+    def _rotation(self, z):
+        """:meth:`rotation` as Python floats; ``z`` a list."""
+        d = [0.0] * self.k
         t = 0.0
         if self.ia is not None:
             t += z[self.ia + 2]
@@ -204,6 +267,10 @@ class Link:
             t -= z[self.ib + 2]
             d[self.ib + 2] = -1.0
         return t, d
+
+    def lever(self, z):
+        """The lever (Rx, Ry) of a's joint point about a's frame origin, Python floats (``z`` a list)."""
+        return _point(z, self.ia, self.a)[2:4]
 
     def point_a(self, z):
         """Position of a's joint point (model units) and the lever of a's forces about a's frame."""
@@ -227,6 +294,17 @@ class RotationalSpring:
         t, d = self.link.rotation(z)
         return 0.5 * self.c * t * t, self.c * t * d, self.c * np.outer(d, d), np.zeros(d.size)
 
+    def assemble(self, z, lam, rv, jv, fv):
+        """:meth:`eval` as Python floats for the model's assembly (``z`` a list): appends the
+        generalised force to ``rv``, the Hessian (k x k) to ``jv`` (unless None) and d/d lam of the
+        force to ``fv``."""
+        t, d = self.link._rotation(z)
+        ct, c = self.c * t, self.c
+        rv += [ct * x for x in d]
+        if jv is not None:
+            jv += [c * (x * w) for x in d for w in d]
+        fv += [0.0] * len(d)
+
 
 @dataclass
 class SlideSpring:
@@ -249,3 +327,15 @@ class SlideSpring:
         f = self.k * s - lam * self.F0
         return (0.5 * self.k * s * s - lam * self.F0 * s, f * ds, self.k * np.outer(ds, ds) + f * Hs,
                 -self.F0 * ds)
+
+    def assemble(self, z, lam, rv, jv, fv):
+        """:meth:`eval` as Python floats for the model's assembly (see RotationalSpring.assemble)."""
+        s, ds, Hs = self.link._slide(z)
+        s -= self.s0
+        k = self.k
+        f = k * s - lam * self.F0
+        rv += [f * x for x in ds]
+        if jv is not None:
+            n = len(ds)
+            jv += [k * (ds[i] * ds[j]) + f * Hs[i * n + j] for i in range(n) for j in range(n)]
+        fv += [-self.F0 * x for x in ds]

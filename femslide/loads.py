@@ -37,6 +37,22 @@ class PointForce:
         H[2, 2] = lam * (Fx * Rx + Fy * Ry)
         return lam * E, lam * g0, H, g0
 
+    def assemble(self, z, lam, rv, jv, fv):
+        """:meth:`eval` as Python floats for the model's assembly (``z`` a list): appends the
+        generalised force to ``rv``, the Hessian (3 x 3) to ``jv`` (unless None) and d/d lam of the
+        force to ``fv``."""
+        t = z[2]
+        c, s = math.cos(t), math.sin(t)
+        rx, ry = self.r
+        Rx, Ry = c * rx - s * ry, s * rx + c * ry
+        Fx, Fy = self.F
+        g0 = [-Fx, -Fy, -(Fx * -Ry + Fy * Rx) - self.M]
+        rv += [lam * x for x in g0]
+        if jv is not None:
+            jv += [0.0] * 8
+            jv.append(lam * (Fx * Rx + Fy * Ry))
+        fv += g0
+
 
 def distributed_nodal_loads(X, q):
     """Nodal loads (n_nodes, 3) = (Fx, Fy, Mz) of a dead load q (2,) per unit reference length on a

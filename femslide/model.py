@@ -26,7 +26,6 @@ from .loads import PointForce, distributed_nodal_loads
 from .patterns import PatternCache
 from .structure import Frozen, Table
 
-_ONE = np.ones(1)
 DENSE_LIMIT = 100  # unknowns; above it a banded LU is faster when the band is narrow
 RCM_LOCAL_LIMIT = 5000  # unknowns; up to it the banded ordering is computed without scipy
 SPARSE_LIMIT = 600  # unknowns; above it a wide-band system goes to sparse LU
@@ -180,6 +179,20 @@ class _Topology:
         # loads act on few dofs: d r / d lam is sparse with a static pattern
         self.load_dofs = _unique(np.concatenate([*term_dofs, lin_dofs])).astype(np.intp)
         self.patterns = {}
+        # the residual is one bincount of the element forces, the loads, the terms' forces and the
+        # joints' forces and equations (Model.system), in this order; d r / d lam one of the loads
+        # and the terms' parts
+        ip = np.intp
+        con_rows = [np.arange(n_q + self.c_off[i], n_q + self.c_off[i + 1]) for i in range(len(sizes))]
+        parts = [self.ebinT if self.ebinT is not None else np.zeros(0, ip), lin_dofs, *term_dofs]
+        for d, g in zip(con_dofs, con_rows):
+            parts += [d, g]
+        self.rbins = np.concatenate(parts).astype(ip)
+        self.rbins_control = np.concatenate([self.rbins, [self.n]]).astype(ip)
+        self.rbins_applied = self.rbins[parts[0].size:]
+        self.fbins = np.concatenate([lin_dofs, *term_dofs]).astype(ip)
+        # the dofs of the terms and joints, gathered in one call (their slices: Model.finalize)
+        self.jt_dofs = np.concatenate([np.zeros(0, ip), *term_dofs, *con_dofs]).astype(ip)
 
     def pattern(self, control):
         key = None if control is None else int(control)
@@ -265,6 +278,14 @@ class _Mesh:
             self.elem_rod = np.concatenate(rod_of)
             self.s0 = np.concatenate(s0)
             self.xmax = float(np.abs(self.X0).max())
+        self._elements = None
+
+    def element_set(self):
+        """The elements' geometric data (corotational.ElementSet without stiffness), built once."""
+        if self._elements is None:
+            self._elements = corotational.ElementSet(self.conn, self.D0, self.L0, self.beta0,
+                                                     np.zeros((self.L0.size, 3, 3)), self.xmax)
+        return self._elements
 
 
 class _JointPlan:
@@ -330,6 +351,12 @@ class _Plan:
             jp.at = (j.at[0] / L, j.at[1] / L)
             jp.k, jp.preload, jp.c = j.k * L / F, j.preload / F, j.c / (F * L)
             self.joints.append(jp)
+        # everything a model's frames, joints, springs and loads depend on, not the rods' stiffness:
+        # models of one key and mesh share them (the cases of a sweep over EI, Model._share)
+        self.key = (L, F, self.geometry, tuple((rp.name, tuple(rp.q.tolist())) for rp in self.rods),
+                    tuple(self.body_index), self.body_X0.tobytes(), self.body_p.tobytes(),
+                    tuple((r, e, tuple(v.tolist())) for r, e, v in self.node_loads), tuple(self.point_forces),
+                    tuple((j.name, j.kind, j.ra, j.rb, j.at, j.axis, j.k, j.preload, j.c) for j in self.joints))
 
 
 def body_origin(fs: Frozen, body) -> tuple:
@@ -373,14 +400,19 @@ class Model:
         if mesh.conn is not None:
             kbs = [element_stiffness(mesh.L0[e], mesh.s0[e], rp.EI, rp.EA)
                    for rp, e in zip(plan.rods, mesh.rod_elements)]
-            self.elements = corotational.ElementSet(mesh.conn, mesh.D0, mesh.L0, mesh.beta0,
-                                                    np.concatenate(kbs), mesh.xmax)
+            self.elements = mesh.element_set().with_stiffness(kbs[0] if len(kbs) == 1 else np.concatenate(kbs))
             self.elem_rod = mesh.elem_rod
-            self.elem_q = np.concatenate([np.broadcast_to(rp.q, (n, 2)) for rp, n in zip(plan.rods, counts)])
         else:
             self.elements = None
             self.elem_rod = np.zeros(0, np.intp)
-            self.elem_q = np.zeros((0, 2))
+        if finalize:
+            shared = self.cache.frames((plan.key, counts))
+            if shared is not None:
+                self._share(shared)
+                return
+        self.rods_loaded = any(rp.loaded for rp in plan.rods)   # a distributed load on some rod
+        self.elem_q = np.repeat([rp.q for rp in plan.rods], counts, axis=0) if mesh.conn is not None \
+            else np.zeros((0, 2))
         p_lin = [-distributed_nodal_loads(self.X0[nodes], rp.q) if rp.loaded else None
                  for rp, nodes in zip(plan.rods, self.rod_nodes)]
         # bodies: frames after the nodes, at their origins (a ground pin, else the centroid)
@@ -415,6 +447,19 @@ class Model:
             self.add_term(PointForce(np.arange(d, d + 3), r, Fv, M, name))
         if finalize:
             self.finalize()
+            self.cache.frames((plan.key, counts), self)
+
+    _OWN = frozenset(("structure", "Lref", "Fref", "cache", "rod_index", "X0", "rod_nodes", "n_nodes", "node_first",
+                      "mesh", "elements", "elem_rod", "last_tangent"))
+
+    def _share(self, other: "Model"):
+        """Take the frames, joints, terms, loads and dof layout of a finalized model of the same
+        plan key and mesh (they do not depend on the rods' stiffness): the joints, terms and
+        (read-only) arrays are shared, the lists and dicts copied."""
+        d = self.__dict__
+        for k, v in other.__dict__.items():
+            if k not in self._OWN:
+                d[k] = v.copy() if isinstance(v, (list, dict)) else v
 
     # -- layout -----------------------------------------------------------------------------------
     def node(self, rod: str, i: int) -> int:
@@ -465,6 +510,17 @@ class Model:
         self.edofs, self._ebinT, self._load_dofs = topo.edofs, topo.ebinT, topo.load_dofs
         self._term_dofs, self._con_dofs, self._lin_dofs = term_dofs, con_dofs, lin_dofs
         self._con_mu, self._con_rows = topo.con_mu, topo.con_rows
+        self._p_sel = self.p_lin[lin_dofs]
+        # (assemble, slice of the gathered dofs[, slice of the multipliers]) per term and joint
+        o = 0
+        self._term_evals, self._con_evals = [], []
+        for t, d in zip(self.terms, term_dofs):
+            self._term_evals.append((getattr(t, "assemble", None) or _term_assembler(t), o, o + d.size))
+            o += d.size
+        for c, d, ci in zip(self.constraints, con_dofs, topo.con_mu):
+            self._con_evals.append((getattr(c, "assemble", None) or _constraint_assembler(c), o, o + d.size,
+                                    ci.start, ci.stop))
+            o += d.size
         rot = np.arange(2, self.n_q, 3)
         self._rot = rot.astype(np.intp)
         return self
@@ -500,14 +556,17 @@ class Model:
         ``lam``), springs and joint multipliers - in the residual's sign (minus the force on the
         frame), model units.  At equilibrium the elements' internal forces balance them; results
         recover cut forces and moments along rods from them (exact to the residual)."""
-        q, mu = y[:self.n_q], y[self.n_q:self.n_q + self.n_c]
-        g = lam * self.p_lin
-        for t, d in zip(self.terms, self._term_dofs):
-            g[d] += t.eval(q[d], lam)[1]
-        for c, d, ci in zip(self.constraints, self._con_dofs, self._con_mu):
-            G = c.gradient(q[d]) if hasattr(c, "gradient") else c.eval(q[d], mu[ci])[1]
-            g[d] += mu[ci] @ G
-        return g
+        n_q, topo = self.n_q, self._topo
+        z = y[:n_q][topo.jt_dofs].tolist()
+        mu = y[n_q:n_q + self.n_c].tolist()
+        rv, fv = [], []
+        for ev, a, b in self._term_evals:
+            ev(z[a:b], lam, rv, None, fv)
+        for ev, a, b, ma, mb in self._con_evals:
+            ev(z[a:b], mu[ma:mb], rv, None)
+        # the residual's bincount without the elements (the joints' equations land beyond n_q)
+        return np.bincount(topo.rbins_applied, weights=np.concatenate([lam * self._p_sel, rv]),
+                           minlength=self.n)[:n_q]
 
     def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
         """Residual and Jacobian of the equations at y.
@@ -516,51 +575,54 @@ class Model:
         last unknown y[-1].  Returns (r, A, info) with A dense, banded or sparse CSC
         (:func:`solve_linear` solves any of them; ``dense=True`` asks for a dense array whatever
         the size), or None with ``jacobian=False`` (then info["noise"] is not estimated either).
+
+        One evaluation of all elements (:func:`femslide.corotational.element_terms`), the terms and
+        joints in Python floats (few numbers each, where numpy's per-call cost would dominate), one
+        bincount for the residual and one for a dense Jacobian.
         """
-        n_q, n_c = self.n_q, self.n_c
-        q, mu = y[:n_q], y[n_q:n_q + n_c]
+        n_q, topo = self.n_q, self._topo
+        q = y[:n_q]
         if control is not None:
             lam = y[-1]
         size = self.n + (1 if control is not None else 0)
-        r = np.zeros(size)
-        fl = np.zeros(n_q)
-        vals = []
-        fmax = noise = 0.0
+        z = q[topo.jt_dofs].tolist()
+        mu = y[n_q:n_q + self.n_c].tolist()
+        rv, fv = [], []
+        jv = [] if jacobian else None
+        for ev, a, b in self._term_evals:
+            ev(z[a:b], lam, rv, jv, fv)
+        for ev, a, b, ma, mb in self._con_evals:
+            ev(z[a:b], mu[ma:mb], rv, jv)
+        fmax = 0.0
         alpha = alpha_ref
+        parts = []
+        info = _Info(lam=lam)
         if self.elements is not None:
-            out = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=jacobian)
-            f, K, alpha = out[0], out[1], out[3]
-            fT = f.T  # (6, n_elements): contiguous as evaluate builds it
-            r[:n_q] += np.bincount(self._ebinT, weights=fT.ravel(), minlength=n_q)
-            fmax = float(np.abs(fT).max())
+            F, K, _, alpha, noise = corotational.element_terms(self.elements, q, alpha_ref, jacobian)
+            parts.append(F.ravel())
+            fmax = float(np.abs(F).max())
             if jacobian:
-                vals.append(K.ravel())
-                noise = 4.0 * float(out[4].max())
-        if self._lin_dofs.size:
-            p = self.p_lin[self._lin_dofs]
-            r[self._lin_dofs] += lam * p
-            fl[self._lin_dofs] += p
-        for t, d in zip(self.terms, self._term_dofs):
-            _, gt, Ht, g0 = t.eval(q[d], lam)
-            r[d] += gt
-            fl[d] += g0
-            vals.append(Ht.ravel())
-        for c, d, ci, gi in zip(self.constraints, self._con_dofs, self._con_mu, self._con_rows):
-            mi = mu[ci]
-            g, G, Hmu = c.eval(q[d], mi)
-            r[d] += mi @ G
-            r[gi] = g
-            Gr = G.ravel()
-            vals += [Hmu.ravel(), Gr, Gr]
-        info = {"fl": fl, "fmax": fmax, "noise": noise, "lam": lam, "alpha": alpha}
+                info.later("noise", lambda: 4.0 * float(noise().max()))
+        if self._p_sel.size:
+            parts.append(lam * self._p_sel)
+        info.later("fl", lambda: np.bincount(topo.fbins, weights=np.concatenate([self._p_sel, fv]), minlength=n_q)
+                   if topo.fbins.size else np.zeros(n_q))
         if control is not None:
             dof, value = control
-            r[-1] = q[dof] - value
-            vals += [_ONE, fl[self._load_dofs]]
+            rv.append(float(q[dof]) - value)
+        parts.append(rv)
+        r = np.bincount(topo.rbins if control is None else topo.rbins_control, weights=np.concatenate(parts),
+                        minlength=size)
+        info.update(fmax=fmax, alpha=alpha)
+        if not jacobian or self.elements is None:
+            info["noise"] = 0.0
         if not jacobian:
             return r, None, info
+        if control is not None:
+            jv.append(1.0)
+            jv += info["fl"][self._load_dofs].tolist()
         rows, cols, size, band, sparse, flat = self._pattern(None if control is None else control[0])
-        vals = np.concatenate(vals)
+        vals = np.concatenate([K.ravel(), jv]) if self.elements is not None else np.array(jv)
         if band is not None and not dense:
             A = band.assemble(vals)
         elif sparse and not dense:
@@ -570,6 +632,50 @@ class Model:
             flat = rows * size + cols if flat is None else flat
             A = np.bincount(flat, weights=vals, minlength=size * size).reshape(size, size)
         return r, A, info
+
+
+class _Info(dict):
+    """The info of :meth:`Model.system`: "fmax" (largest element force), "noise" (round-off level of
+    the element forces, with the Jacobian), "fl" (d r / d lam over the frame dofs), "lam", "alpha";
+    "noise" and "fl" are computed when first read (from copies of the evaluated state)."""
+
+    def later(self, key, compute):
+        self.__dict__[key] = compute
+
+    def __missing__(self, key):
+        compute = self.__dict__.pop(key, None)
+        if compute is None:
+            raise KeyError(key)
+        self[key] = value = compute()
+        return value
+
+
+def _term_assembler(t):
+    """The assembly function (see femslide.loads.PointForce.assemble) of a term that has only
+    ``eval(z, lam) -> (energy, force, Hessian, d force / d lam)``."""
+    def assemble(z, lam, rv, jv, fv):
+        _, g, H, g0 = t.eval(np.array(z), lam)
+        rv += g.tolist()
+        if jv is not None:
+            jv += np.ravel(H).tolist()
+        fv += g0.tolist()
+    return assemble
+
+
+def _constraint_assembler(c):
+    """The assembly function (see femslide.joints.Link.assemble) of a constraint that has only
+    ``eval(z, mu) -> (g, G, sum_i mu_i H_i)``."""
+    def assemble(z, mu, rv, jv):
+        mu = np.array(mu)
+        g, G, Hmu = c.eval(np.array(z), mu)
+        rv += (mu @ G).tolist()
+        rv += np.ravel(g).tolist()
+        if jv is not None:
+            Gl = np.ravel(G).tolist()
+            jv += np.ravel(Hmu).tolist()
+            jv += Gl
+            jv += Gl
+    return assemble
 
 
 def solve_linear(A, b):

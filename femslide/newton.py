@@ -50,7 +50,7 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
     rot = model.rotation_dofs()
     hist = []
     prev = best = math.inf
-    floor = 0.0
+    finfo = None
     stalled = floor_its = 0
     floor_step = False
     for it in range(1, maxit + 1):
@@ -59,42 +59,45 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
         r, A, info = model.system(y, alpha_ref, lam, control, jacobian=not prev <= 1e-7)
         # relative to the internal forces, floored at the round-off level of the element forces
         # (estimated with the Jacobian; a residual-only evaluation keeps the last estimate)
-        res_f = float(np.abs(r[:n_q]).max()) / (1.0 + info["fmax"])
-        res_g = float(np.abs(r[n_q:]).max()) if r.size > n_q else 0.0
+        ar = np.abs(r)
+        res_f = float(ar[:n_q].max()) / (1.0 + info["fmax"])
+        res_g = float(ar[n_q:].max()) if r.size > n_q else 0.0
         if A is not None:
-            floor = info["noise"] / (1.0 + info["fmax"])
+            finfo = info   # the round-off floor of this state, estimated when first needed
         res = max(res_f, res_g)
         hist.append(res)
         if A is not None and control is None and isinstance(A, np.ndarray):
-            model.last_tangent = A.copy()
-        if not np.isfinite(res):
+            model.last_tangent = A   # for a stability check of the solution (solve_linear keeps A)
+        if not math.isfinite(res):
             return y, NewtonInfo(False, it, hist, "residual is not finite")
         # converged: below tol, or below the (worst-case) round-off bound, under which the residual
         # no longer measures the error, both before and after a Newton step
-        if res_g <= tol and (res_f <= tol or (floor_step and res_f <= floor)):
+        if res_g <= tol and (res_f <= tol or (floor_step and res_f <= _floor(finfo))):
             return y, NewtonInfo(True, it - 1, hist, "" if res_f <= tol else "at round-off level",
                                  alpha=info["alpha"])
         if A is None:
             r, A, info = model.system(y, alpha_ref, lam, control)
-            floor = info["noise"] / (1.0 + info["fmax"])
-        at_floor = res_f <= floor and res_g <= tol
+            finfo = info
+            if control is None and isinstance(A, np.ndarray):
+                model.last_tangent = A
+        at_floor = res_g <= tol and res_f <= _floor(finfo)
         floor_its = floor_its + 1 if at_floor else 0
         # stagnation at the round-off level of a stiff model: no progress for 4 iterations
         stalled = stalled + 1 if res > 0.5 * best else 0
         best = min(best, res)
         if stalled >= 4 and best <= 1e-7:
             return y, NewtonInfo(True, it - 1, hist, "stagnated at round-off level", alpha=info["alpha"])
-        if control is None and isinstance(A, np.ndarray):
-            model.last_tangent = A.copy()  # for a stability check of the solution (LU overwrites A)
         try:
             dy = -solve_linear(A, r)
         except (np.linalg.LinAlgError, RuntimeError, ValueError) as exc:
             return y, NewtonInfo(False, it, hist, f"singular tangent ({exc})")
-        if not np.all(np.isfinite(dy)):
+        ady = np.abs(dy)
+        if not math.isfinite(ady.max()):   # (a NaN propagates through max)
             return y, NewtonInfo(False, it, hist, "singular tangent (non-finite step)")
-        big = np.abs(dy[rot]).max() if rot.size else 0.0
+        big = ady[rot].max() if rot.size else 0.0
         if big > max_rot:
             dy *= max_rot / big
+            ady *= max_rot / big
         y += dy
         floor_step = at_floor
         if floor_its >= 4:
@@ -102,13 +105,18 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
             hist.append(float(np.abs(r[:n_q]).max()) / (1.0 + info["fmax"]))
             return y, NewtonInfo(True, it, hist, "at round-off level", alpha=info["alpha"])
         # round-off floor: a step at the level of machine precision cannot improve further
-        step = np.abs(dy[:n_q]).max()
-        if step <= 1e-14 * (1.0 + np.abs(y[:n_q]).max()) and res <= 1e3 * tol and res >= 0.5 * prev:
+        if res <= 1e3 * tol and res >= 0.5 * prev and \
+                ady[:n_q].max() <= 1e-14 * (1.0 + np.abs(y[:n_q]).max()):
             r, _, info = model.system(y, alpha_ref, lam, control, jacobian=False)
             hist.append(float(np.abs(r).max()))
             return y, NewtonInfo(True, it, hist, alpha=info["alpha"])
         prev = res
     return y, NewtonInfo(False, maxit, hist, f"no convergence in {maxit} iterations")
+
+
+def _floor(info):
+    """The relative round-off floor of the force residual (the model's estimate, computed when read)."""
+    return info["noise"] / (1.0 + info["fmax"])
 
 
 @dataclass

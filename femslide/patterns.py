@@ -6,11 +6,12 @@ from __future__ import annotations
 
 class PatternCache:
     """Dof layouts and Jacobian scatter patterns (femslide.model._Topology) by model topology,
-    and rod meshes by geometry."""
+    rod meshes by geometry, and the frames, joints and loads of models by their structure's plan."""
 
     def __init__(self):
         self._topologies = {}
         self._meshes = {}
+        self._frames = {}
 
     def mesh(self, key, build):
         """The rod meshes of a geometry and element counts (femslide.model._Mesh), built once."""
@@ -18,6 +19,13 @@ class PatternCache:
         if m is None:
             m = self._meshes[key] = build()
         return m
+
+    def frames(self, key, model=None):
+        """A finalized model (femslide.model.Model) whose frames, joints, terms and loads the models of
+        this key (plan and element counts) share, or None; with ``model``: keep it for the key."""
+        if model is not None:
+            self._frames.setdefault(key, model)
+        return self._frames.get(key)
 
     def topology(self, model, con_dofs, term_dofs, lin_dofs):
         key = (model.n_q, model.elements.conn.tobytes() if model.elements is not None else b"",

@@ -129,7 +129,7 @@ def largest_moment(model, y, alpha, cuts=None) -> float:
         return 0.0
     if cuts is None:
         cuts = end_moments(model, y, resultant=True)
-    if model.elem_q.any():
+    if model.rods_loaded:
         return max(a["M_max"] for a in rod_arrays(model, y, alpha, cuts).values())
     return float(np.abs(cuts[0]).max()) * model.Fref * model.Lref
 
@@ -137,20 +137,22 @@ def largest_moment(model, y, alpha, cuts=None) -> float:
 def joint_forces(model, y, name):
     """(Fx, Fy, M) [model units] that b exerts on a at the joint point, springs included."""
     link = model.joint[name]
-    q = y[:model.n_q]
-    z = q[link.dofs]
-    mu = model.multipliers(y, link)
-    gen = -(mu @ link.gradient(z))
-    spring = model.spring.get(name)
-    if spring is not None:
-        gen = gen - spring.eval(z, 1.0)[1]
     if link.ia is None:   # a is the ground: not allowed by the declaration layer
         raise ValueError(f"joint {name}: part a has no dofs")
-    f = gen[link.ia:link.ia + 3]
-    _, lever = link.point_a(z)
+    z = y[link.dofs].tolist()
+    gen = []   # the joint's generalised forces mu . G on its dofs (then its equations g)
+    link.assemble(z, model.multipliers(y, link).tolist(), gen, None)
+    spring = model.spring.get(name)
+    if spring is not None:
+        fs = []
+        spring.assemble(z, 1.0, fs, None, [])
+        f = [-gen[i] - fs[i] for i in range(link.ia, link.ia + 3)]
+    else:
+        f = [-gen[i] for i in range(link.ia, link.ia + 3)]
+    Rx, Ry = link.lever(z)
     # the frame moment about a's origin includes the moment of the force about it
-    M = f[2] - (lever[0] * f[1] - lever[1] * f[0])
-    return float(f[0]), float(f[1]), float(M)
+    M = f[2] - (Rx * f[1] - Ry * f[0])
+    return f[0], f[1], M
 
 
 def extract(model, y, alpha, arrays=None) -> dict:

@@ -512,14 +512,14 @@ def _units(kinds, L, F):
 
 def _scales(vals, kinds):
     """Per-output scales for relative errors: |value|, floored at 1e-3 of its group's largest and at
-    1e-10 in model units: changes below that are round-off, not discretisation error."""
-    a = np.abs(vals)
-    sc = np.empty_like(a)
-    for g in GROUPS:
-        m = [i for i, k in enumerate(kinds) if k in g]
-        if m:
-            sc[m] = np.maximum(a[m], 1e-3 * a[m].max())
-    return np.maximum(sc, 1e-10)
+    1e-10 in model units: changes below that are round-off, not discretisation error.  (A handful of
+    values: Python floats.)"""
+    group = [next(i for i, g in enumerate(GROUPS) if k in g) for k in kinds]
+    a = [abs(v) for v in vals.tolist()]
+    top = [0.0] * len(GROUPS)
+    for x, g in zip(a, group):
+        top[g] = max(top[g], x)
+    return np.array([max(x, 1e-3 * top[g], 1e-10) for x, g in zip(a, group)])
 
 
 def _force_like(kinds):

@@ -6,7 +6,9 @@
    solved from scratch with the spring-hinge predictor as `femslide sweep` does (so that a sweep row
    equals `femslide solve` bit for bit): summed solve time, Newton iterations, largest error estimate.
 2. Cost per element per Newton iteration (residual + tangent + linear solve) of a cantilever with
-   N = 1e4 elements (and 32 for comparison).
+   N = 1e4 elements (and 32 for comparison); the cost of one ``Model.system`` call (residual and
+   Jacobian, and the residual alone) of beam-slider with 8 elements (36 unknowns), the size at which
+   the sweep spends most of its time in numpy's per-call overhead.
 3. With openseespy installed, the same work in OpenSees in the same run: beam-slider with 32 elements
    (penalty model of the sliding clamp, displacement control of the body rotation to femslide's phi:
    OpenSees is told the answer's rotation and finds the load factor; see
@@ -76,6 +78,24 @@ def per_iteration(n, repeats=5):
     return best
 
 
+def system_call(n=8, calls=200, repeats=5):
+    """(unknowns, seconds per Model.system call with the Jacobian, without) of beam-slider with n
+    elements at its converged state (EI = 1e6 N m^2), best of ``repeats`` batches of ``calls``."""
+    v = SCENES["beam-slider"].resolve({"EI": 1e6, "n_elements": n})
+    lv = solve_scene("beam-slider", v).level
+    m, y, alpha = lv.model, lv.y, lv.alpha
+    out = []
+    for jac in (True, False):
+        best = np.inf
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            for _ in range(calls):
+                m.system(y, alpha, 1.0, jacobian=jac)
+            best = min(best, (time.perf_counter() - t0) / calls)
+        out.append(best)
+    return m.n, out[0], out[1]
+
+
 def opensees_cantilever(n, P=1.0, steps=1, tol=1e-8, test_iters=50, test="NormUnbalance"):
     import openseespy.opensees as ops
     ops.wipe()
@@ -121,6 +141,11 @@ def main():
         rows.append({"case": f"cantilever N={n} per iteration", "femslide_s": t,
                      "note": f"{t / n * 1e6:.3f} us per element per iteration"})
         print(f"cantilever N={n:5d}: {t * 1e3:7.3f} ms per Newton iteration = {t / n * 1e6:.3f} us per element")
+    n_un, t_jac, t_res = system_call()
+    rows.append({"case": f"beam-slider 8 elements ({n_un} unknowns): one Model.system call", "femslide_s": t_jac,
+                 "note": f"residual and Jacobian; residual alone {t_res * 1e6:.0f} us"})
+    print(f"beam-slider 8 elements ({n_un} unknowns): Model.system {t_jac * 1e6:.0f} us with the Jacobian, "
+          f"{t_res * 1e6:.0f} us the residual alone")
     try:
         import importlib
         importlib.import_module("openseespy.opensees")
