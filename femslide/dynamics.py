@@ -63,10 +63,10 @@ from dataclasses import dataclass
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
-import scipy.linalg as sla  # noqa: E402
 
 from .corotational import strain_energy  # noqa: E402
 from .errors import BadInput, SolverFailure  # noqa: E402
+from .model import lu_factor, lu_solve  # noqa: E402
 from .params import floor_g  # noqa: E402
 
 N_DEFAULT = 8          # elements of the flexible rod when n_elements is not given
@@ -306,10 +306,10 @@ class Structure:
             if not np.isfinite(hist[-1]):
                 break
             try:
-                lu = sla.lu_factor(A, check_finite=False)
+                lu = lu_factor(A)
             except (ValueError, np.linalg.LinAlgError) as exc:
                 raise SolverFailure(f"singular tangent at phi = {phi:.6g} rad ({exc})", hist)  # noqa: B904 (cause in the message)
-            dy = -sla.lu_solve(lu, r, check_finite=False)
+            dy = -lu_solve(lu, r)
             res = max(res_f, res_g)
             # converged at the tolerance, or at the round-off floor of the stiff rod (the nearly
             # inextensible rod, EA/EI ~ 1e6 m^-2, floors the force residual near 1e-10 relative):
@@ -365,7 +365,7 @@ class Structure:
         m = self.model
         e = np.zeros(y.size)
         e[self.row_rot] = 1.0
-        y1 = -sla.lu_solve(lu, e, check_finite=False)        # dy/dphi
+        y1 = -lu_solve(lu, e)        # dy/dphi
         s, ds, Hs = self.clamp.slide(y[self.cdofs])
         q1 = y1[self.cdofs]
         s1 = float(ds @ q1)
@@ -377,7 +377,7 @@ class Structure:
             _, Ap, _ = self._system(y + hh * y1, alpha)
             _, Am, _ = self._system(y - hh * y1, alpha)
             Fyy = (Ap @ y1 - Am @ y1) / (2 * hh)
-            y2 = -sla.lu_solve(lu, Fyy, check_finite=False)
+            y2 = -lu_solve(lu, Fyy)
             s2 = float(ds @ y2[self.cdofs] + q1 @ Hs @ q1)
         Q = -float(y[self.row_rot])
         dQ = -float(y1[self.row_rot])

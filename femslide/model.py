@@ -692,3 +692,20 @@ def solve_linear(A, b):
         return x
     import scipy.sparse.linalg as spla
     return spla.splu(A, permc_spec="COLAMD").solve(b)
+
+
+def lu_factor(A):
+    """LU factors of a dense square matrix (LAPACK dgetrf, loaded as :func:`solve_linear` loads its
+    routines); LinAlgError when A is singular.  A is not modified."""
+    lu, piv, info = _lapack("dgetrf")(A, overwrite_a=0)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"singular matrix (LAPACK getrf info {info})")
+    return lu, piv
+
+
+def lu_solve(factors, b):
+    """x with A x = b from :func:`lu_factor`'s factors of A (LAPACK dgetrs)."""
+    x, info = _lapack("dgetrs")(factors[0], factors[1], b)
+    if info != 0:
+        raise ValueError(f"LAPACK getrs info {info}")
+    return x
