@@ -665,6 +665,9 @@ def check_fe_dynamics(row, r):
 # -- main ---------------------------------------------------------------------------------------------
 
 def main():
+    if "-h" in sys.argv or "--help" in sys.argv:
+        print(__doc__)
+        return
     jobs = 2
     if "--jobs" in sys.argv:
         jobs = int(sys.argv[sys.argv.index("--jobs") + 1])
