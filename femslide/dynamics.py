@@ -64,7 +64,6 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
-from .corotational import strain_energy  # noqa: E402
 from .errors import BadInput, SolverFailure  # noqa: E402
 from .model import lu_factor, lu_solve  # noqa: E402
 from .params import floor_g  # noqa: E402
@@ -350,14 +349,7 @@ class Structure:
 
     def potential(self, y, alpha):
         """Total potential energy of a state [P a]: strain energy + weights + spring (no inertia)."""
-        m = self.model
-        q = y[:m.n_q]
-        E = strain_energy(m.elements, m.nodal(q), alpha) + float(m.p_lin @ q)
-        for t in m.terms:
-            if t is self.inertia:
-                continue
-            E += float(t.eval(q[t.dofs], 1.0)[0])
-        return E
+        return self.model.potential(y, alpha, skip=self.inertia)
 
     def point(self, phi, second=True, s_c=None):
         """Statics at phi with sensitivities (see :class:`Point`)."""

@@ -557,6 +557,18 @@ class Model:
         _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False)
         return qb, alpha
 
+    def potential(self, y, alpha_ref, skip=None):
+        """Potential energy at y (model units): the rods' strain energy, the springs' energy and the
+        dead loads' potential (gravity included); the term ``skip`` (an extra term of a caller)
+        left out."""
+        q = y[:self.n_q]
+        V = corotational.strain_energy(self.elements, self.nodal(q), alpha_ref) if self.elements is not None else 0.0
+        V += float(np.dot(self.p_lin, q))
+        for t, d in zip(self.terms, self._term_dofs):
+            if t is not skip:
+                V += float(t.eval(q[d], 1.0)[0])
+        return V
+
     def applied(self, y, lam=1.0):
         """The generalised forces on the frames from everything but the rod elements - loads (times
         ``lam``), springs and joint multipliers - in the residual's sign (minus the force on the

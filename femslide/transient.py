@@ -45,7 +45,6 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # small LUs: threads only co
 import numpy as np  # noqa: E402
 import scipy.sparse as sp  # noqa: E402
 
-from .corotational import strain_energy  # noqa: E402
 from .errors import BadInput, SolverFailure  # noqa: E402
 from .model import BandMatrix, solve_linear  # noqa: E402
 from .newton import newton  # noqa: E402
@@ -178,16 +177,6 @@ class StepSystem:
             if self.Csr is not None:
                 A = add_coo(self.model, A, self.Crows, self.Ccols, self.c_vel * self.Cvals)
         return r, A, info
-
-
-def potential(model, y, alpha):
-    """Potential energy (model units): strain energy of the rods, springs and dead loads (gravity)."""
-    q = y[:model.n_q]
-    V = strain_energy(model.elements, model.nodal(q), alpha) if model.elements is not None else 0.0
-    V += float(np.dot(model.p_lin, q))
-    for t, d in zip(model.terms, model._term_dofs):
-        V += float(t.eval(q[d], 1.0)[0])
-    return V
 
 
 def _consistent_start(sysm, s: State, h_s: float) -> State:
@@ -356,7 +345,7 @@ def _requilibrate(sysm, s: State):
         return s, 0.0
     light = _Light(sysm, s.y, s.alpha, s.v, heavy)
     y, alpha, _ = light.solve(s.y, s.alpha)
-    released = potential(sysm.model, s.y, s.alpha) - potential(sysm.model, y, alpha)
+    released = sysm.model.potential(s.y, s.alpha) - sysm.model.potential(y, alpha)
     rate = light.rates(s.v[heavy])
     v = s.v.copy()
     v[light.cols[:light.n_q]] = rate[:light.n_q]
@@ -461,7 +450,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
     h_max = h_max or t_end
     h_min = 1e-12 * max(t_end, 1.0)
     out = Integration()
-    V0 = potential(model, y0, alpha0)
+    V0 = model.potential(y0, alpha0)
     T0 = masses.kinetic(y0[:n_q], s.v)
     D = W = 0.0
     J = 0.0            # of D: the energy released by jumps of massless parts at friction events
@@ -578,7 +567,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
             Pd1 = loss_power(s.y, s.v)
         Pg, Pd = Pg1, Pd1
         T = masses.kinetic(s.y[:n_q], s.v)         # (after a switch: the state it left)
-        V = potential(model, s.y, s.alpha) - V0
+        V = model.potential(s.y, s.alpha) - V0
         Emax = max(Emax, abs(T), abs(V), abs(D), abs(W))
         bal = max(bal, abs(T + V + D - W - T0))
         if observe:
@@ -588,7 +577,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         h = h_next
     out.energy_balance = bal / Emax if Emax > 0 else 0.0
     out.energy = {"kinetic": masses.kinetic(s.y[:n_q], s.v) * model.Fref * model.Lref,
-                  "potential": (potential(model, s.y, s.alpha) - V0) * model.Fref * model.Lref,
+                  "potential": (model.potential(s.y, s.alpha) - V0) * model.Fref * model.Lref,
                   "dissipated": D * model.Fref * model.Lref, "work_in": W * model.Fref * model.Lref,
                   "jump_loss": J * model.Fref * model.Lref}
     return out
