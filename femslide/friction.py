@@ -39,6 +39,7 @@ import math
 
 import numpy as np
 
+from .results import at_joint_point
 
 
 class SlideLock:
@@ -118,14 +119,13 @@ class FrictionJoint:
 def joint_friction_force(link, c, q):
     """(Fx, Fy, M) (model units) of a friction force of coefficient c along the guide on part a at
     the joint point: the generalised force -c ds/dq on a's dofs, its moment taken about the joint
-    point as in femslide/results.py."""
+    point (:func:`femslide.results.at_joint_point`)."""
     if link.ia is None:
         return 0.0, 0.0, 0.0
     z = q[link.dofs]
     _, ds, _ = link.slide(z)
-    f = -c * ds[link.ia:link.ia + 3]
-    _, lever = link.point_a(z)
-    return float(f[0]), float(f[1]), float(f[2] - (lever[0] * f[1] - lever[1] * f[0]))
+    f = (-c * ds[link.ia:link.ia + 3]).tolist()
+    return at_joint_point(link, z.tolist(), f)
 
 
 class Friction:

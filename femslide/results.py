@@ -149,10 +149,14 @@ def joint_forces(model, y, name):
         f = [-gen[i] - fs[i] for i in range(link.ia, link.ia + 3)]
     else:
         f = [-gen[i] for i in range(link.ia, link.ia + 3)]
+    return at_joint_point(link, z, f)
+
+
+def at_joint_point(link, z, f):
+    """(Fx, Fy, M) at the joint point of a force f = (fx, fy, m) on part a's frame (``z`` the joint's
+    dofs as a list): the frame moment about a's origin includes the moment of the force about it."""
     Rx, Ry = link.lever(z)
-    # the frame moment about a's origin includes the moment of the force about it
-    M = f[2] - (Rx * f[1] - Ry * f[0])
-    return f[0], f[1], M
+    return f[0], f[1], f[2] - (Rx * f[1] - Ry * f[0])
 
 
 def extract(model, y, alpha, arrays=None) -> dict:
