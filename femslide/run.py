@@ -364,8 +364,7 @@ def _values_of(name, values):
     if isinstance(values, (str, bytes, dict)) or not hasattr(values, "__iter__"):
         raise BadInput(f"sweep: {name} = {values!r} is not a list of values; allowed: a non-empty list, "
                        f"tuple, range or array (a constant goes into fixed=)")
-    items = [v.item() if hasattr(v, "item") and getattr(v, "ndim", None) == 0 else v for v in values]
-    items = [v.tolist() if hasattr(v, "tolist") else v for v in items]
+    items = [v.tolist() if hasattr(v, "tolist") else v for v in values]   # numpy scalars, 0-d arrays too
     if not items:
         raise BadInput(f"sweep: {name} has no values; allowed: a non-empty list of values")
     return items

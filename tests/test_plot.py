@@ -22,6 +22,7 @@ import pytest
 import femslide
 from femslide.errors import BadInput
 from femslide.diagrams import LiftOffWarning
+from tests.test_show import can_render  # noqa: F401  (the fixture: skip only without an EGL context)
 
 matplotlib = pytest.importorskip("matplotlib")
 matplotlib.use("Agg")
@@ -240,19 +241,9 @@ def test_constant_field_is_one_value(tmp_path):
     assert not is_constant(0.0, 1.0) and not is_constant(3.0, 3.1)
 
 
-@pytest.fixture(scope="module")
-def can_render():
-    from tests.test_show import run_py
-    probe = ("import os\nos.environ.setdefault('VTK_DEFAULT_OPENGL_WINDOW', 'vtkEGLRenderWindow')\n"
-             "import pyvista as pv\npv.OFF_SCREEN = True\npl = pv.Plotter(off_screen=True, window_size=(64, 64))\n"
-             "pl.add_mesh(pv.Line())\nimg = pl.screenshot(return_img=True)\nprint(img.shape)")
-    r = run_py(probe)
-    if r.returncode != 0:
-        pytest.skip(f"no off-screen rendering here: {r.stderr.strip().splitlines()[-1:]}")
-
-
 @pytest.mark.render
-def test_show_diagram_screenshot(can_render, tmp_path, friction_series):
+@pytest.mark.usefixtures("can_render")
+def test_show_diagram_screenshot(tmp_path, friction_series):
     from tests.test_show import read_png
     r = run("solve", "beam-slider", "--set", "EI=10", "--out", str(tmp_path))
     assert r.returncode == 0, r.stderr
@@ -288,7 +279,8 @@ def test_magnify_scales_the_displacements():
 
 
 @pytest.mark.render
-def test_show_series_colour_range_is_global(can_render, friction_series):
+@pytest.mark.usefixtures("can_render")
+def test_show_series_colour_range_is_global(friction_series):
     """The colour range that show uses for a frame of a series is the range over all frames."""
     from femslide.show import value_range
     from tests.test_show import run_py
