@@ -122,6 +122,26 @@ def end_moments(model, y, X=None, resultant=False):
     return (M, Ci[:, :2].copy()) if resultant else M
 
 
+def element_cuts(model, y, alpha):
+    """The (end moments, middle force) pair of :func:`end_moments` (``resultant=True``) taken from the
+    elements' own basic forces instead of the equilibrium of the rod pieces: for a state that is not
+    a static equilibrium of :meth:`Model.applied` - a time step of the dynamics (inertia, damping and
+    friction forces act besides it), a displaced mode shape - where the equilibrium recovery would
+    miss those forces.  M from the basic end moments, G = N t - V n at the element middle with N the
+    basic axial force and V = (M1 + M2) / l the element shear (l the current chord)."""
+    if model.elements is None:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    qb, _ = model.element_forces(y[:model.n_q], alpha)
+    es = model.elements
+    X = model.X0 + model.nodal(y[:model.n_q])[:, :2]
+    D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
+    ln = np.hypot(D[:, 0], D[:, 1])
+    t = D / ln[:, None]
+    V = (qb[:, 1] + qb[:, 2]) / ln
+    G = qb[:, :1] * t - V[:, None] * np.column_stack([-t[:, 1], t[:, 0]])
+    return qb[:, 1:].copy(), G
+
+
 def largest_moment(model, y, alpha, cuts=None) -> float:
     """Largest |bending moment| [N m] over all rods (cheap when no rod carries a distributed load).
     ``cuts``: ``end_moments(model, y, resultant=True)`` of this state if already computed."""

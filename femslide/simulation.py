@@ -501,6 +501,7 @@ def _hysteresis(out_dir, name, cols, H, joints):
 def _write(out_dir, name, cols, H, frames, model):
     """history.csv and the PVD series of VTU frames (about FRAMES, evenly spread in time), each frame
     with its time and the history's values at that time as field data (femslide.vtu.write_series)."""
+    from .results import element_cuts
     from .vtu import mesh_data, write_series
     os.makedirs(out_dir, exist_ok=True)
     files = []
@@ -510,7 +511,9 @@ def _write(out_dir, name, cols, H, frames, model):
     if frames:
         def series():
             for t, i, y, alpha in frames:
-                points, cells, pdata, cdata = mesh_data(model, y, alpha)
+                # (a time step is no static equilibrium of the model's own forces: the rods' cut
+                # forces and moments from the elements, not from the equilibrium recovery)
+                points, cells, pdata, cdata = mesh_data(model, y, alpha, cuts=element_cuts(model, y, alpha))
                 yield t, points, cells, pdata, cdata, {c: H[i, j] for j, c in enumerate(cols) if j > 0}
         files += write_series(series(), out_dir, name)
     return files
@@ -536,6 +539,7 @@ def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
            "periods_s": [float(1.0 / f) for f in freq], "elements": {r.name: r.elements for r in fs.rods}}
 
     def write(out_dir):
+        from .results import element_cuts
         from .vtu import _write_vtu, mesh_data
         os.makedirs(out_dir, exist_ok=True)
         files = []
@@ -543,7 +547,7 @@ def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
             yk = y.copy()
             yk[:model.n_q] += 0.05 * phi
             _, alpha_k = model.element_forces(yk[:model.n_q], alpha)
-            points, cells, pdata, cdata = mesh_data(model, yk, alpha_k)
+            points, cells, pdata, cdata = mesh_data(model, yk, alpha_k, cuts=element_cuts(model, yk, alpha_k))
             path = os.path.join(out_dir, f"{name}_mode{k + 1}.vtu")
             _write_vtu(path, points, cells, pdata, cdata, {"mode": k + 1, "frequency_hz": float(f)})
             files.append(path)
