@@ -123,12 +123,21 @@ def parse_spec(table, base_dir=".", where="[simulate]") -> Spec:
         else:
             raise BadInput(f"{where} initial: name a body (rotation, u) or a slider/roller joint (slide)")
     sp_.initial = ini
-    if "elements" in table:
-        n = table["elements"]
-        if isinstance(n, bool) or not isinstance(n, (int, float)) or n != int(n) or not 1 <= n <= 512:
-            raise BadInput(f"{where} elements = {n!r}; allowed: an integer in [1, 512]")
-        sp_.elements = int(n)
+    n = parse_elements(table, where)
+    if n is not None:
+        sp_.elements = n
     return sp_
+
+
+def parse_elements(table, where="[simulate]"):
+    """The table's ``elements`` (elements per rod without its own mesh): an integer in [1, 512], or
+    None when absent; BadInput naming it otherwise (simulate and modes read it)."""
+    if not isinstance(table, dict) or "elements" not in table:
+        return None
+    n = table["elements"]
+    if isinstance(n, bool) or not isinstance(n, (int, float)) or n != int(n) or not 1 <= n <= 512:
+        raise BadInput(f"{where} elements = {n!r}; allowed: an integer in [1, 512]")
+    return int(n)
 
 
 # -- holding the initial state ------------------------------------------------------------------------

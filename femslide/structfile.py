@@ -185,8 +185,10 @@ class StructureFile:
     simulate_table: dict | None = None   # the file's [simulate] table (femslide/simulation.py)
 
     def _sim_elements(self, default):
-        t = self.simulate_table if isinstance(self.simulate_table, dict) else {}
-        return t.get("elements", default)
+        """The [simulate] table's elements (checked as simulate checks them), else ``default``."""
+        from .simulation import parse_elements
+        n = parse_elements(self.simulate_table, f"structure file {self.path}: [simulate]")
+        return default if n is None else n
 
     def for_modes(self) -> "StructureFile":
         """The same file as a `modes` target."""

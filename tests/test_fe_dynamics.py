@@ -506,3 +506,13 @@ def test_mode_shape_vtu_carries_the_mode_bending_moment(tmp_path):
     tip = float(np.abs(m.point_data["displacement"][:, 1]).max())
     beta = 1.8751040687 / L
     assert abs(m.point_data["bending_moment"][0]) == pytest.approx(EI * tip * beta ** 2, rel=5e-3)
+
+
+def test_modes_checks_the_simulate_elements(tmp_path, capsys):
+    """`femslide modes` reads [simulate] elements as simulate does: 0 is bad input naming it (it
+    used to run with zero elements)."""
+    from femslide.cli import main
+    text = open("meshes/structures/beam-oscillation.toml").read().replace("elements = 8\n", "")
+    (tmp_path / "s.toml").write_text(text.replace("[simulate]\n", "[simulate]\nelements = 0\n"))
+    assert main(["modes", str(tmp_path / "s.toml"), "--json"]) == 2
+    assert "elements = 0" in capsys.readouterr().err
