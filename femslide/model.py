@@ -163,11 +163,10 @@ class _Topology:
         self.n_c = int(self.c_off[-1])
         self.n = n_q + self.n_c
         rows, cols = [], []
-        self.edofs = self.ebinT = None
+        self.ebinT = None
         if model.elements is not None:
             c = model.elements.conn
             ed = np.concatenate([3 * c[:, :1] + np.arange(3), 3 * c[:, 1:] + np.arange(3)], axis=1)
-            self.edofs = ed
             self.ebinT = ed.T.ravel()  # matches the (6, n_elements) layout of the element forces
             rows.append(np.repeat(ed, 6, axis=1).ravel())
             cols.append(np.tile(ed, (1, 6)).ravel())
@@ -181,7 +180,6 @@ class _Topology:
         self.rows = np.concatenate(rows).astype(np.intp)
         self.cols = np.concatenate(cols).astype(np.intp)
         self.con_mu = [slice(self.c_off[i], self.c_off[i + 1]) for i in range(len(sizes))]
-        self.con_rows = [slice(n_q + self.c_off[i], n_q + self.c_off[i + 1]) for i in range(len(sizes))]
         # loads act on few dofs: d r / d lam is sparse with a static pattern
         self.load_dofs = _unique(np.concatenate([*term_dofs, lin_dofs])).astype(np.intp)
         self.patterns = {}
@@ -513,9 +511,7 @@ class Model:
         topo = self.cache.topology(self, con_dofs, term_dofs, lin_dofs)
         self._topo = topo
         self.c_off, self.n_c, self.n = topo.c_off, topo.n_c, topo.n
-        self.edofs, self._ebinT, self._load_dofs = topo.edofs, topo.ebinT, topo.load_dofs
-        self._term_dofs, self._con_dofs, self._lin_dofs = term_dofs, con_dofs, lin_dofs
-        self._con_mu, self._con_rows = topo.con_mu, topo.con_rows
+        self._load_dofs, self._term_dofs = topo.load_dofs, term_dofs
         self._p_sel = self.p_lin[lin_dofs]
         # (assemble, slice of the gathered dofs[, slice of the multipliers]) per term and joint
         o = 0
