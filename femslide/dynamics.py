@@ -65,6 +65,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 from .errors import BadInput, SolverFailure  # noqa: E402
+from .friction import SlideLock  # noqa: E402
 from .model import lu_factor, lu_solve  # noqa: E402
 from .params import floor_g  # noqa: E402
 
@@ -135,24 +136,6 @@ class RotationLock:
     def eval(self, z, mu=None):
         """g, G and the Hessians (or, given the multiplier, their weighted sum): joints.py protocol."""
         return np.array([z[0] - self.value]), np.ones((1, 1)), np.zeros((1, 1) if mu is not None else (1, 1, 1))
-
-
-@dataclass
-class SlideLock:
-    """Slide of a sliding clamp held at ``value``; multiplier = the axial force in the guide."""
-    clamp: object
-    value: float = 0.0
-    name: str = "slide lock"
-    size: int = 1
-
-    @property
-    def dofs(self):
-        return self.clamp.dofs
-
-    def eval(self, z, mu=None):
-        """g, G and the Hessians (or, given the multiplier, their weighted sum): joints.py protocol."""
-        s, ds, Hs = self.clamp.slide(z)
-        return np.array([s - self.value]), ds[None, :], (Hs[None, :, :] if mu is None else mu[0] * Hs)
 
 
 @dataclass
@@ -235,7 +218,7 @@ class Structure:
         th_dof = m.body_dof("deck") + 2
         self.th_dof = th_dof
         self.rot = m.add_constraint(RotationLock(th_dof))
-        self.slock = m.add_constraint(SlideLock(clamp)) if friction else None
+        self.slock = m.add_constraint(SlideLock(clamp, name="slide lock")) if friction else None
         self.h = 0.5 * vv["l2"] / a
         piece = np.arange(m.body_dof("piece"), m.body_dof("piece") + 3) if "piece" in m.body_index else None
         rG = np.array([v["a"] + v["d"], v["l"] + v["b"]]) / a - m.body_X0[m.body_index["deck"]]
@@ -294,7 +277,7 @@ class Structure:
         alpha = self.alpha_ref
         self.rot.value = -phi
         if self.slock is not None and s_c is not None:
-            self.slock.value = s_c
+            self.slock.target = s_c
         n_q = m.n_q
         hist = []
         for it in range(maxit):
