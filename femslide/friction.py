@@ -72,6 +72,7 @@ class FrictionJoint:
         self.name = joint.name
         self.link = model.joint[joint.name]
         self.dofs = self.link.dofs
+        self.link_nq = model.n_q
         i = model.constraints.index(self.link)
         o = model.n_q + int(model.c_off[i])
         self.mu_idx = np.arange(o, o + self.link.size, dtype=np.intp)
@@ -137,8 +138,6 @@ class Friction:
         from .patterns import PatternCache
         self.base = model
         self.joints = [FrictionJoint(model, j) for j in joints]
-        for fj in self.joints:
-            fj.link_nq = model.n_q
         self.make_system = make_system      # (model, extras) -> StepSystem
         self.counts = counts
         self._Model, self._cache = Model, PatternCache()
@@ -191,11 +190,11 @@ class Friction:
         k = stuck.index(i)
         return float(y[self.base.n + k])
 
-    def convert(self, y, old_stuck, new_stuck, guess):
-        """y of the modes ``old_stuck`` -> y of ``new_stuck`` (lock multipliers kept or guessed)."""
+    def convert(self, y, old_stuck, new_stuck):
+        """y of the modes ``old_stuck`` -> y of ``new_stuck`` (lock multipliers kept, new ones 0)."""
         n = self.base.n
         vals = dict(zip(old_stuck, y[n:]))
-        return np.concatenate([y[:n], [vals.get(i, guess.get(i, 0.0)) for i in new_stuck]])
+        return np.concatenate([y[:n], [vals.get(i, 0.0) for i in new_stuck]])
 
     # -- events -------------------------------------------------------------------------------------
     def event(self, i, t, kind):

@@ -52,7 +52,6 @@ class Masses:
         self.node_dofs = np.concatenate([3 * heavy, 3 * heavy + 1]).astype(np.intp)
         self.node_vals = np.concatenate([self.node_m[heavy], self.node_m[heavy]])
         bodies = [b for b in fs.bodies if b.mass > 0 or (b.inertia or 0.0) > 0]
-        self.body_names = [b.name for b in bodies]
         self.body_d = np.array([model.body_dof(b.name) for b in bodies], np.intp)
         self.body_m = np.array([b.mass for b in bodies], float) * self.unit_m
         self.body_J = np.array([b.inertia or 0.0 for b in bodies], float) * self.unit_J
@@ -94,9 +93,7 @@ class Masses:
 
     def matrix(self, q):
         """The mass matrix at q as COO (rows, cols, values)."""
-        return (np.concatenate([self.node_dofs, self.block_rows]),
-                np.concatenate([self.node_dofs, self.block_cols]),
-                np.concatenate([self.node_vals, self._blocks(q).ravel()]))
+        return self.coo_rows, self.coo_cols, np.concatenate([self.node_vals, self._blocks(q).ravel()])
 
     def dense(self, q):
         M = np.zeros((self.n_q, self.n_q))

@@ -53,7 +53,7 @@ class Banded:
         self.kl = int(max(0, (pr - pc).max()))
         self.ku = int(max(0, (pc - pr).max()))
         self.size = size
-        self.perm = perm
+        self.perm, self.inv = perm, inv   # inv: position of each unknown in the band
         nrow = 2 * self.kl + self.ku + 1
         self.shape = (nrow, size)
         self.flat = (self.kl + self.ku + pr - pc) * size + pc

@@ -75,17 +75,14 @@ def error_constant(rho_inf=RHO_INF):
     return abs(0.5 * (am - af) + beta - 1.0 / 6.0)
 
 
-def add_coo(model, A, rows, cols, vals):
+def add_coo(A, rows, cols, vals):
     """A + the COO entries (which must lie in the Jacobian's pattern), for A dense, banded or sparse."""
     if isinstance(A, np.ndarray):
         np.add.at(A, (rows, cols), vals)
         return A
     if isinstance(A, BandMatrix):
         p = A.pattern
-        inv = getattr(p, "_inv", None)
-        if inv is None:
-            inv = p._inv = np.argsort(p.perm)
-        pr, pc = inv[rows], inv[cols]
+        pr, pc = p.inv[rows], p.inv[cols]
         np.add.at(A.ab, (p.kl + p.ku + pr - pc, pc), vals)
         return A
     return (A + sp.csc_matrix((vals, (rows, cols)), shape=A.shape)).tocsc()
@@ -165,7 +162,7 @@ class StepSystem:
             fe, coo = ex(y, v1, self.c_vel)
             r[:self.n_q] += fe
             if jacobian:
-                A = add_coo(self.model, A, *coo)
+                A = add_coo(A, *coo)
         # round-off of the inertia term: q'' ~ (q - base) / (beta h^2) resolves q only to eps |q|;
         # when that level is above 1e-6 of the forces (steps far shorter than the motion's time
         # scale) Newton accepts a residual at this level, as for the element forces' round-off
@@ -173,9 +170,9 @@ class StepSystem:
         if self.roundoff_floor and self.noise_in > 1e-6 * (1.0 + info["fmax"]):
             info["noise"] = info["noise"] + self.noise_in
         if jacobian:
-            A = add_coo(self.model, A, rows, cols, vals)
+            A = add_coo(A, rows, cols, vals)
             if self.Csr is not None:
-                A = add_coo(self.model, A, self.Crows, self.Ccols, self.c_vel * self.Cvals)
+                A = add_coo(A, self.Crows, self.Ccols, self.c_vel * self.Cvals)
         return r, A, info
 
 
@@ -277,7 +274,7 @@ class _Light:
             fe, coo = ex(y, None, 0.0)
             r[:m.n_q] += fe
             if jacobian:
-                A = add_coo(m, A, *coo)
+                A = add_coo(A, *coo)
         if sysm.Csr is not None:
             r[:m.n_q] += sysm.Csr @ self.v
         return r, A, info
@@ -363,7 +360,7 @@ def _switch(fr, s: State, i, h_s):
     lam = fr.lock_multiplier(s.y, i)
     fr.mode[i] = 1 if lam > 0 else -1
     fr.event(i, s.t, "slip+" if lam > 0 else "slip-")
-    s = State(s.t, fr.convert(s.y, old, fr.stuck(), {}), s.v, s.acc, s.a, s.alpha)
+    s = State(s.t, fr.convert(s.y, old, fr.stuck()), s.v, s.acc, s.a, s.alpha)
     sysm = fr.system()
     s, released = _requilibrate(sysm, s)
     return _consistent_start(sysm, s, h_s), sysm, released
@@ -384,7 +381,7 @@ def _settle(fr, s: State, h_s, pending, old_stuck):
         _, ds, _ = fj.link.slide(q[fj.dofs])
         rate = float(ds @ v[fj.dofs])
         v[fj.dofs] -= ds * rate / float(ds @ ds)     # exactly at rest along the guide
-    y = fr.convert(s.y, old_stuck, fr.stuck(), {})
+    y = fr.convert(s.y, old_stuck, fr.stuck())
     s = State(s.t, y, v, s.acc, s.a, s.alpha)
     sysm = fr.system()
     s, released = _requilibrate(sysm, s)
@@ -401,7 +398,7 @@ def _settle(fr, s: State, h_s, pending, old_stuck):
         for i, sg in slip:
             fr.mode[i] = sg
             fr.event(i, s.t, "slip+" if sg > 0 else "slip-")
-        s = State(s.t, fr.convert(s.y, old, fr.stuck(), {}), s.v, s.acc, s.a, s.alpha)
+        s = State(s.t, fr.convert(s.y, old, fr.stuck()), s.v, s.acc, s.a, s.alpha)
         sysm = fr.system()
         s, more = _requilibrate(sysm, s)
         released += more
