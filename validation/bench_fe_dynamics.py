@@ -40,14 +40,16 @@ import time
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
+sys.path.insert(0, str(HERE))
 
 import numpy as np  # noqa: E402
 
 import femslide  # noqa: E402
 from femslide import structfile  # noqa: E402
 from femslide.simulation import parse_spec, simulate  # noqa: E402
+from dynamic_references import OSCILLATION_F2  # noqa: E402
 
-F2_REF = 88.92548492288407
+F2_REF = OSCILLATION_F2
 
 
 def order_table(rows):
@@ -125,7 +127,6 @@ def opensees_table(rows):
     except ImportError:
         print("\n4. OpenSees: skipped (openseespy not importable)")
         return
-    sys.path.insert(0, str(HERE))
     from opensees_models import opensees_oscillation
 
     def err(x):

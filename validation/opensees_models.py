@@ -8,6 +8,8 @@ import math
 import os
 import time
 
+from dynamic_references import OSCILLATION_F2
+
 
 def opensees_slider(v, phi, n=32, steps=None, penalty=1e6):
     """beam-slider in OpenSees (nondimensional: lengths by a, forces by P), driven by displacement
@@ -74,7 +76,7 @@ OSCILLATION = {
     "k": 100.0, "preload": -5.886,        # slider spring [N/m] and its force on S at zero slide [N]
     "g": 9.81,
 }
-F2_REDUCED = 88.92548492288407   # N, max |F2| of femslide's reduced 1-DOF model (simulate beam-oscillation)
+F2_REDUCED = OSCILLATION_F2   # N, max |F2| of femslide's reduced 1-DOF model (simulate beam-oscillation)
 
 
 def _peak3(t, y):

@@ -78,6 +78,7 @@ for _p in (str(ROOT), str(HERE)):
 
 import numpy as np  # noqa: E402
 
+import dynamic_references as dref  # noqa: E402
 import references as ref  # noqa: E402
 import sdof_reference as sref  # noqa: E402
 
@@ -616,9 +617,6 @@ def check_beam_dynamics(row, v, r):
 
 FE_ENERGY_C = 30.0   # FE dynamics: energy_balance <= FE_ENERGY_C tolerance^(2/3), the second-order
                      # integrator's global error (measured <= 3 on the shipped files, 10 with beta damping)
-OSC_F2 = 88.92548492288407    # section 5.2 peak |F2| (the reduced model; OpenSees agrees to 5e-9)
-FRICTION_STICKS = [0.5980783557781205, 1.1999410820655922, 1.808435723775855, 2.420973032106233]
-#   beam-friction's ends of slip by the reduced model (femslide simulate beam-friction)
 
 
 def check_fe_dynamics(row, r):
@@ -639,12 +637,13 @@ def check_fe_dynamics(row, r):
     name = pathlib.Path(row["scene"]).stem
     plain = not any(k for k in sets if not k.startswith("simulate.tolerance"))
     if name == "beam-oscillation" and plain:
-        e = abs(r["peaks"]["reactions"]["B1"]["Fx"] / OSC_F2 - 1.0)
+        e = abs(r["peaks"]["reactions"]["B1"]["Fx"] / dref.OSCILLATION_F2 - 1.0)
         ok = ok and e <= 10.0 * tol ** (2.0 / 3.0)
         detail += f"; peak |F2| {e:.1e} from the reduced model's"
     elif name == "beam-friction" and plain and tol == 1e-6:
         st = [ev["t"] for ev in r["events"]["clamp"] if ev["kind"] == "stick" and ev["t"] > 0]
-        e = max(abs(a - b) for a, b in zip(st, FRICTION_STICKS)) if len(st) == len(FRICTION_STICKS) else math.inf
+        ref_st = dref.FRICTION_STICK
+        e = max(abs(a - b) for a, b in zip(st, ref_st)) if len(st) == len(ref_st) else math.inf
         ok = ok and e <= 1e-4
         detail += f"; ends of slip {e:.1e} s from the reduced model's"
     elif name.startswith("belt-ex1") and set(sets) <= {"belt.k", "block.mass", "belt.mu", "belt.mu0",

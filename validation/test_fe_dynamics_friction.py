@@ -58,15 +58,13 @@ def test_example_3_base_excitation():
     assert res["energy_balance"] < 1e-5
 
 
-# femslide simulate beam-friction --json (the reduced 1-DOF model of femslide/dynamics.py, DOP853 at a
-# tight tolerance, energy balance 2.8e-11): an independent formulation of the same structure
-BEAM_FRICTION_STICK = [0.5980783557781205, 1.1999410820655922, 1.808435723775855, 2.420973032106233]
-BEAM_FRICTION_F2 = 15.735132504141756
-BEAM_FRICTION_SLIDE = (-0.08479172708081142, 0.08018954611890944)
-BEAM_FRICTION_OMEGA = 5.090891795846383
-BEAM_FRICTION_WORK = (0.3886431132621047 + 4.688917117104702e-06, 0.7568608325916912)  # friction_work +
-#   jump_loss, work_in [J]
-BEAM_FRICTION_JUMP = 4.688917117104702e-06   # jump_loss [J]: the energy the slide's jumps release
+# femslide simulate beam-friction --json (the reduced 1-DOF model): validation/dynamic_references.py
+from dynamic_references import FRICTION_F2 as BEAM_FRICTION_F2  # noqa: E402
+from dynamic_references import FRICTION_JUMP as BEAM_FRICTION_JUMP  # noqa: E402
+from dynamic_references import FRICTION_OMEGA as BEAM_FRICTION_OMEGA  # noqa: E402
+from dynamic_references import FRICTION_SLIDE as BEAM_FRICTION_SLIDE  # noqa: E402
+from dynamic_references import FRICTION_STICK as BEAM_FRICTION_STICK  # noqa: E402
+from dynamic_references import FRICTION_WORK as BEAM_FRICTION_WORK  # noqa: E402
 
 
 @pytest.mark.slow
