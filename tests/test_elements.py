@@ -152,6 +152,13 @@ def test_joint_gradient_and_hessian(joint, k):
         gm, Gm, _ = joint.eval(zm)
         assert np.allclose(G[:, j], (gp - gm) / (2 * h), atol=1e-7, rtol=0)
         assert np.allclose(H[:, :, j], (Gp - Gm) / (2 * h), atol=1e-7, rtol=0)
+    # the model assembles through assemble(): the same numbers as eval() - mu . G, g, then the
+    # Jacobian entries sum mu_i H_i, G and G again
+    rv, jv = [], []
+    joint.assemble(z.tolist(), mu.tolist(), rv, jv)
+    _, Gm, Hmu = joint.eval(z, mu)
+    assert np.allclose(rv, np.concatenate([mu @ Gm, g]), rtol=0, atol=1e-14)
+    assert np.allclose(jv, np.concatenate([Hmu.ravel(), Gm.ravel(), Gm.ravel()]), rtol=0, atol=1e-14)
 
 
 @pytest.mark.parametrize("joint,k", [c for c in _joint_cases() if c[0].kind in ("slider", "roller")], ids=_id)
@@ -197,6 +204,11 @@ def test_load_gradient_and_hessian(term, k, lam):
     lp = term.eval(z, lam + h)[1]
     lm = term.eval(z, lam - h)[1]
     assert np.allclose(g0, (lp - lm) / (2 * h), atol=1e-7, rtol=0)
+    # the model assembles through assemble(): the same numbers as eval()
+    rv, jv, fv = [], [], []
+    term.assemble(z.tolist(), lam, rv, jv, fv)
+    assert np.allclose(rv, g, rtol=0, atol=1e-14) and np.allclose(fv, g0, rtol=0, atol=1e-14)
+    assert np.allclose(np.reshape(jv, H.shape), H, rtol=0, atol=1e-14)
 
 
 def _dense(A):
