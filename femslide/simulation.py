@@ -460,14 +460,25 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
     return res
 
 
-def _peak(t, x):
-    """Largest value of the sampled x(t), refined by the interpolating polynomial through the largest
-    sample and its neighbours (up to two on each side: degree 4, exact to O(h^5) for a smooth peak),
-    maximised between the neighbouring samples; the samples are the integrator's steps."""
-    i = int(np.argmax(x))
+def _peak(t, x, candidates=16):
+    """Largest value of the sampled x(t): the largest sample, or the peak of the interpolating
+    polynomial through a local maximum of the samples and its neighbours (up to two on each side:
+    degree 4, exact to O(h^5) for a smooth peak) maximised between the neighbouring samples, for the
+    ``candidates`` largest local maxima (a sharp peak between coarse steps can leave its samples
+    below an end value, e.g. the held start); the samples are the integrator's steps."""
+    x = np.asarray(x, dtype=float)
+    best = float(x.max())
+    if x.size < 3:
+        return best
+    inner = np.nonzero((x[1:-1] >= x[:-2]) & (x[1:-1] >= x[2:]))[0] + 1
+    for i in inner[np.argsort(-x[inner])][:candidates]:
+        best = max(best, _refine(t, x, int(i)))
+    return best
+
+
+def _refine(t, x, i):
+    """The interpolated peak about the local maximum sample i (see :func:`_peak`), or x[i]."""
     lo, hi = max(0, i - 2), min(x.size, i + 3)
-    if hi - lo < 3 or not 0 < i < x.size - 1:
-        return float(x[i])
     tt, xx = t[lo:hi] - t[i], x[lo:hi]
     scale = max(abs(tt[0]), abs(tt[-1]))
     try:

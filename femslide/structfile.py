@@ -137,7 +137,8 @@ def _rod_from_mesh(e, base, where):
 
 
 def parse_value(text):
-    """A --set value: a number, or JSON (lists, tables), else the string itself."""
+    """A --set value: a number, or a list or table written as in the file (TOML: ``[0, -500]``,
+    ``{alpha = 0.0, beta = 1e-3}``) or as JSON, else the string itself."""
     if not isinstance(text, str):
         return text
     t = text.strip()
@@ -149,7 +150,14 @@ def parse_value(text):
     try:
         return json.loads(t)
     except ValueError:
-        return t
+        pass
+    if t[:1] and t[0] in "[{":
+        from .scenefile import tomllib
+        try:
+            return tomllib.loads("v = " + t)["v"]
+        except tomllib.TOMLDecodeError:
+            pass
+    return t
 
 
 def apply(structure: Structure, overrides: dict) -> tuple[Structure, int | None]:
