@@ -440,13 +440,18 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
     peaks = {"reactions": {}, "rods": {}, "joints": {}}
     col = {c: i for i, c in enumerate(cols)}
     T = H[:, 0]
+    brk = [e["t"] for evs in (fr.events.values() if fr is not None else ()) for e in evs if e["t"] > 0.0]
+
+    def peak(x):
+        return _peak(T, x, breaks=brk)
+
     for n in reac:
-        peaks["reactions"][n] = {k: _peak(T, np.abs(H[:, col[f"reactions.{n}.{k}"]])) for k in ("Fx", "Fy", "M")}
+        peaks["reactions"][n] = {k: peak(np.abs(H[:, col[f"reactions.{n}.{k}"]])) for k in ("Fx", "Fy", "M")}
     for n in rods:
-        peaks["rods"][n] = {"M_max": _peak(T, H[:, col[f"rods.{n}.M_max"]])}
+        peaks["rods"][n] = {"M_max": peak(H[:, col[f"rods.{n}.M_max"]])}
     for n in slides:
         s = H[:, col[f"joints.{n}.slide"]]
-        peaks["joints"][n] = {"slide_min": -_peak(T, -s), "slide_max": _peak(T, s)}
+        peaks["joints"][n] = {"slide_min": -peak(-s), "slide_max": peak(s)}
     res = {"converged": True, "steps": run.steps, "rejected_steps": run.rejected,
            "newton_iterations": run.newton_iterations, "t_end": spec.t_end,
            "energy_balance": run.energy_balance, "energy": run.energy,
@@ -460,18 +465,24 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
     return res
 
 
-def _peak(t, x, candidates=16):
+def _peak(t, x, candidates=16, breaks=()):
     """Largest value of the sampled x(t): the largest sample, or the peak of the interpolating
     polynomial through a local maximum of the samples and its neighbours (up to two on each side:
     degree 4, exact to O(h^5) for a smooth peak) maximised between the neighbouring samples, for the
     ``candidates`` largest local maxima (a sharp peak between coarse steps can leave its samples
-    below an end value, e.g. the held start); the samples are the integrator's steps."""
+    below an end value, e.g. the held start); the samples are the integrator's steps.  A flat run
+    of equal samples is one candidate (its first sample); no polynomial is fitted across one of the
+    times ``breaks`` (friction events, where a history may jump: a fit there would overshoot)."""
     x = np.asarray(x, dtype=float)
     best = float(x.max())
     if x.size < 3:
         return best
-    inner = np.nonzero((x[1:-1] >= x[:-2]) & (x[1:-1] >= x[2:]))[0] + 1
+    inner = np.nonzero((x[1:-1] > x[:-2]) & (x[1:-1] >= x[2:]))[0] + 1
+    br = np.asarray(sorted(breaks), dtype=float)
     for i in inner[np.argsort(-x[inner])][:candidates]:
+        lo, hi = t[max(0, i - 2)], t[min(x.size - 1, i + 2)]
+        if br.size and np.any((br >= lo) & (br <= hi)):
+            continue
         best = max(best, _refine(t, x, int(i)))
     return best
 

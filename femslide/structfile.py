@@ -154,7 +154,9 @@ def parse_value(text):
     if t[:1] and t[0] in "[{":
         from .scenefile import tomllib
         try:
-            return tomllib.loads("v = " + t)["v"]
+            doc = tomllib.loads("v = " + t)
+            if list(doc) == ["v"]:
+                return doc["v"]
         except tomllib.TOMLDecodeError:
             pass
     return t

@@ -28,9 +28,9 @@ the step does not resolve and rho_inf damps - a massive rod's axial and high ben
 raw estimate is noise that rejected half the steps), over the dofs with mass, kept below
 SAFETY = 0.5 times ``tolerance`` times the amplitude of the recent motion (the largest
 displacement from the static state, remembered over about one period of the lowest mode; floor
-1e-6 Lref): a step with a larger error is repeated with a
-smaller h, the next step is h (0.9 / err)^(1/3) (between 0.2 h and 2 h).  Under a recorded ground
-motion the steps end on the record's sample times, so that the input is linear within every step.
+1e-6 Lref): a step with a larger error is repeated with a smaller h, the next step is
+h (0.9 / err)^(1/3) (between 0.2 h and 2 h).  Under a recorded ground motion the steps end on the
+record's sample times, so that the input is linear within every step.
 
 Damping: Rayleigh, C = alpha M0 + beta K0 with M0 and K0 the mass matrix and the tangent at the
 static state (constant).  Energy balance: kinetic + potential (strain, springs, dead loads including
@@ -184,11 +184,13 @@ class StepSystem:
         return r, A, info
 
     def filtered_error(self, e):
-        """The local error estimate e (n_q,) filtered through the iteration matrix S of the step,
-        S^-1 (M c_acc e): components in modes with omega h << 1 pass unchanged, stiff ones
-        (omega h >> 1: unresolved by design, damped by rho_inf) are attenuated by ~ 1/(omega h)^2,
-        and the result is tangent to the constraints (Hairer & Wanner, Solving ODEs II, IV.8; the
-        estimate of RADAU5)."""
+        """The local error estimate e (n_q,) filtered through the iteration matrix S of the step (the
+        last Jacobian of its Newton iteration), S^-1 (M c_acc + C c_vel) e: how a position error at
+        the step's start moves the step's solution.  Components in modes with omega h << 1 pass
+        unchanged, stiff ones (omega h >> 1: unresolved by design, damped by rho_inf) are attenuated
+        by ~ 1/(omega h)^2, creeping modes of heavy damping pass while the step resolves them, and the
+        result is tangent to the constraints (Hairer & Wanner, Solving ODEs II, IV.8: the estimate
+        of RADAU5)."""
         r, c, v = self.masses.matrix(self.qn)
         rhs = np.zeros(self.n)
         np.add.at(rhs, r, v * e[c] * self.c_acc)
@@ -550,10 +552,13 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         if stops is not None:
             # a step ends on the record's next sample (the input is linear within a step: a kink of
             # the record inside a step was smoothed over, and its work not what the steps applied)
-            k = int(np.searchsorted(stops, s.t, side="right"))
+            # (a sample within 1e-9 h_max ahead counts as reached: an event may end a step there)
+            k = int(np.searchsorted(stops, s.t + 1e-9 * h_max, side="right"))
             if k < stops.size:
                 gap = float(stops[k] - s.t)
-                if h >= gap * (1.0 - 1e-12):
+                # (gap carries the round-off of t: a step capped at the record's dt may fall short of
+                # it by ulps, which must not count as a sliver)
+                if h >= gap - 1e-9 * gap - 16.0 * EPS * max(1.0, abs(s.t)):
                     h, t_stop = gap, float(stops[k])
                 elif h > 0.5 * gap:
                     h = 0.5 * gap   # two even steps rather than one and a sliver
@@ -586,7 +591,9 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
             continue
         y, alpha1, a1, v1, acc1 = cand
         q = y[:n_q]
-        est = np.abs(sysm.filtered_error(c3 * h * h * (a1 - s.a))[heavy])
+        e = np.zeros(n_q)   # (the massless dofs' a is no estimate of anything: left out)
+        e[heavy] = c3 * h * h * (a1[heavy] - s.a[heavy])
+        est = np.abs(sysm.filtered_error(e)[heavy])
         disp = float(np.abs(q[heavy] - q_static[heavy]).max())
         err = float(est.max()) / (SAFETY * tolerance * max(amp, disp, 1e-3 * amp_all)) if est.size else 0.0
         if err > 1.0 and h > h_min:

@@ -75,10 +75,11 @@ def test_beam_friction_twin_with_a_massless_slide():
     events; every end of slip within 1e-4 s of the reduced model's turning point (7e-5 s: the
     second-order phase error grows over the run, 1.5e-5 s at 1e-7); peak |F2| within 1e-3 (3.2e-4);
     slide range within 1e-4 m (1.4e-5); the lowest frequency equals the reduced model's small-
-    oscillation omega / 2 pi within 1e-8 (2e-9); energy balance, jump losses included, below 1e-3
-    (2.7e-4: it follows the global error, ~ tolerance^(2/3)); the energy dissipated by friction, the
-    jumps included, and the work of the ground motion within 1e-3 of the reduced model's (2.6e-4,
-    1.2e-4); the energy released by the slide's jumps within 1e-3 of the reduced model's (1.4e-5)."""
+    oscillation omega / 2 pi within 1e-8 (2e-9); energy balance, jump losses included, below 5e-4
+    (1.1e-4: it follows the global error, ~ tolerance^(2/3); 2.7e-4 with the trapezoidal rule on the
+    powers); the energy dissipated by friction, the jumps included, and the work of the ground motion
+    within 5e-4 of the reduced model's (9.3e-5, 6.3e-5); the energy released by the slide's jumps
+    within 1e-3 of the reduced model's (6.6e-6)."""
     res = femslide.simulate("meshes/structures/beam-friction.toml")
     ev = res["events"]["clamp"]
     kinds = [e["kind"] for e in ev]
@@ -91,9 +92,9 @@ def test_beam_friction_twin_with_a_massless_slide():
     j = res["peaks"]["joints"]["clamp"]
     assert abs(j["slide_min"] - BEAM_FRICTION_SLIDE[0]) < 1e-4 and abs(j["slide_max"] - BEAM_FRICTION_SLIDE[1]) < 1e-4
     assert res["frequencies_hz"][0] == pytest.approx(BEAM_FRICTION_OMEGA / (2 * np.pi), rel=1e-8)
-    assert res["energy_balance"] < 1e-3
-    assert res["energy"]["dissipated"] == pytest.approx(BEAM_FRICTION_WORK[0], rel=1e-3)
-    assert res["energy"]["work_in"] == pytest.approx(BEAM_FRICTION_WORK[1], rel=1e-3)
+    assert res["energy_balance"] < 5e-4
+    assert res["energy"]["dissipated"] == pytest.approx(BEAM_FRICTION_WORK[0], rel=5e-4)
+    assert res["energy"]["work_in"] == pytest.approx(BEAM_FRICTION_WORK[1], rel=5e-4)
     assert res["energy"]["jump_loss"] == pytest.approx(BEAM_FRICTION_JUMP, rel=1e-3)
     # the slide is exactly at rest while stuck: no drift between a stick and the next breakaway
     t, s = res.history["t"], res.history["joints.clamp.slide"]
@@ -147,9 +148,9 @@ def test_belt_under_a_recorded_ground_motion(tmp_path):
 def test_jumps_close_the_energy_balance():
     """A soft massless rod (EA = 1e3 N) with mu = 0.05, mu0 = 0.5 in beam-friction.toml: its slide jumps
     far at each breakaway (jump_loss 2.2e-4 J, 1.7 % of the dissipated energy).  The energy balance,
-    which counts the jumps' released energy as dissipated, closes below 3e-4 (measured 1.3e-4; with
+    which counts the jumps' released energy as dissipated, closes below 3e-4 (measured 7.0e-5; with
     the potential taken before the jump it read 1.2e-3); with Rayleigh damping beta = 0.01 s, which
-    the massless parts' re-solve must include, below 3e-4 as well (9e-5; it read 7e-3)."""
+    the massless parts' re-solve must include, below 3e-4 as well (6.0e-5; it read 7e-3)."""
     f = "meshes/structures/beam-friction.toml"
     kw = {"right.EA": 1e3, "clamp.mu": 0.05, "clamp.mu0": 0.5}
     res = femslide.simulate(f, t_end=1.3, **kw)
