@@ -192,8 +192,7 @@ class StepSystem:
         result is tangent to the constraints (Hairer & Wanner, Solving ODEs II, IV.8: the estimate
         of RADAU5)."""
         r, c, v = self.masses.matrix(self.qn)
-        rhs = np.zeros(self.n)
-        np.add.at(rhs, r, v * e[c] * self.c_acc)
+        rhs = np.bincount(r, weights=v * e[c] * self.c_acc, minlength=self.n)
         if self.Csr is not None:
             rhs[:self.n_q] += self.c_vel * (self.Csr @ e)
         return solve_linear(self.last_matrix, rhs)[:self.n_q]
@@ -618,9 +617,10 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         # growing motion keeps its relative accuracy
         amp = max(disp, amp * math.exp(-h / period) if period else amp, 1e-6)
         t1 = t_stop if (t_stop is not None and event is None) else s.t + h
-        dW, dD = _step_work(s, y, v1, h, ground_power, loss_power, n_q)
-        W += dW
-        D += dD
+        if ground is not None or Csr is not None or fr is not None:   # (else no work, no loss)
+            dW, dD = _step_work(s, y, v1, h, ground_power, loss_power, n_q)
+            W += dW
+            D += dD
         s = State(t1, y, v1, acc1, a1, alpha1)
         out.steps += 1
         if event is not None:
