@@ -161,15 +161,16 @@ class StepSystem:
         r, A, info = self.model.system(y, alpha_ref, 1.0, None, jacobian)
         q = y[:self.n_q]
         _, v1, acc1 = self.kinematics(q)
-        f, (rows, cols, vals) = self.masses.inertia(q, v1, acc1, self.c_acc, self.c_vel, self.ag_vec)
+        f, coo = self.masses.inertia(q, v1, acc1, self.c_acc, self.c_vel, self.ag_vec)
+        coos = [coo]   # the Jacobian's extra entries, added in one call
         r[:self.n_q] += f
         if self.Csr is not None:
             r[:self.n_q] += self.Csr @ v1
+            coos.append((self.Crows, self.Ccols, self.c_vel * self.Cvals))
         for ex in self.extra:
             fe, coo = ex(y, v1, self.c_vel)
             r[:self.n_q] += fe
-            if jacobian:
-                A = add_coo(A, *coo)
+            coos.append(coo)
         # round-off of the inertia term: q'' ~ (q - base) / (beta h^2) resolves q only to eps |q|;
         # when that level is above 1e-6 of the forces (steps far shorter than the motion's time
         # scale) Newton accepts a residual at this level, as for the element forces' round-off
@@ -177,9 +178,7 @@ class StepSystem:
         if self.roundoff_floor and self.noise_in > 1e-6 * (1.0 + info["fmax"]):
             info["noise"] = info["noise"] + self.noise_in
         if jacobian:
-            A = add_coo(A, rows, cols, vals)
-            if self.Csr is not None:
-                A = add_coo(A, self.Crows, self.Ccols, self.c_vel * self.Cvals)
+            A = add_coo(A, *(np.concatenate(p) for p in zip(*coos)) if len(coos) > 1 else coos[0])
             self.last_matrix = A   # the iteration matrix of the latest Jacobian (the error filter's)
         return r, A, info
 
@@ -371,6 +370,17 @@ def _requilibrate(sysm, s: State):
     return State(s.t, y, v, s.acc, s.a, alpha), released
 
 
+def _restart(fr, s: State, old_stuck, h_s):
+    """The state s (laid out for the stuck joints ``old_stuck``) carried into the current modes'
+    layout (lock multipliers kept, new ones 0), its massless parts re-solved
+    (:func:`_requilibrate`) and its accelerations made consistent: (state, step system, energy
+    released by jumps of massless parts)."""
+    s = State(s.t, fr.convert(s.y, old_stuck, fr.stuck()), s.v, s.acc, s.a, s.alpha)
+    sysm = fr.system()
+    s, released = _requilibrate(sysm, s)
+    return _consistent_start(sysm, s, h_s), sysm, released
+
+
 def _switch(fr, s: State, i, h_s):
     """The mode change of friction joint i at the state s: a slipping joint at rest takes the stick
     test (:func:`_settle`); a stuck one breaks away towards its net force (sign of its lock
@@ -382,10 +392,7 @@ def _switch(fr, s: State, i, h_s):
     lam = fr.lock_multiplier(s.y, i)
     fr.mode[i] = 1 if lam > 0 else -1
     fr.event(i, s.t, "slip+" if lam > 0 else "slip-")
-    s = State(s.t, fr.convert(s.y, old, fr.stuck()), s.v, s.acc, s.a, s.alpha)
-    sysm = fr.system()
-    s, released = _requilibrate(sysm, s)
-    return _consistent_start(sysm, s, h_s), sysm, released
+    return _restart(fr, s, old, h_s)
 
 
 def _settle(fr, s: State, h_s, pending, old_stuck):
@@ -399,15 +406,11 @@ def _settle(fr, s: State, h_s, pending, old_stuck):
     for i in pending:
         fj = fr.joints[i]
         fr.mode[i] = 0
-        fr.stick_at[i] = fj.slide_rate(q, v)[0]
-        _, ds, _ = fj.link.slide(q[fj.dofs])
+        sl, ds, _ = fj.link.slide(q[fj.dofs])
+        fr.stick_at[i] = float(sl)
         rate = float(ds @ v[fj.dofs])
         v[fj.dofs] -= ds * rate / float(ds @ ds)     # exactly at rest along the guide
-    y = fr.convert(s.y, old_stuck, fr.stuck())
-    s = State(s.t, y, v, s.acc, s.a, s.alpha)
-    sysm = fr.system()
-    s, released = _requilibrate(sysm, s)
-    s = _consistent_start(sysm, s, h_s)
+    s, sysm, released = _restart(fr, State(s.t, s.y, v, s.acc, s.a, s.alpha), old_stuck, h_s)
     slip = []
     for i in pending:
         lam = fr.lock_multiplier(s.y, i)
@@ -420,11 +423,8 @@ def _settle(fr, s: State, h_s, pending, old_stuck):
         for i, sg in slip:
             fr.mode[i] = sg
             fr.event(i, s.t, "slip+" if sg > 0 else "slip-")
-        s = State(s.t, fr.convert(s.y, old, fr.stuck()), s.v, s.acc, s.a, s.alpha)
-        sysm = fr.system()
-        s, more = _requilibrate(sysm, s)
+        s, sysm, more = _restart(fr, s, old, h_s)
         released += more
-        s = _consistent_start(sysm, s, h_s)
     return s, sysm, released
 
 
@@ -540,6 +540,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         out.rows.append(observe(0.0, s.y, s.alpha, s.v))
     t0 = time.perf_counter()
     switches, t_switch = 0, None
+    ph_of = None   # the state the event functions ph were evaluated at
     while s.t < t_end * (1 - 1e-14):
         if out.steps + out.rejected >= max_steps:
             raise SolverFailure(f"simulate: the step count limit {max_steps} was reached at t = {s.t:.6g} s "
@@ -564,7 +565,8 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
         if fr is not None:
             # a joint whose mode no longer holds at the start of a step (two events at one instant):
             # switch it now
-            ph = fr.phi(s.y, s.v)
+            if ph_of is not s:
+                ph, ph_of = fr.phi(s.y, s.v), s
             # (a joint that has just started to slip is not late at that instant: a massless slide's
             # velocity follows the masses, and at a reversal it may still carry the old sign by a
             # hair; if it really moves the other way, the next step's start finds it late)
@@ -622,6 +624,8 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
             W += dW
             D += dD
         s = State(t1, y, v1, acc1, a1, alpha1)
+        if fr is not None and event is None:
+            ph, ph_of = phi1, s   # (evaluated at this state's (y, v1) above)
         out.steps += 1
         if event is not None:
             s, sysm, released = _switch(fr, s, event, START_STEP * h_next)
