@@ -570,17 +570,24 @@ class Model:
         ``lam``), springs and joint multipliers - in the residual's sign (minus the force on the
         frame), model units.  At equilibrium the elements' internal forces balance them; results
         recover cut forces and moments along rods from them (exact to the residual)."""
-        n_q, topo = self.n_q, self._topo
-        z = y[:n_q][topo.jt_dofs].tolist()
+        rv, _ = self._joint_terms(y, lam, None)
+        # the residual's bincount without the elements (the joints' equations land beyond n_q)
+        return np.bincount(self._topo.rbins_applied, weights=np.concatenate([lam * self._p_sel, rv]),
+                           minlength=self.n)[:self.n_q]
+
+    def _joint_terms(self, y, lam, jv):
+        """The terms' (springs, point loads) and joints' shares of the equations at y, as Python
+        floats in the residual's order: (rv, fv) - their residual entries and the terms' d force /
+        d lam - with their Jacobian entries appended to ``jv`` unless it is None."""
+        n_q = self.n_q
+        z = y[:n_q][self._topo.jt_dofs].tolist()
         mu = y[n_q:n_q + self.n_c].tolist()
         rv, fv = [], []
         for ev, a, b in self._term_evals:
-            ev(z[a:b], lam, rv, None, fv)
+            ev(z[a:b], lam, rv, jv, fv)
         for ev, a, b, ma, mb in self._con_evals:
-            ev(z[a:b], mu[ma:mb], rv, None)
-        # the residual's bincount without the elements (the joints' equations land beyond n_q)
-        return np.bincount(topo.rbins_applied, weights=np.concatenate([lam * self._p_sel, rv]),
-                           minlength=self.n)[:n_q]
+            ev(z[a:b], mu[ma:mb], rv, jv)
+        return rv, fv
 
     def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
         """Residual and Jacobian of the equations at y.
@@ -599,14 +606,8 @@ class Model:
         if control is not None:
             lam = y[-1]
         size = self.n + (1 if control is not None else 0)
-        z = q[topo.jt_dofs].tolist()
-        mu = y[n_q:n_q + self.n_c].tolist()
-        rv, fv = [], []
         jv = [] if jacobian else None
-        for ev, a, b in self._term_evals:
-            ev(z[a:b], lam, rv, jv, fv)
-        for ev, a, b, ma, mb in self._con_evals:
-            ev(z[a:b], mu[ma:mb], rv, jv)
+        rv, fv = self._joint_terms(y, lam, jv)
         fmax = 0.0
         alpha = alpha_ref
         parts = []
