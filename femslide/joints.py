@@ -73,7 +73,7 @@ class Link:
         self.n0 = (-self.e0[1], self.e0[0])
         # a pin or weld between rod nodes and the ground is linear: constant gradient, no Hessian
         self.linear = kind in ("pin", "weld") and not self.lever_a and not self.lever_b
-        self._G = self._lin = None
+        self._lin = None
 
     # -- kinematics ----------------------------------------------------------------------------------
     def _w(self, z):
@@ -143,28 +143,18 @@ class Link:
 
     def _linear(self):
         """The constant parts of a linear joint (g = G z + g(0), no Hessian) as Python floats, built
-        once: the nonzeros of G's rows, g(0), G and the Jacobian entries of :meth:`assemble`."""
+        once: the nonzeros of G's rows, g(0) and the Jacobian entries of :meth:`assemble`."""
         if self._lin is None:
             k = self.k
             g0, G, _ = self._parts([0.0] * k)
             nz = [[(j, c) for j, c in enumerate(row) if c] for row in G]
             flat = [c for row in G for c in row]
-            self._lin = (nz, g0, G, [0.0] * (k * k) + flat + flat)
+            self._lin = (nz, g0, [0.0] * (k * k) + flat + flat)
         return self._lin
 
-    def _linear_arrays(self):
-        """:meth:`_linear`'s G, g(0) and zero Hessian as arrays (for :meth:`eval`, :meth:`gradient`)."""
-        if self._G is None:
-            _, g0, G, _ = self._linear()
-            self._G, self._g0, self._H0 = np.array(G), np.array(g0), np.zeros((self.k, self.k))
-        return self._G, self._g0, self._H0
-
     def eval(self, z, mu=None):
-        """g, G and the Hessians (m, k, k), or with ``mu`` the weighted Hessian (k, k)."""
-        if self.linear and mu is not None:
-            # g = (p_a - p_b, theta_a - theta_b) = G z + g(0)
-            G, g0, H0 = self._linear_arrays()
-            return G @ z + g0, G, H0
+        """g, G and the Hessians (m, k, k), or with ``mu`` the weighted Hessian (k, k) (the reference
+        form: the model assembles through :meth:`assemble`, the tests compare the two)."""
         g, G, hess = self._parts(z.tolist())
         k = self.k
         if mu is None:
@@ -186,7 +176,7 @@ class Link:
         and G again (the transposed block).  The same numbers as :meth:`eval`."""
         k = self.k
         if self.linear:
-            nz, g0, _, const = self._linear()
+            nz, g0, const = self._linear()
             f = [0.0] * k
             g = []
             for i, row in enumerate(nz):
@@ -216,12 +206,6 @@ class Link:
                 jv += row
             for row in G:
                 jv += row
-
-    def gradient(self, z):
-        """G (m, k) alone."""
-        if self.linear:
-            return self._linear_arrays()[0]
-        return np.array(self._parts(z.tolist())[1])
 
     # -- joint quantities ------------------------------------------------------------------------------
     def slide(self, z):
