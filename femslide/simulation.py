@@ -478,7 +478,7 @@ def _peak(t, x, candidates=16, breaks=()):
     if x.size < 3:
         return best
     inner = np.nonzero((x[1:-1] > x[:-2]) & (x[1:-1] >= x[2:]))[0] + 1
-    br = np.asarray(sorted(breaks), dtype=float)
+    br = np.asarray(breaks, dtype=float)
     for i in inner[np.argsort(-x[inner])][:candidates]:
         lo, hi = t[max(0, i - 2)], t[min(x.size - 1, i + 2)]
         if br.size and np.any((br >= lo) & (br <= hi)):
