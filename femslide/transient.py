@@ -82,16 +82,20 @@ def error_constant(rho_inf=RHO_INF):
     return abs(0.5 * (am - af) + beta - 1.0 / 6.0)
 
 
-def add_coo(A, rows, cols, vals):
-    """A + the COO entries (which must lie in the Jacobian's pattern), for A dense, banded or sparse."""
+def add_coo(A, *parts):
+    """A + the COO entries ``parts`` = (rows, cols, vals), ... (which must lie in the Jacobian's
+    pattern), for A dense, banded or sparse (one sparse sum for all parts)."""
     if isinstance(A, np.ndarray):
-        np.add.at(A, (rows, cols), vals)
+        for rows, cols, vals in parts:
+            np.add.at(A, (rows, cols), vals)
         return A
     if isinstance(A, BandMatrix):
         p = A.pattern
-        pr, pc = p.inv[rows], p.inv[cols]
-        np.add.at(A.ab, (p.kl + p.ku + pr - pc, pc), vals)
+        for rows, cols, vals in parts:
+            pr, pc = p.inv[rows], p.inv[cols]
+            np.add.at(A.ab, (p.kl + p.ku + pr - pc, pc), vals)
         return A
+    rows, cols, vals = (np.concatenate(x) for x in zip(*parts))
     return (A + sp.csc_matrix((vals, (rows, cols)), shape=A.shape)).tocsc()
 
 
@@ -162,7 +166,7 @@ class StepSystem:
         q = y[:self.n_q]
         _, v1, acc1 = self.kinematics(q)
         f, coo = self.masses.inertia(q, v1, acc1, self.c_acc, self.c_vel, self.ag_vec)
-        coos = [coo]   # the Jacobian's extra entries, added in one call
+        coos = [coo]   # the Jacobian's extra entries (one sparse sum for all)
         r[:self.n_q] += f
         if self.Csr is not None:
             r[:self.n_q] += self.Csr @ v1
@@ -178,7 +182,7 @@ class StepSystem:
         if self.roundoff_floor and self.noise_in > 1e-6 * (1.0 + info["fmax"]):
             info["noise"] = info["noise"] + self.noise_in
         if jacobian:
-            A = add_coo(A, *(np.concatenate(p) for p in zip(*coos)) if len(coos) > 1 else coos[0])
+            A = add_coo(A, *coos)
             self.last_matrix = A   # the iteration matrix of the latest Jacobian (the error filter's)
         return r, A, info
 
@@ -295,7 +299,7 @@ class _Light:
             fe, coo = ex(y, None, 0.0)
             r[:m.n_q] += fe
             if jacobian:
-                A = add_coo(A, *coo)
+                A = add_coo(A, coo)
         if sysm.Csr is not None:
             r[:m.n_q] += sysm.Csr @ self.v
         return r, A, info
