@@ -40,7 +40,7 @@ def _plot_section() -> str:
         return ""
     if callable(plot):
         return "Pictures\n--------\n\n.. autofunction:: femslide.plot\n"
-    return "Pictures\n--------\n\n.. automodule:: femslide.diagrams\n   :members:\n"
+    return "Pictures\n--------\n\n.. automodule:: femslide.output.diagrams\n   :members:\n"
 
 
 def _inject(app, docname, source):

@@ -25,12 +25,13 @@ import sys
 import tempfile
 
 import matplotlib
+
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import femslide  # noqa: E402
-from femslide.series import M_max_asymptote  # noqa: E402
+from femslide.scenes.series import M_max_asymptote  # noqa: E402
 
 out = sys.argv[1] if len(sys.argv) > 1 else tempfile.mkdtemp(prefix="femslide-ei-sweep-")
 os.makedirs(out, exist_ok=True)

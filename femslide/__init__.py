@@ -23,14 +23,15 @@ import os
 from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any, Union
 
-from .errors import BadInput, SolverFailure
-from .structure import Structure, Table
-from .run import Result
+from femslide.app.result import Result
+from femslide.errors import BadInput, SolverFailure
+from femslide.model.parts import Table
+from femslide.model.structure import Structure
 
 if TYPE_CHECKING:
     import pandas
 
-    from .structure import Frozen
+    from femslide.model.frozen import Frozen
 
 #: what solve and sweep take: a Structure, a structure or scene file path, or a built-in scene name
 Target = Union[Structure, "Frozen", str, os.PathLike]
@@ -48,7 +49,7 @@ def list_scenes() -> list[str]:
     list of str
         ``["hinge-slider", ..., "beam-slider", ..., "sdof-harmonic", ...]``.
     """
-    from .scenes import SCENES
+    from femslide.scenes.catalog import SCENES
     return list(SCENES)
 
 
@@ -71,15 +72,15 @@ def load(path: str) -> Structure:
     BadInput
         A missing or malformed file; the message names the file, the entry and the field.
     """
-    from .structfile import load as _load
+    from femslide.app.structfile import load as _load
     return _load(path).structure
 
 
 def _run(command, target, params):
-    from .run import load_target, run_case
-    from .structure import Frozen
+    from femslide.app.run import load_target, run_case
+    from femslide.model.frozen import Frozen
     if isinstance(target, (Structure, Frozen)):   # solve (simulate takes structures in simulation.run_api)
-        from .structfile import apply
+        from femslide.app.structfile import apply
         s = target if isinstance(target, Structure) else None
         elements = params.pop("elements", None)
         if params:
@@ -89,8 +90,8 @@ def _run(command, target, params):
         fs = s.freeze() if s is not None else target
         import time
         t_imp = time.perf_counter()
-        from . import static  # noqa: F401  (timed apart: import_time_s)
-        from .run import solve_structure
+        from femslide.analysis import static  # noqa: F401  (timed apart: import_time_s)
+        from femslide.app.run import solve_structure
         t0 = time.perf_counter()
         res = solve_structure(fs, elements=elements)
         res["wall_time_s"] = time.perf_counter() - t0
@@ -165,17 +166,17 @@ def simulate(target: Target, **params: Any) -> Result:
     SolverFailure
         The integration failed (scenes: or its energy balance is worse than 1e-6).
     """
-    from .structure import Frozen
+    from femslide.model.frozen import Frozen
     if isinstance(target, (Structure, Frozen)) or (isinstance(target, (str, os.PathLike))
                                                    and str(target).endswith(".toml")
                                                    and _is_structure_file(str(target))):
-        from .simulation import run_api
+        from femslide.app.api import run_api
         return run_api(target if not isinstance(target, os.PathLike) else str(target), dict(params))
     return _run("simulate", target, dict(params))
 
 
 def _is_structure_file(path):
-    from .structfile import is_structure_data, read_toml
+    from femslide.app.structfile import is_structure_data, read_toml
     return is_structure_data(read_toml(path))
 
 
@@ -224,14 +225,14 @@ def sweep(target: Target, *, fixed: dict[str, Any] | None = None, jobs: int = 1,
     >>> df = femslide.sweep("beam-slider", EI=[1e4, 1e6, 1e8])          # doctest: +SKIP
     >>> df[["EI", "M_max", "reactions.B1.Fx"]]                           # doctest: +SKIP
     """
-    from .run import sweep_table
+    from femslide.app.run import sweep_table
     return sweep_table(target, varied, fixed=fixed, jobs=jobs, quiet=quiet)
 
 
 def __getattr__(name: str):
-    """``femslide.plot`` (member diagrams, femslide/diagrams.py) is imported on first use, so that
+    """``femslide.plot`` (member diagrams, femslide/output/diagrams.py) is imported on first use, so that
     ``import femslide`` and the command line stay light."""
     if name == "plot":
-        from .diagrams import plot
+        from femslide.output.diagrams import plot
         return plot
     raise AttributeError(f"module 'femslide' has no attribute {name!r}")

@@ -1,7 +1,7 @@
 """Regenerate meshes/<scene>.toml (every built-in scene with its defaults), meshes/<scene>.vtu (the
 reference mesh of every FE statics scene, ``femslide mesh`` with its default n_elements) and
 meshes/structures/<scene>.toml (every FE statics scene at its defaults as a structure file: the
-declaration that femslide.paper makes of it, to copy and edit).
+declaration that femslide.scenes.paper makes of it, to copy and edit).
 
     python meshes/make_scene_files.py          # from the repository root
 
@@ -12,10 +12,11 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
-from femslide import meshfile, paper  # noqa: E402
-from femslide.structfile import dumps  # noqa: E402
-from femslide.scenefile import is_fe  # noqa: E402
-from femslide.scenes import SCENES  # noqa: E402
+from femslide.app import meshfile
+from femslide.app.scenefile import is_fe  # noqa: E402
+from femslide.app.structfile import dumps  # noqa: E402
+from femslide.scenes import paper  # noqa: E402
+from femslide.scenes.catalog import SCENES  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 WHY = {"P0": "10 N, or 0 when ag or record is given", "record": "none"}

@@ -1,4 +1,4 @@
-"""The Python API's result object and femslide.sweep (femslide/run.py, femslide/__init__.py).
+"""The Python API's result object and femslide.sweep (femslide/app/run.py, femslide/__init__.py).
 
 Every value checked here is compared with an independent reference: equilibrium of a cut rod (the
 nodal N, V, M against the load carried by the part beyond the cut), the closed-form free vibration of

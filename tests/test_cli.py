@@ -198,7 +198,7 @@ def test_out_dir_writes_result_json(tmp_path):
 
 _IMPORT_PROBE = r"""
 import contextlib, io, json, sys
-from femslide.cli import main
+from femslide.app.cli import main
 buf = io.StringIO()
 codes = []
 with contextlib.redirect_stdout(buf):
@@ -249,7 +249,8 @@ def test_every_command_and_option_has_help():
     """Every option, positional argument and command of the parser has a help text, and every
     command a description (shown by `femslide COMMAND --help`)."""
     import argparse
-    from femslide.cli import _build_parser
+
+    from femslide.app.cli import _build_parser
     parser = _build_parser()
     missing, commands = [], 0
     for path, action in _walk(parser):
@@ -274,7 +275,7 @@ def test_init_copies_a_scene_template_and_its_mesh(tmp_path):
     """`femslide init beam-slider DIR` writes the scene file and the mesh it names, which then load
     and check as a scene file; a second init refuses to overwrite (exit 2 naming the file, the files
     unchanged); structures/NAME copies the structure file; an unknown name lists the names."""
-    from femslide import scenefile, structfile
+    from femslide.app import scenefile, structfile
     d = tmp_path / "new"
     r = run("init", "beam-slider", str(d))
     assert r.returncode == 0, r.stderr

@@ -1,7 +1,7 @@
-"""Tests of the structure dynamics (femslide/dynamics.py): beam-oscillation and beam-friction.
+"""Tests of the structure dynamics (femslide/scenes/beam_dynamics.py): beam-oscillation and beam-friction.
 
 References computed independently here: the linearised stiffness K_eff = dM/dphi of the static
-structure under a small dead moment on the body (femslide.newton on the plain beam-extra-mass model,
+structure under a small dead moment on the body (femslide.analysis.newton on the plain beam-extra-mass model,
 no lock constraint, no sensitivities) and the rotary inertia M(0) from rigid-body kinematics.
 """
 from __future__ import annotations
@@ -20,7 +20,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 if ROOT not in sys.path:
     sys.path.insert(0, ROOT)
 
-from femslide.scenes import get  # noqa: E402
+from femslide.scenes.catalog import get  # noqa: E402
 
 KEYS = {"converged", "turning_points", "stop", "w_max", "steady_amplitude", "steps", "F2_max",
         "energy_balance", "wall_time_s"}
@@ -76,7 +76,8 @@ def test_out_writes_pvd_series_readable_by_pyvista(oscillation):
 def static_stiffness(v, n, h=1e-4):
     """K_eff [N m/rad] = -d(moment)/d(phi) by central differences of two static solves under +-h P a
     (the declared beam-extra-mass structure at dm = 0 with a moment on the deck, n elements)."""
-    from femslide import paper, static
+    from femslide.analysis import static
+    from femslide.scenes import paper
     P, a = v["m"] * v["g"], v["a"]
     phis = []
     for sgn in (1.0, -1.0):
@@ -93,7 +94,7 @@ def test_small_amplitude_period_matches_linearised_frequency():
     M = J_A1 + m1 ((L + l2/2)^2 + l2^2/12) (at phi = 0 the top of the vertical inextensible rod moves
     horizontally, so the piece translates horizontally with speed (L + l2/2) phi').  The quartic
     hardening shifts the frequency by ~ c (a/L)^2 phi0^2 / K ~ 3e-5 here: tolerance 2e-4."""
-    from femslide import dynamics
+    from femslide.scenes import beam_dynamics as dynamics
     v = get("beam-oscillation").resolve({"phi0": 1e-4, "t_end": 1.4})
     res = dynamics.run_oscillation(v)
     K = static_stiffness(v, v["n_elements"])

@@ -18,13 +18,14 @@ import math
 import numpy as np
 import pytest
 
-from femslide import corotational, paper
-from femslide.forms import basic_stiffness
-from femslide.joints import Carrier, Link, RotationalSpring, SlideSpring
-from femslide.loads import PointForce
-from femslide.model import Model
-from femslide.scenes import SCENES
-from femslide.structure import Structure
+from femslide.elements import corotational
+from femslide.elements.forms import basic_stiffness
+from femslide.elements.loads import PointForce
+from femslide.joints.base import Carrier, Link, RotationalSpring, SlideSpring
+from femslide.model.discrete import Model
+from femslide.model.structure import Structure
+from femslide.scenes import paper
+from femslide.scenes.catalog import SCENES
 
 RNG = np.random.default_rng(20261121)
 

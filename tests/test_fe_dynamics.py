@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 
 import femslide
-from femslide import static
+from femslide.analysis import static
+from femslide.analysis.modes import modes
 from femslide.errors import BadInput
-from femslide.mass import Masses
-from femslide.modes import modes
+from femslide.model.mass import Masses
 
 BETA_L = np.array([1.8751040687119611, 4.694091132974175, 7.854757438237613])  # cantilever roots
 
@@ -87,7 +87,7 @@ def _belt(axis=(1.0, 0.0), k=200.0, m=1.0, simulate=None, mu=None):
 
 
 def _run(s, **table):
-    from femslide.simulation import parse_spec, simulate
+    from femslide.analysis.simulate import parse_spec, simulate
     res = simulate(s.freeze(), parse_spec(table))
     return res, res["_history"]
 
@@ -155,8 +155,8 @@ def test_section_52_structure_declared_matches_the_reduced_model():
     telescopic piece), released from phi = 0.01: the peak |F2| (B1's Fx) up to the third turning
     point equals the reduced 1-DOF model's 88.92548 N (femslide simulate beam-oscillation; an OpenSees
     transient agrees with it to 1.4e-5) within 1e-4; its linear frequency 0.789376 Hz within 1e-4."""
-    from femslide import structfile
-    from femslide.simulation import parse_spec, simulate
+    from femslide.analysis.simulate import parse_spec, simulate
+    from femslide.app import structfile
     sf = structfile.load("meshes/structures/beam-oscillation.toml")
     spec = parse_spec(sf.simulate_table)
     spec.t_end = 1.7
@@ -173,7 +173,8 @@ def test_cli_simulate_and_modes_of_a_structure_file(tmp_path, capsys):
     history and the PVD series (field data per frame); `femslide modes` prints the frequencies
     (the block: sqrt(k/m) / (2 pi)) and writes one VTU per mode."""
     import json
-    from femslide.cli import main
+
+    from femslide.app.cli import main
     f = "meshes/structures/sliding-belt.toml"
     assert main(["simulate", f, "--json", "--set", "belt.k=300", "--out", str(tmp_path / "s")]) == 0
     res = json.loads(capsys.readouterr().out)
@@ -196,7 +197,7 @@ def test_cli_simulate_and_modes_of_a_structure_file(tmp_path, capsys):
 def test_bad_inputs_exit_2_naming_the_parameter(tmp_path, capsys):
     """A t_end beyond the work budget names t_end and the largest allowed value; mu0 < mu names the
     joint; an unknown [simulate] key is named; modes of a built-in scene is refused."""
-    from femslide.cli import main
+    from femslide.app.cli import main
     src = open("meshes/structures/sliding-belt.toml").read()
     p = tmp_path / "long.toml"
     p.write_text(src.replace("t_end = 1.0", "t_end = 1e6"))
@@ -217,7 +218,7 @@ def test_peak_between_samples_below_the_start_value():
     every sample <= 0.988) and whose first sample 0.999 (a held start) is above them all: the peak is
     the refined one, 1 within 1e-5 (degree-4 interpolation, error ~(omega h)^5 / 120), not 0.999.
     Section 5.2's peak |F2| is such a case at tolerance 1e-4."""
-    from femslide.simulation import _peak
+    from femslide.results.history import _peak
     t = np.arange(0.0, 3.0, 0.05)
     x = np.cos(2 * np.pi * (t - 0.525))
     x[0] = 0.999
@@ -240,7 +241,7 @@ def test_step_work_integrates_the_powers_of_the_step_exactly():
     from 7 to 9: a ground power (sin(t) + q) v and a loss power (c + mu) v^2 against 20-point
     Gauss-Legendre quadrature of the exact motion, to 1e-10 over a step of 0.1 (the 3-point rule's
     own error on the sine is ~2e-11; a wrong interpolant errs by ~1e-6)."""
-    from femslide.transient import State, _step_work
+    from femslide.analysis.generalized_alpha import State, _step_work
     q0, v0, a, j, c, t0, h = 0.3, -1.2, 4.0, -30.0, 2.5, 0.7, 0.1
     q = lambda u: q0 + v0 * u + a * u * u / 2 + j * u ** 3 / 6   # noqa: E731  (u = t - t0)
     v = lambda u: v0 + a * u + j * u * u / 2                       # noqa: E731
@@ -284,11 +285,11 @@ def _turning_points(res, hist):
 
 def test_paper_003_example_1_as_a_structure_against_the_exact_oscillator():
     """meshes/structures/belt-ex1.toml (block on a frictional ground slider, paper 003 ex. 1) at
-    tolerance 1e-9: its turning points and stop agree with femslide.sdof's exact solution (scene
+    tolerance 1e-9: its turning points and stop agree with femslide.scenes.sdof's exact solution (scene
     sdof-free: -5.038, +3.076 cm, stop at -1.114 cm) within 1e-6 m and 1e-6 s; the first event is
     slip- (the spring pulls back), the last a stick; the energy balance closes to 1e-7."""
-    from femslide import structfile
-    from femslide.simulation import parse_spec, simulate
+    from femslide.analysis.simulate import parse_spec, simulate
+    from femslide.app import structfile
     ref = femslide.simulate("sdof-free")
     sf = structfile.load("meshes/structures/belt-ex1.toml")
     spec = parse_spec(sf.simulate_table)
@@ -337,7 +338,7 @@ def test_large_friction_locks():
 def test_bearing_normal_force_from_both_contact_forces():
     """N of a slider with bearings h apart: |Q/2 + M/h| + |Q/2 - M/h| (the moment dominates when
     |M| > |Q| h / 2); without bearings N = |Q|; dN/d(Q, M) the signs."""
-    from femslide.friction import FrictionJoint
+    from femslide.joints.friction import FrictionJoint
     fj = FrictionJoint.__new__(FrictionJoint)
     fj.mu_idx, fj.slider = np.array([0, 1]), True
     fj.h = 0.5
@@ -354,7 +355,7 @@ def test_ground_records_at2_and_csv(tmp_path):
     """A PEER .AT2 record (in g, NPTS/DT header) and a CSV record (t, a in m/s^2) sampling
     0.7 sin(2 pi 1.3 t) m/s^2 every 1 ms reproduce the exact harmonic response of the block within
     3e-6 m (linear interpolation of the record, tolerance 1e-8); a record's scale multiplies it."""
-    from femslide.ground import read_at2, read_csv
+    from femslide.analysis.excitation import read_at2, read_csv
     dt, n = 1e-3, 601
     t = np.arange(n) * dt
     a = 0.7 * np.sin(2 * np.pi * 1.3 * t)
@@ -370,7 +371,7 @@ def test_ground_records_at2_and_csv(tmp_path):
     assert np.allclose(read_csv(str(tmp_path / "r.csv"))[1], 2 * a)
     omega, W = math.sqrt(200.0), 2 * math.pi * 1.3
     for rec, scale in (("r.AT2", 1.0), ("r.csv", 0.5)):
-        from femslide.simulation import parse_spec, simulate
+        from femslide.analysis.simulate import parse_spec, simulate
         spec = parse_spec({"t_end": 0.5, "tolerance": 1e-8,
                            "ground": {"direction": [1.0, 0.0], "record": rec, "scale": scale}}, str(tmp_path))
         res = simulate(_belt().freeze(), spec)
@@ -421,7 +422,7 @@ def test_error_estimate_filter_is_the_one_dof_attenuation():
     omega h << 1 and ~(m c_acc / k) for omega h >> 1 (undamped); the held dofs get none."""
     import scipy.sparse as sp
 
-    from femslide.transient import State, StepSystem
+    from femslide.analysis.generalized_alpha import State, StepSystem
     k, m = 200.0, 1.0
     model, y, a = _solved(_belt(k=k, m=m))
     masses = Masses(model)
@@ -458,7 +459,8 @@ def test_simulate_keys_set_on_the_command_line(capsys):
     """`--set simulate.KEY=VALUE` overrides (or supplies) the [simulate] table; out of range is bad
     input naming the key; `solve` refuses simulate keys."""
     import json
-    from femslide.cli import main
+
+    from femslide.app.cli import main
     f = "meshes/structures/sliding-belt.toml"
     assert main(["simulate", f, "--json", "--set", "simulate.t_end=0.25", "--set", "simulate.tolerance=1e-5"]) == 0
     assert json.loads(capsys.readouterr().out)["t_end"] == 0.25
@@ -591,7 +593,8 @@ def test_mode_shape_vtu_carries_the_mode_bending_moment(tmp_path):
     the root moment is EI w'' (0) = EI w beta^2 (Euler-Bernoulli mode, beta L = 1.8751, phi(L) = 2,
     phi''(0) = 2 beta^2) within 5e-3 at 16 elements (measured 1.2e-3; 7.5e-5 at 64)."""
     import meshio
-    from femslide.simulation import natural_modes
+
+    from femslide.analysis.simulate import natural_modes
     L, EI = 1.5, 2.0
     res = natural_modes(_cantilever(16, L=L, EI=EI).freeze(), count=1)
     (path,) = res["_write"](str(tmp_path))
@@ -604,7 +607,7 @@ def test_mode_shape_vtu_carries_the_mode_bending_moment(tmp_path):
 def test_modes_checks_the_simulate_elements(tmp_path, capsys):
     """`femslide modes` reads [simulate] elements as simulate does: 0 is bad input naming it (it
     used to run with zero elements)."""
-    from femslide.cli import main
+    from femslide.app.cli import main
     text = open("meshes/structures/beam-oscillation.toml").read().replace("elements = 8\n", "")
     (tmp_path / "s.toml").write_text(text.replace("[simulate]\n", "[simulate]\nelements = 0\n"))
     assert main(["modes", str(tmp_path / "s.toml"), "--json"]) == 2
@@ -617,8 +620,8 @@ def test_add_coo_is_the_same_sum_for_dense_banded_and_sparse():
     sparse; the three sums agree to round-off with the dense sum of the parts done by hand."""
     import scipy.sparse as sp
 
-    from femslide.modes import to_sparse
-    from femslide.transient import add_coo
+    from femslide.analysis.generalized_alpha import add_coo
+    from femslide.analysis.modes import to_sparse
     model, y, a = _solved(_cantilever(64))
     _, A_band, _ = model.system(y, a)
     _, A_dense, _ = model.system(y, a, dense=True)

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 import femslide
-from femslide.model import reverse_cuthill_mckee
-from femslide.results import end_moments
-from femslide.structure import Structure
+from femslide.model.linalg import reverse_cuthill_mckee
+from femslide.model.structure import Structure
+from femslide.results.static import end_moments
 
 
 def _portal():
@@ -79,7 +79,7 @@ def test_banded_model_solves_without_scipy_linalg_and_scipy_still_imports_after(
     same solve."""
     code = """
 import sys, numpy as np, femslide
-from femslide.structure import Structure
+from femslide.model.structure import Structure
 s = Structure(gravity=(0.0, 0.0))
 s.rod("c", (0, 0), (2, 0), EI=1.0, elements=200)
 s.weld("w", "c.start", "ground")

@@ -54,10 +54,10 @@ def test_license_file_and_spdx_field():
 
 
 def test_templates_come_from_the_package_and_match_the_tree():
-    """femslide.scenefile.templates() (importlib.resources on femslide.meshes) holds every template of
+    """femslide.app.scenefile.templates() (importlib.resources on femslide.meshes) holds every template of
     meshes/, and init's names cover every scene file and structure file.  (In a checkout the package
     is this tree's meshes/, so the bytes are compared in the wheel, below.)"""
-    from femslide import scenefile
+    from femslide.app import scenefile
     root = scenefile.templates()
     for rel in template_files():
         node = root
@@ -67,7 +67,7 @@ def test_templates_come_from_the_package_and_match_the_tree():
     names = set(scenefile.template_names())
     want = {rel[:-5] for rel in template_files() if rel.endswith(".toml")}
     assert names == want
-    from femslide.scenes import SCENES
+    from femslide.scenes.catalog import SCENES
     assert set(SCENES) <= names  # every built-in scene has a template
 
 
@@ -124,7 +124,8 @@ def _public_callables():
     """The public API: femslide's exported functions, and the public methods of Structure, Table and
     Result (with Structure.__init__)."""
     import inspect
-    from femslide.run import Result
+
+    from femslide.app.result import Result
     out = [(f"femslide.{n}", getattr(femslide, n)) for n in ("solve", "simulate", "sweep", "load", "list_scenes")]
     for cls in (femslide.Structure, femslide.Table, Result):
         for name, obj in vars(cls).items():

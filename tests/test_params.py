@@ -1,4 +1,4 @@
-"""Property tests of parameter parsing (femslide.params): every finite in-range value is accepted and
+"""Property tests of parameter parsing (femslide.scenes.params): every finite in-range value is accepted and
 round-trips exactly (as a number and as the text a user types), every out-of-range, NaN, infinite or
 non-numeric value is rejected with BadInput naming the parameter and its allowed range.
 """
@@ -17,8 +17,8 @@ if str(_ROOT) not in sys.path:
     sys.path.insert(0, str(_ROOT))
 
 from femslide.errors import BadInput  # noqa: E402
-from femslide.params import PARAMS, ParamSet, parse_assignments  # noqa: E402
-from femslide.scenes import get as get_scene  # noqa: E402
+from femslide.scenes.catalog import get as get_scene  # noqa: E402
+from femslide.scenes.params import PARAMS, ParamSet, parse_assignments  # noqa: E402
 
 FLOATS = sorted(n for n, p in PARAMS.items() if p.kind == "float")
 INTS = sorted(n for n, p in PARAMS.items() if p.kind == "int")

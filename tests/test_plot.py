@@ -21,7 +21,7 @@ import pytest
 
 import femslide
 from femslide.errors import BadInput
-from femslide.diagrams import LiftOffWarning
+from femslide.output.diagrams import LiftOffWarning
 from tests.test_show import can_render  # noqa: F401  (the fixture: skip only without an EGL context)
 
 matplotlib = pytest.importorskip("matplotlib")
@@ -163,14 +163,14 @@ def test_lift_off_warning_beam_slider_ei10():
 
 
 def femslide_frame(r):
-    from femslide.diagrams import frame_data
+    from femslide.output.diagrams import frame_data
     return frame_data(r)
 
 
 def test_no_notes_for_a_structure_standing_on_the_ground():
     """The simple beam (pin and roller at y = 0, the ground drawn below both) and the portal frame: no
     lift-off and nothing below the ground."""
-    from femslide.diagrams import BelowGroundWarning, frame_data, ground_level
+    from femslide.output.diagrams import BelowGroundWarning, frame_data, ground_level
     for s in (simple_beam(), portal()):
         r = femslide.solve(s)
         fr = frame_data(r)
@@ -217,8 +217,8 @@ def test_pvd_colour_range_is_global(friction_series):
     """The colour range of a series is min/max over all its frames (read here with meshio)."""
     import meshio
 
-    from femslide.show import value_range
-    from femslide.vtu import pvd_frames
+    from femslide.output.show import value_range
+    from femslide.output.vtu import pvd_frames
     lo, hi = math.inf, -math.inf
     for _, f in pvd_frames(str(friction_series)):
         m = meshio.read(f)
@@ -233,7 +233,7 @@ def test_pvd_colour_range_is_global(friction_series):
 
 
 def test_constant_field_is_one_value(tmp_path):
-    from femslide.show import is_constant, value_range
+    from femslide.output.show import is_constant, value_range
     r = run("solve", "cantilever-moment", "--out", str(tmp_path))
     assert r.returncode == 0, r.stderr
     lo, hi = value_range(str(tmp_path / "cantilever-moment.vtu"))
@@ -269,7 +269,7 @@ def test_show_diagram_screenshot(tmp_path, friction_series):
 
 def test_magnify_scales_the_displacements():
     """Drawn points = undeformed + K (deformed - undeformed), for rods, bodies and joints."""
-    from femslide.diagrams import frame_data
+    from femslide.output.diagrams import frame_data
     r = femslide.solve("beam-slider", EI=1e5)
     f1, f10 = frame_data(r), frame_data(r, magnify=10.0)
     for a, b in zip(f1["rods"] + f1["bodies"] + f1["links"], f10["rods"] + f10["bodies"] + f10["links"]):
@@ -282,9 +282,9 @@ def test_magnify_scales_the_displacements():
 @pytest.mark.usefixtures("can_render")
 def test_show_series_colour_range_is_global(friction_series):
     """The colour range that show uses for a frame of a series is the range over all frames."""
-    from femslide.show import value_range
+    from femslide.output.show import value_range
     from tests.test_show import run_py
-    code = ("import json\nfrom femslide.show import render\n"
+    code = ("import json\nfrom femslide.output.show import render\n"
             f"info = render({str(friction_series)!r}, frame=0, screenshot={str(friction_series.parent / 'f0.png')!r})\n"
             "print(json.dumps(info['clim']))")
     r = run_py(code)
@@ -292,6 +292,7 @@ def test_show_series_colour_range_is_global(friction_series):
     clim = json.loads(r.stdout.strip().splitlines()[-1])
     assert clim == pytest.approx(list(value_range(str(friction_series))), rel=1e-12)
     import meshio
-    from femslide.vtu import pvd_frames
+
+    from femslide.output.vtu import pvd_frames
     M0 = meshio.read(pvd_frames(str(friction_series))[0][1]).point_data["bending_moment"]
     assert np.ptp(M0) < 0.9 * (clim[1] - clim[0])   # not frame 0's own range

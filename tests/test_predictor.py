@@ -1,4 +1,4 @@
-"""The Newton start of the structure scenes (femslide.predictor): the deformed spring-hinge mechanism.
+"""The Newton start of the structure scenes (femslide.scenes.predictor): the deformed spring-hinge mechanism.
 
 Checked against what it promises: no axial strain, the rotational locks and rigid joints satisfied
 exactly, the sliding clamp's transverse lock up to the O(h^2) of laying the elements end to end, and a
@@ -7,11 +7,13 @@ start good enough for a controlled Newton solve to converge in a handful of iter
 import numpy as np
 import pytest
 
-from femslide import corotational, paper, static
-from femslide.model import Model
-from femslide.newton import newton
-from femslide.predictor import mechanism_state
-from femslide.scenes import SCENES
+from femslide.analysis import static
+from femslide.analysis.newton import newton
+from femslide.elements import corotational
+from femslide.model.discrete import Model
+from femslide.scenes import paper
+from femslide.scenes.catalog import SCENES
+from femslide.scenes.predictor import mechanism_state
 
 CASES = ["beam-slider", "beam-fixed", "beam-both", "beam-spring"]
 

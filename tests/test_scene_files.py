@@ -14,9 +14,9 @@ import sys
 
 import pytest
 
-from femslide.cli import main
-from femslide.scenefile import is_fe, load
-from femslide.scenes import SCENES
+from femslide.app.cli import main
+from femslide.app.scenefile import is_fe, load
+from femslide.scenes.catalog import SCENES
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 MESHES = ROOT / "meshes"
@@ -153,7 +153,7 @@ def test_non_uniform_mesh_is_rejected(tmp_path):
 
 
 def test_hinge_scene_file_imports_nothing_heavy():
-    code = ("import sys, io, contextlib\nfrom femslide.cli import main\n"
+    code = ("import sys, io, contextlib\nfrom femslide.app.cli import main\n"
             "with contextlib.redirect_stdout(io.StringIO()):\n"
             f"    rc = main(['solve', {str(MESHES / 'hinge-slider.toml')!r}, '--json'])\n"
             "heavy = [m for m in sys.modules if m.split('.')[0] in ('numpy', 'scipy', 'meshio', 'pyvista')]\n"

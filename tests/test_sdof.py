@@ -1,4 +1,4 @@
-"""Tests of the exact one-mass Coulomb-friction oscillator (femslide/sdof.py, SPEC section 5).
+"""Tests of the exact one-mass Coulomb-friction oscillator (femslide/scenes/sdof.py, SPEC section 5).
 
 References are computed independently inside the tests (closed-form amplitude decrement of free
 vibration with Coulomb friction).  SI units.
@@ -18,8 +18,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 if ROOT not in sys.path:
     sys.path.insert(0, ROOT)
 
-from femslide import sdof  # noqa: E402
-from femslide.scenes import get  # noqa: E402
+from femslide.scenes import sdof  # noqa: E402
+from femslide.scenes.catalog import get  # noqa: E402
 
 
 def run_scene(name, **given):
@@ -229,7 +229,7 @@ def test_record_accepts_header_comments_and_whitespace(tmp_path):
 
 def test_no_heavy_imports():
     """One-mass scenes must not import scikit-fem, meshio or pyvista."""
-    code = ("import sys, femslide.cli as c; c.main(['simulate','sdof-harmonic','--json']); "
+    code = ("import sys, femslide.app.cli as c; c.main(['simulate','sdof-harmonic','--json']); "
             "print([m for m in ('skfem','meshio','pyvista') if m in sys.modules])")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert out.stdout.strip().splitlines()[-1] == "[]"

@@ -24,7 +24,7 @@ def run_py(code, timeout=120):
 
 
 def femslide(*argv):
-    return run_py(f"import sys\nfrom femslide.cli import main\nsys.exit(main({list(argv)!r}))")
+    return run_py(f"import sys\nfrom femslide.app.cli import main\nsys.exit(main({list(argv)!r}))")
 
 
 # Can this machine make an off-screen OpenGL context at all?  Asked of EGL directly (ctypes, no VTK):
@@ -134,7 +134,7 @@ def read_png(path):
 def test_show_renders_the_deformed_rods_coloured_by_moment(can_render, result, tmp_path):
     import numpy as np
     png = tmp_path / "shot.png"
-    code = ("import json\nfrom femslide.show import render\n"
+    code = ("import json\nfrom femslide.output.show import render\n"
             f"info = render({str(result)!r}, screenshot={str(png)!r})\n"
             "print(json.dumps(info['rod_pixels'].tolist()))")
     r = run_py(code)

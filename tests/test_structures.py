@@ -14,7 +14,7 @@ import pytest
 
 import femslide
 from femslide.errors import BadInput
-from femslide.structure import Structure
+from femslide.model.structure import Structure
 
 ROOT = Path(__file__).resolve().parents[1]
 STRUCTURES = ROOT / "meshes" / "structures"

@@ -13,7 +13,7 @@ import sys
 
 import pytest
 
-from femslide.cli import main
+from femslide.app.cli import main
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 VARY = "EI=1e4,1e6,1e8,1e10"
@@ -29,7 +29,8 @@ def cli(*argv):
 def run(*argv, code_prefix="", timeout=120):
     env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
     if code_prefix:
-        cmd = [sys.executable, "-c", code_prefix + f"\nfrom femslide.cli import main\nsys.exit(main({list(argv)!r}))"]
+        cmd = [sys.executable, "-c",
+               code_prefix + f"\nfrom femslide.app.cli import main\nsys.exit(main({list(argv)!r}))"]
     else:
         cmd = [sys.executable, "-m", "femslide", *argv]
     return subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, env=env, timeout=timeout)
@@ -164,7 +165,7 @@ def test_dask_local_jobs_sets_the_workers(monkeypatch):
     """`--dask local --jobs N`: a LocalCluster of N worker processes (N = 2 for 3 cases), rows as in
     process."""
     pytest.importorskip("dask.distributed")
-    sweep = importlib.import_module("femslide.sweeps")
+    sweep = importlib.import_module("femslide.app.sweeps")
     seen = []
     real = sweep.dask_client
 
@@ -237,7 +238,7 @@ def test_dask_relative_paths_are_made_absolute(tmp_path, monkeypatch):
 
 
 def test_absolute_case_makes_paths_absolute(tmp_path, monkeypatch):
-    from femslide.sweeps import absolute_case
+    from femslide.app.sweeps import absolute_case
     monkeypatch.chdir(tmp_path)
     name, values, out = absolute_case("sdof-harmonic", {"record": "a/rec.csv", "mu": 0.1}, "o/case_000")
     assert name == "sdof-harmonic" and values == {"record": str(tmp_path / "a" / "rec.csv"), "mu": 0.1}
@@ -271,8 +272,8 @@ def test_plot(tmp_path):
 
 
 def test_plot_asymptote_is_spec_section_3():
-    """The plotted asymptote is femslide.series.M_max_asymptote, which the FE M_max approaches."""
-    from femslide.series import M_max_asymptote
+    """The plotted asymptote is femslide.scenes.series.M_max_asymptote, which the FE M_max approaches."""
+    from femslide.scenes.series import M_max_asymptote
     code, out, _ = cli("sweep", "beam-slider", "--vary", "EI=1e10", "--json")
     row = json.loads(out)[0]
     p = dict(a=1.0, b=0.5, d=0.2, l=3.0, m=1.0, g=9.81)
@@ -280,7 +281,7 @@ def test_plot_asymptote_is_spec_section_3():
 
 
 def test_progress_helper(monkeypatch):
-    from femslide import progress as pg
+    from femslide.app import progress as pg
     assert isinstance(pg.progress(5, "x", quiet=True), pg.NoBar)
     assert isinstance(pg.progress(5, "x"), pg.NoBar)  # pytest's stderr is not a terminal
 

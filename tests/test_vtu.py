@@ -1,4 +1,4 @@
-"""VTU output (femslide/vtu.py), exercised as a user does: ``python -m femslide solve SCENE --out DIR`` in
+"""VTU output (femslide/output/vtu.py), exercised as a user does: ``python -m femslide solve SCENE --out DIR`` in
 a subprocess, then the file read back with pyvista.  Checks the mesh layout (one line cell per element,
 a polygon for the body), the arrays and their SI units, the deformed geometry, the sign conventions of
 the moment and the forces (against statics), and the VTU + PVD series writer.
@@ -160,7 +160,7 @@ def test_cantilever_load_force_signs_and_units(tmp_path):
 
 def test_series_round_trips_through_pvd(tmp_path):
     pv = pytest.importorskip("pyvista")
-    from femslide.vtu import write_series
+    from femslide.output.vtu import write_series
     times = [0.0, 0.5, 1.25]
     frames = []
     for t in times:
@@ -189,7 +189,7 @@ def test_static_vtu_field_data_units_conventions_joints(tmp_path):
     checked against the sidecar (this mesh's results) and the geometry of the deck."""
     import meshio
 
-    from femslide.vtu import text
+    from femslide.output.vtu import text
     res, path = solve("beam-slider", tmp_path, "n_elements=16")
     m = meshio.read(path)
     fd = m.field_data
@@ -222,8 +222,7 @@ def test_dynamic_frames_carry_time_and_global_values(tmp_path):
     history.csv row at that time), units; the telescopic guide link reaches the rod's top end."""
     import meshio
 
-    from femslide.vtu import pvd_frames
-    from femslide.vtu import text
+    from femslide.output.vtu import pvd_frames, text
     env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
     r = subprocess.run([sys.executable, "-m", "femslide", "simulate", "beam-friction", "--set", "t_end=0.4",
                         "--quiet", "--out", str(tmp_path)], capture_output=True, text=True, cwd=ROOT, env=env,

@@ -62,7 +62,7 @@ def sweep_vs_opensees(n, env):
         print("OpenSees: openseespy not importable; no comparison")
         return
     sys.path.insert(0, str(ROOT))
-    from femslide.scenes import SCENES
+    from femslide.scenes.catalog import SCENES
     cases = [(SCENES["beam-slider"].resolve({"EI": float(x["EI"])}), x["phi"]) for x in rows]
     script = OPENSEES_SWEEP.format(here=str(ROOT / "validation"))
     o_times, _ = wall_times([sys.executable, "-c", script, json.dumps(cases)], n, env)

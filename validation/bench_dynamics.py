@@ -3,7 +3,7 @@
     python validation/bench_dynamics.py [--quick]
 
 Methods (all in-process, best of several repeats, wall-clock seconds):
-* femslide   - femslide.sdof.run (exact closed form + events; includes energy balance and summary);
+* femslide   - femslide.scenes.sdof.run (exact closed form + events; includes energy balance and summary);
 * RK45/DOP853 - scipy solve_ivp with event switching (validation/sdof_reference.ivp_simulate) at
   rtol = 1e-3 .. 1e-12 (atol = 1e-3 rtol m);
 * recurrence - the paper's first-order recurrence (7)-(9), Newmark average acceleration, friction
@@ -27,15 +27,15 @@ import pathlib
 import sys
 import time
 
-
 HERE = pathlib.Path(__file__).resolve().parent
 for p in (str(HERE.parent), str(HERE)):
     if p not in sys.path:
         sys.path.insert(0, p)
 
-from femslide import sdof  # noqa: E402
-from femslide.scenes import get  # noqa: E402
 import sdof_reference as ref  # noqa: E402
+
+from femslide.scenes import sdof  # noqa: E402
+from femslide.scenes.catalog import get  # noqa: E402
 
 QUICK = "--quick" in sys.argv
 

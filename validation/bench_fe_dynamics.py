@@ -1,4 +1,4 @@
-"""Benchmark of the FE dynamics (femslide/transient.py): order, work-precision and cost per element.
+"""Benchmark of the FE dynamics (femslide/analysis/transient.py): order, work-precision and cost per element.
 
 Prints three tables and writes validation/bench_fe_dynamics.csv (+ bench_fe_dynamics.png when
 matplotlib is installed):
@@ -43,11 +43,11 @@ sys.path.insert(0, str(HERE.parent))
 sys.path.insert(0, str(HERE))
 
 import numpy as np  # noqa: E402
+from dynamic_references import OSCILLATION_F2  # noqa: E402
 
 import femslide  # noqa: E402
-from femslide import structfile  # noqa: E402
-from femslide.simulation import parse_spec, simulate  # noqa: E402
-from dynamic_references import OSCILLATION_F2  # noqa: E402
+from femslide.analysis.simulate import parse_spec, simulate  # noqa: E402
+from femslide.app import structfile  # noqa: E402
 
 F2_REF = OSCILLATION_F2
 

@@ -29,11 +29,12 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
-from femslide.model import solve_linear  # noqa: E402
-from femslide.patterns import PatternCache  # noqa: E402
-from femslide.paper import solve_scene  # noqa: E402
-from femslide.scenes import SCENES  # noqa: E402
 from opensees_models import opensees_slider  # noqa: E402
+
+from femslide.model.linalg import solve_linear  # noqa: E402
+from femslide.model.patterns import PatternCache  # noqa: E402
+from femslide.scenes.catalog import SCENES  # noqa: E402
+from femslide.scenes.paper import solve_scene  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 

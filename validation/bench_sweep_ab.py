@@ -28,10 +28,10 @@ CHILD = r"""
 import sys, os, time, math
 tree, mode = sys.argv[1], sys.argv[2]
 sys.path.insert(0, tree); os.chdir(tree)
-from femslide.scenes import SCENES
+from femslide.scenes.catalog import SCENES
 try:
-    from femslide.paper import solve_scene
-    from femslide.patterns import PatternCache
+    from femslide.scenes.paper import solve_scene
+    from femslide.model.patterns import PatternCache
     new = True
 except ImportError:
     from femslide.statics import solve_scene

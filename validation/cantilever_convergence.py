@@ -21,12 +21,13 @@ for _p in (str(_HERE.parent), str(_HERE)):
         sys.path.insert(0, _p)
 
 import matplotlib  # noqa: E402
+
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
+import references as ref  # noqa: E402
 
 import femslide  # noqa: E402
-import references as ref  # noqa: E402
 
 P_RATIO = 1.0
 NS = [2 ** k for k in range(11)]

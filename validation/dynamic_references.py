@@ -1,6 +1,6 @@
 """Reference values of the paper's structure in time, from femslide's reduced 1-degree-of-freedom model
-(femslide/dynamics.py: the massless rod's statics at every body rotation, DOP853 at a tight tolerance,
-energy balance ~1e-11) - a formulation independent of the FE transient (femslide/transient.py) that the
+(femslide/scenes/beam_dynamics.py: the massless rod's statics at every body rotation, DOP853 at a tight tolerance,
+energy balance ~1e-11) - a formulation independent of the FE transient (femslide/analysis/transient.py) that the
 validation compares against them.  Regenerate with ``femslide simulate beam-oscillation --json`` and
 ``femslide simulate beam-friction --json`` (default parameters); the OpenSees Newmark transient of
 validation/opensees_models.py agrees with OSCILLATION_F2 to 5e-9.

@@ -1,4 +1,4 @@
-"""Independent reference for beam-friction (femslide/dynamics.py is NOT used here).
+"""Independent reference for beam-friction (femslide/scenes/beam_dynamics.py is NOT used here).
 
 The structure of ``beam-friction`` (SPEC section 5, femslide's scene description): rigid body ABCD
 pinned at A1 = (0, 0) by its rigid left rod (length l), turning by phi (clockwise); a massless
@@ -34,7 +34,6 @@ import math
 
 import numpy as np
 from scipy.integrate import solve_ivp
-
 
 DEFAULTS = dict(a=1.0, b=0.5, d=0.2, l=3.0, m=1.0, g=9.81, L=1.5, k=100.0, EI=1e4, EA=1e6, c_v=0.0,
                 mu=0.2, mu0=0.24, phi0=0.0, ag=1.0, theta_ratio=1.0, t_end=3.0)

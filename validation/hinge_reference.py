@@ -1,7 +1,7 @@
 """Independent high-precision reference solutions of the spring-hinge models (SPEC section 2).
 
 This module shares no code with ``femslide``.  It uses a different formulation from
-``femslide.hinge``:
+``femslide.scenes.hinge``:
 
 * positions are built from vectors (A1, B1, A, B, G, B3, G1, ...) in the two angles (phi, psi); the
   kinematic constraint is kept as an equation h(phi, psi) = 0 (the point on the rod lies on the guide

@@ -16,13 +16,14 @@ for _p in (str(_HERE.parent), str(_HERE)):
         sys.path.insert(0, _p)
 
 import matplotlib  # noqa: E402
+
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import references as ref  # noqa: E402
 
 import femslide  # noqa: E402
-from femslide import series  # noqa: E402
-import references as ref  # noqa: E402
+from femslide.scenes import series  # noqa: E402
 
 GEOM = dict(a=1.0, b=0.5, d=0.2, l=3.0, m=1.0, g=9.81)
 EIS = [10.0 ** (k / 2) for k in range(2, 25)]   # 1e1 .. 1e12, half decades

@@ -3,7 +3,7 @@ spring-hinge models (SPEC sections 2 and 6) and print the fitted log-log slopes.
 
     python validation/plot_series_convergence.py
 writes validation/series_convergence.png.  The exact reference is validation/hinge_reference.py
-(independent 50-digit solution); the series are femslide.series in double precision.
+(independent 50-digit solution); the series are femslide.scenes.series in double precision.
 """
 from __future__ import annotations
 
@@ -19,9 +19,9 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-
-from femslide import series  # noqa: E402
 import test_series_errata as t  # noqa: E402  (same reference, ranges and fit as the tests)
+
+from femslide.scenes import series  # noqa: E402
 
 
 def main(out=_HERE / "series_convergence.png"):

@@ -1,7 +1,7 @@
 """Independent reference solutions for the FE statics scenes (SPEC sections 1, 3).
 
 Nothing here uses femslide's FE code (no mesh, no corotational element, no joint or Newton module of
-femslide).  ``femslide.hinge`` is used in one place only: as a *starting guess* at large EI for the
+femslide).  ``femslide.scenes.hinge`` is used in one place only: as a *starting guess* at large EI for the
 continuation in EI (the result does not depend on it once the root solver has converged).
 
 Inextensible elastica by shooting
@@ -271,7 +271,7 @@ class _Structure:
 
 def _hinge_guess(kind, EI_si, p):
     """(theta0, Q, phi) in scaled units from femslide's spring-hinge model (starting guess only)."""
-    from femslide import hinge
+    from femslide.scenes import hinge
     P = p["m"] * p["g"]
     if kind == "slider":
         L = p.get("L") or p["l"]

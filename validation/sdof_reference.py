@@ -1,4 +1,4 @@
-"""Independent references for the one-mass friction oscillator (femslide/sdof.py is NOT used here).
+"""Independent references for the one-mass friction oscillator (femslide/scenes/sdof.py is NOT used here).
 
 * :func:`decrement_turning_points` - exact free vibration with Coulomb friction (c_v = 0): the
   amplitude drops by 2 mu N/k per half-swing, turning points at j pi/omega, stop at the first

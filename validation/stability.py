@@ -76,9 +76,8 @@ for _p in (str(ROOT), str(HERE)):
     if _p not in sys.path:
         sys.path.insert(0, _p)
 
-import numpy as np  # noqa: E402
-
 import dynamic_references as dref  # noqa: E402
+import numpy as np  # noqa: E402
 import references as ref  # noqa: E402
 import sdof_reference as sref  # noqa: E402
 
@@ -313,7 +312,7 @@ def structure_reference(kind, v):
 
 
 def hinge_reference(kind, v):
-    from femslide import hinge
+    from femslide.scenes import hinge
     geo = {k: v[k] for k in ("a", "b", "d", "l", "m", "g")}
     if kind == "slider":
         h = hinge.solve_slider(**geo, c=3 * v["EI"] / v["l"], l1=v["l"], k=0.0)

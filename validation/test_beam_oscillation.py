@@ -1,4 +1,4 @@
-"""Validation of beam-oscillation (femslide/dynamics.py) against the corrected (5.8) of the paper
+"""Validation of beam-oscillation (femslide/scenes/beam_dynamics.py) against the corrected (5.8) of the paper
 (SPEC section 2):  F2 = g [m (a + d) + 2 a m1] phi / (2a) - (c a / l1^2) phi^2 + ...,  c = 3 EI/L,
 l1 = L (the FE rod of free length L is the hinge model's lower piece; SPEC section 3), dm = 0.
 
@@ -24,8 +24,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 if ROOT not in sys.path:
     sys.path.insert(0, ROOT)
 
-from femslide import dynamics  # noqa: E402
-from femslide.scenes import get  # noqa: E402
+from femslide.scenes import beam_dynamics as dynamics  # noqa: E402
+from femslide.scenes.catalog import get  # noqa: E402
 
 
 def f58(v, phi):

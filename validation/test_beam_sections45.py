@@ -1,6 +1,6 @@
 """Paper sections 4 and 5.1 with FE rods (issue 5): beam-spring and beam-extra-mass.
 
-References: the exact spring-hinge models (femslide.hinge, validated independently in
+References: the exact spring-hinge models (femslide.scenes.hinge, validated independently in
 test_hinge_exact.py) with the equivalent spring c = 3 EI / L at l1 = L (SPEC section 3); the
 corrected asymptotics of SPEC section 2 (T of section 4, F2 of (5.3)/(5.8)).
 """
@@ -32,7 +32,7 @@ def test_beam_spring_matches_hinge_spring(EI):
 def test_beam_spring_agreement_improves_with_EI():
     """The FE/hinge difference decays as EI grows (the hinge is the rigid-limit model).
 
-    Reference: femslide.hinge section 4 model (validated in test_hinge_exact.py) at c = 3EI/L,
+    Reference: femslide.scenes.hinge section 4 model (validated in test_hinge_exact.py) at c = 3EI/L,
     l1 = L = l.  Tolerance: none numeric - the relative M_max differences at EI = 1e4, 1e6, 1e8 must
     decrease strictly."""
     diffs = []

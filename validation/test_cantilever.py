@@ -27,8 +27,9 @@ for _p in (str(_HERE.parent), str(_HERE)):
     if _p not in sys.path:
         sys.path.insert(0, _p)
 
-import femslide  # noqa: E402
 import references as ref  # noqa: E402
+
+import femslide  # noqa: E402
 
 TOL = 1e-6
 P_RATIOS = [1, 2, 5, 10]

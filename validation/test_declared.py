@@ -13,7 +13,7 @@ References and tolerances:
   within 1e-8.
 * The section 2 spring-hinge model (SPEC section 2) declared with massless rigid bodies - the rod's
   lower piece B1B3 pinned to the ground, the upper piece B3B held by the sliding clamp, a pin with a
-  rotational spring c at B3, the left rod part of the deck - against femslide.hinge.solve_slider (the
+  rotational spring c at B3, the left rod part of the deck - against femslide.scenes.hinge.solve_slider (the
   exact model, itself validated against an independent 50-digit solution in test_hinge_exact.py):
   phi, psi, T, slide and reactions within 1e-9 relative (reactions: of the largest).
 """
@@ -26,9 +26,9 @@ import numpy as np
 import pytest
 
 import femslide
-from femslide import hinge
-from femslide.scenes import SCENES
-from femslide.structure import Structure
+from femslide.model.structure import Structure
+from femslide.scenes import hinge
+from femslide.scenes.catalog import SCENES
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 STRUCTURES = os.path.join(HERE, "..", "meshes", "structures")
@@ -69,7 +69,7 @@ def test_structure_file_matches_scene(scene, params):
     ref = femslide.solve(scene, **params)
     s = femslide.load(path)
     if params:  # the same parameters, declared
-        from femslide import paper
+        from femslide.scenes import paper
         s = paper.declare(scene, SCENES[scene].resolve(params))
     res = femslide.solve(s)
     exp, groups = _section7(ref)

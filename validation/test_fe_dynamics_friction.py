@@ -1,5 +1,5 @@
 """Paper 003 examples 2 and 3 as structure files (FE dynamics with Coulomb friction in a ground slider)
-against femslide.sdof's exact event-by-event solution (itself validated in
+against femslide.scenes.sdof's exact event-by-event solution (itself validated in
 validation/test_friction_oscillator.py against closed forms and an independent integrator).
 
 The structure files are meshes/structures/belt-ex2.toml (free decay, 13 half-swings) and
@@ -121,7 +121,7 @@ def test_beam_friction_with_a_trace_of_friction():
 @pytest.mark.slow
 def test_belt_under_a_recorded_ground_motion(tmp_path):
     """Paper 003 ex. 2's block on its frictional ground slider under a recorded base acceleration
-    (CSV, two decaying sines sampled every 0.01 s, linear between samples) against femslide.sdof's
+    (CSV, two decaying sines sampled every 0.01 s, linear between samples) against femslide.scenes.sdof's
     exact event-by-event solution with the same record (sdof-harmonic, record=..., P0 = 0): every
     end of slip within 5e-6 s and 5e-7 m at tolerance 1e-7 (measured 1.2e-6 s, 1.1e-7 m; 2.4e-6 s and
     1.7e-7 m before the steps landed on the record's samples, whose kinks they smoothed over).  Every

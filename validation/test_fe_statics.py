@@ -36,9 +36,10 @@ for _p in (str(_HERE.parent), str(_HERE)):
     if _p not in sys.path:
         sys.path.insert(0, _p)
 
-import femslide  # noqa: E402
-from femslide import hinge, series  # noqa: E402
 import references as ref  # noqa: E402
+
+import femslide  # noqa: E402
+from femslide.scenes import hinge, series  # noqa: E402
 
 GEOM = dict(a=1.0, b=0.5, d=0.2, l=3.0, m=1.0, g=9.81)
 P = GEOM["m"] * GEOM["g"]
@@ -166,7 +167,7 @@ def test_slope_tends_to_one_third(kind):
 @pytest.mark.parametrize("nterms,order", [(1, -1 / 3), (2, -2 / 3)])
 def test_asymptote_error_decay(kind, nterms, order):
     """Relative error of M_max against the 1-term (2-term) asymptote of SPEC section 3
-    (femslide.series.M_max_asymptote, L_r = l) decays like EI^-1/3 (EI^-2/3): the log-log slope of
+    (femslide.scenes.series.M_max_asymptote, L_r = l) decays like EI^-1/3 (EI^-2/3): the log-log slope of
     the FE errors over 1e8..1e10 within 0.05 of the exponent."""
     err = {}
     for EI in (1e8, 1e10):

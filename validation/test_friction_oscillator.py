@@ -25,9 +25,10 @@ for _p in (str(_HERE.parent), str(_HERE)):
     if _p not in sys.path:
         sys.path.insert(0, _p)
 
-from femslide import sdof  # noqa: E402
-from femslide.scenes import get  # noqa: E402
 import sdof_reference as ref  # noqa: E402
+
+from femslide.scenes import sdof  # noqa: E402
+from femslide.scenes.catalog import get  # noqa: E402
 
 M2, K2, N2, MU2, MU02, P0 = 20 / 9.81, 1000.0, 20.0, 0.15, 0.18, 10.0
 OMEGA2 = math.sqrt(K2 / M2)

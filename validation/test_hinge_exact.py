@@ -25,8 +25,9 @@ for _p in (str(_HERE.parent), str(_HERE)):
     if _p not in sys.path:
         sys.path.insert(0, _p)
 
-import femslide  # noqa: E402
 import hinge_reference as ref  # noqa: E402
+
+import femslide  # noqa: E402
 
 RTOL = 1e-9
 SCENE = {"slider": "hinge-slider", "fixed": "hinge-fixed", "spring": "hinge-spring",
@@ -285,7 +286,7 @@ def test_statics_closure_can_fail():
     ~5e-12 rad; the relative accuracy of tiny phi is established by the comparison with the
     independent solution above, not by this closure.
     """
-    from femslide import hinge
+    from femslide.scenes import hinge
     for model, p in [("slider", dict(DEFAULTS, c=1e8)),
                      ("extra", dict(DEFAULTS, c=1e8, k=100.0, dm=1e-4, m1=0.1, l2=2.0))]:
         fem = _fem(model, **p)

@@ -9,7 +9,7 @@ import math
 import pytest
 
 import femslide
-from femslide import sdof
+from femslide.scenes import sdof
 
 
 def test_frictionless_harmonic_turning_points_are_not_duplicated():
@@ -48,7 +48,8 @@ def test_overdamped_oscillator_does_not_overflow(c_v, t_end):
     e^{-sigma t} could damp them.  Reference: scipy DOP853 with event switching at rtol 1e-12
     (validation/sdof_reference.py): the final position within 1e-9 m; energy balance finite."""
     import sdof_reference as ref
-    from femslide.scenes import get
+
+    from femslide.scenes.catalog import get
     v = get("sdof-free").resolve({"c_v": c_v, "t_end": t_end})
     res = femslide.simulate("sdof-free", c_v=c_v, t_end=t_end)
     assert res["converged"] and math.isfinite(res["energy_balance"])

@@ -19,7 +19,7 @@ import math
 import pytest
 
 import femslide
-from femslide.structure import Structure
+from femslide.model.structure import Structure
 
 elastica = pytest.importorskip("elastica_reference")
 

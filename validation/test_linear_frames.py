@@ -24,11 +24,11 @@ import math
 
 import numpy as np
 import pytest
+from frame_reference import Frame
 from scipy.integrate import quad
 
 import femslide
-from femslide.structure import Structure
-from frame_reference import Frame
+from femslide.model.structure import Structure
 
 TOL = 1e-6
 

@@ -28,8 +28,9 @@ for _p in (str(_HERE.parent), str(_HERE)):
     if _p not in sys.path:
         sys.path.insert(0, _p)
 
-import femslide  # noqa: E402
 import references as ref  # noqa: E402
+
+import femslide  # noqa: E402
 
 pytestmark = pytest.mark.opensees
 P_RATIOS = [1, 2, 5, 10]
@@ -96,7 +97,8 @@ def test_beam_slider_against_a_penalty_clamp_in_opensees(EI):
     the body rotation to femslide's phi.  Reference values: its load factor must be 1 and its M_max
     femslide's, both within 2e-5 (the penalty's own error, measured 4e-6 at 1e6)."""
     from opensees_models import opensees_slider
-    from femslide.scenes import get
+
+    from femslide.scenes.catalog import get
     res = femslide.solve("beam-slider", EI=EI, n_elements=32)
     v = get("beam-slider").resolve({"EI": EI})
     _, lam, M, status, _ = opensees_slider(v, res["phi"])

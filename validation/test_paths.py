@@ -21,7 +21,7 @@ from scipy.optimize import brentq, minimize_scalar
 
 import femslide
 from femslide.errors import SolverFailure
-from femslide.structure import Structure
+from femslide.model.structure import Structure
 
 H0, EA, EI = 0.1, 1e6, 1e5
 

@@ -7,7 +7,7 @@ Properties and their references (exact identities, no external code):
 2. The sliding clamp's force on the rod equals the rod's end forces: the force and moment the top
    element exerts at the clamped node S, computed from its basic forces (N, M1, M2) by the corotational
    statics f2 = N t + (M1 + M2)/L_n (t_y, -t_x), m2 = M2 (t: unit deformed chord, L_n its length),
-   must equal the joint force and moment that the deck exerts on the rod end (femslide.results
+   must equal the joint force and moment that the deck exerts on the rod end (femslide.results.static
    joint_forces, from the clamp's multipliers).  Tolerance 1e-9 (units P, P a) plus femslide's own round-off bound of
    the element forces (info["noise"] of Model.system: EA eps |x| / L amplified; ~1e-6 P at EA/EI = 1e6, where the
    Newton residual at S stops at ~1e-8 P) - a sign or frame error would show as O(1).
@@ -22,15 +22,16 @@ Properties and their references (exact identities, no external code):
 """
 from __future__ import annotations
 
-
 import numpy as np
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from femslide import dynamics, paper, sdof, static
-from femslide.model import Model
-from femslide.results import extract, joint_forces
-from femslide.scenes import get
+from femslide.analysis import static
+from femslide.model.discrete import Model
+from femslide.results.static import extract, joint_forces
+from femslide.scenes import beam_dynamics as dynamics
+from femslide.scenes import paper, sdof
+from femslide.scenes.catalog import get
 
 SET = settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow],
                derandomize=True)

@@ -2,7 +2,7 @@
 and memory; output paths checked before any work; unreadable inputs named.
 
 Each test runs the command line as a user does (``python -m femslide ...`` in a subprocess, or
-``femslide.cli.main`` in process where that is enough) and checks the exit status (0 converged, 1
+``femslide.app.cli.main`` in process where that is enough) and checks the exit status (0 converged, 1
 failed with a reason, 2 bad input naming the parameter or file), the message, and - where a run
 converges - the answer against an independent reference.  Every case here misbehaved before the
 fix (noted per test).
@@ -26,7 +26,7 @@ for _p in (str(ROOT), str(HERE)):
     if _p not in sys.path:
         sys.path.insert(0, _p)
 
-from femslide.cli import main  # noqa: E402
+from femslide.app.cli import main  # noqa: E402
 
 
 def run(*args, timeout=120):
@@ -41,7 +41,7 @@ def run(*args, timeout=120):
 
 
 def cli(*argv):
-    """``femslide.cli.main`` in process: (exit status, stdout, stderr)."""
+    """``femslide.app.cli.main`` in process: (exit status, stdout, stderr)."""
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         code = main([str(a) for a in argv])
@@ -242,8 +242,9 @@ def test_frictionless_grazing_zero_restarts_the_right_way():
     round-off started a segment the wrong way at t ~ 6367 s and w was off by 1.4e-3 m from then on.
     Reference: the closed form w = B (sin(theta t) - r sin(omega t))."""
     import numpy as np
-    from femslide import sdof
-    from femslide.scenes import get
+
+    from femslide.scenes import sdof
+    from femslide.scenes.catalog import get
     v = get("sdof-harmonic").resolve({"mu": 0, "mu0": 0, "t_end": 7000})
     osc, w0, t_end = sdof.build(v)
     sol = osc.run(w0, t_end)
@@ -259,8 +260,8 @@ def test_frictionless_grazing_zero_restarts_the_right_way():
 def test_energy_balance_does_not_drift_on_long_forced_runs():
     """Before: the forcing phase theta t recomputed at the quadrature nodes made the balance drift as
     t_end^2 (4.3e-6 at t_end = 1e4 s, theta = 3 omega; 9000 s is the usable maximum now)."""
-    from femslide import sdof
-    from femslide.scenes import get
+    from femslide.scenes import sdof
+    from femslide.scenes.catalog import get
     osc, w0, t_end = sdof.build(get("sdof-harmonic").resolve({"theta_ratio": 3, "t_end": 9000}))
     assert osc.run(w0, t_end).energy_balance() < 1e-8
 

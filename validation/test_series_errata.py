@@ -3,7 +3,7 @@ the paper's printed formulas do not.
 
 Reference ("exact"): validation/hinge_reference.py, the independent 50-digit solution of the full
 spring-hinge models (no series), so that errors down to 1e-15 and c up to 1e22 are measured without
-roundoff in the reference.  femslide.series is evaluated in double precision, as users get it.
+roundoff in the reference.  femslide.scenes.series is evaluated in double precision, as users get it.
 
 Orders (SPEC section 2, epsilon = c^(-1/3)): relative errors of the 1-, 2-, 3-term phi and T decay like
 c^(-1/3), c^(-2/3), c^(-1).  Measured log-log slopes (least squares over the stated c-range) must be
@@ -28,8 +28,9 @@ for _p in (str(_HERE.parent), str(_HERE)):
     if _p not in sys.path:
         sys.path.insert(0, _p)
 
-from femslide import series  # noqa: E402
 import hinge_reference as ref  # noqa: E402
+
+from femslide.scenes import series  # noqa: E402
 
 GEOM = dict(a=1.0, b=0.5, d=0.2, l=3.0, l1=1.5, m=1.0, g=9.81)
 K = 100.0
@@ -173,7 +174,7 @@ def test_printed_a3_stalls_at_second_order(model):
     phi series with it converges only like the 2-term one: relative error ~ c^(-2/3), not c^(-1).
 
     Reference: exact solution; slope -2/3 +- 0.02 over c = 1e8 .. 1e12 for the printed a3, while the
-    corrected a3 (femslide.series) reaches -1 (test_corrected_series_converge_at_their_order).
+    corrected a3 (femslide.scenes.series) reaches -1 (test_corrected_series_converge_at_their_order).
     """
     p = params(model)
     a1, a2, a3 = printed_a3(model, **p)

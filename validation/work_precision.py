@@ -28,7 +28,7 @@ Dynamics:
   decrement formula / femslide's validated exact solution), with its output directed to a temporary
   directory, and its rows are copied here.
 * beam-oscillation (FE section 5.2; default scene, t_end = 3 s): the scene exposes no tolerance
-  parameter, but femslide.dynamics integrates with solve_ivp(DOP853, rtol = dynamics.RTOL = 1e-11).
+  parameter, but femslide.scenes.beam_dynamics integrates with solve_ivp(DOP853, rtol = dynamics.RTOL = 1e-11).
   This script sets that module constant in-process (no change to femslide) to 1e-4 .. 1e-12 and
   compares the turning points (phi [rad], times [s]) with a run at rtol = 1e-13: err = largest
   |dphi| over the turning points (a missed/extra turning point counts as the full amplitude).  There is
@@ -55,9 +55,10 @@ for _p in (str(HERE.parent), str(HERE)):
 
 os.environ.setdefault("FEMSLIDE_QUIET", "1")
 
-import femslide  # noqa: E402
 import references as ref  # noqa: E402
 from cantilever_convergence import tip_error  # noqa: E402
+
+import femslide  # noqa: E402
 
 NS = [2 ** k for k in range(11)]
 EIS = [1e2, 1e6, 1e10]
@@ -165,7 +166,7 @@ def _tp_error(got, ref_tp, amp):
 
 
 def oscillation_rows():
-    from femslide import dynamics
+    from femslide.scenes import beam_dynamics as dynamics
     rows, notes = [], []
     default = dynamics.RTOL
 

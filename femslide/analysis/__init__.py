@@ -1,0 +1,1 @@
+"""Analyses: Newton, path following, adaptive refinement, statics, excitation, time integration, modes."""

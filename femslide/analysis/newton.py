@@ -1,0 +1,112 @@
+"""Newton's method on a model: the one nonlinear solver of the statics and of every time step.
+
+``newton(model, y, alpha_ref, ...)`` iterates on any object with the model's interface (``n_q``,
+``rotation_dofs()``, ``system(y, alpha_ref, lam, control, jacobian)``): the discrete model itself
+(statics, load or displacement control) or a time step's system (femslide.analysis.generalized_alpha).
+
+Convergence: force residual below ``tol`` (1 + largest internal nodal force) and constraint residual
+below ``tol`` (model units are nondimensional: lengths by a, forces by P).  A stiff model (EA/P up to
+1e15) cannot reach ``tol``: its force residual is then accepted below the estimated round-off bound
+of the element forces, but only when it is there both before and after a Newton step (so a residual
+that merely dips under a loose bound is not taken for convergence), or after 4 steps there.  Steps
+that would turn a rotation by more than ``max_rot`` are scaled down (a trust region for the exact but
+strongly nonlinear corotational kinematics).  Never raises: the caller reads ``info.converged`` and
+the residual history.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from femslide.model.linalg import solve_linear
+
+
+@dataclass
+class NewtonInfo:
+    converged: bool
+    iterations: int
+    history: list = field(default_factory=list)
+    reason: str = ""
+    alpha: np.ndarray = None  # chord rotations at the returned state (the next reference)
+
+
+def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_rot=0.5):
+    """Newton iterations from y (modified copy returned).  Never raises: check ``info.converged``.
+
+    Steps whose largest rotation increment exceeds ``max_rot`` [rad] are scaled down (a trust
+    region for the corotational kinematics, which are exact but strongly nonlinear).
+    """
+    y = y.copy()
+    n_q = model.n_q
+    rot = model.rotation_dofs()
+    hist = []
+    prev = best = math.inf
+    finfo = None
+    stalled = floor_its = 0
+    floor_step = False
+    for it in range(1, maxit + 1):
+        # after a step from a residual <= 1e-7, quadratic convergence predicts a converged state:
+        # check the residual alone first, and assemble the Jacobian only if it is needed after all
+        r, A, info = model.system(y, alpha_ref, lam, control, jacobian=not prev <= 1e-7)
+        # relative to the internal forces, floored at the round-off level of the element forces
+        # (estimated with the Jacobian; a residual-only evaluation keeps the last estimate)
+        ar = np.abs(r)
+        res_f = float(ar[:n_q].max()) / (1.0 + info["fmax"])
+        res_g = float(ar[n_q:].max()) if r.size > n_q else 0.0
+        if A is not None:
+            finfo = info   # the round-off floor of this state, estimated when first needed
+        res = max(res_f, res_g)
+        hist.append(res)
+        if A is not None and control is None and isinstance(A, np.ndarray):
+            model.last_tangent = A   # for a stability check of the solution (solve_linear keeps A)
+        if not math.isfinite(res):
+            return y, NewtonInfo(False, it, hist, "residual is not finite")
+        # converged: below tol, or below the (worst-case) round-off bound, under which the residual
+        # no longer measures the error, both before and after a Newton step
+        if res_g <= tol and (res_f <= tol or (floor_step and res_f <= _floor(finfo))):
+            return y, NewtonInfo(True, it - 1, hist, "" if res_f <= tol else "at round-off level",
+                                 alpha=info["alpha"])
+        if A is None:
+            r, A, info = model.system(y, alpha_ref, lam, control)
+            finfo = info
+            if control is None and isinstance(A, np.ndarray):
+                model.last_tangent = A
+        at_floor = res_g <= tol and res_f <= _floor(finfo)
+        floor_its = floor_its + 1 if at_floor else 0
+        # stagnation at the round-off level of a stiff model: no progress for 4 iterations
+        stalled = stalled + 1 if res > 0.5 * best else 0
+        best = min(best, res)
+        if stalled >= 4 and best <= 1e-7:
+            return y, NewtonInfo(True, it - 1, hist, "stagnated at round-off level", alpha=info["alpha"])
+        try:
+            dy = -solve_linear(A, r)
+        except (np.linalg.LinAlgError, RuntimeError, ValueError) as exc:
+            return y, NewtonInfo(False, it, hist, f"singular tangent ({exc})")
+        ady = np.abs(dy)
+        if not math.isfinite(ady.max()):   # (a NaN propagates through max)
+            return y, NewtonInfo(False, it, hist, "singular tangent (non-finite step)")
+        big = ady[rot].max() if rot.size else 0.0
+        if big > max_rot:
+            dy *= max_rot / big
+            ady *= max_rot / big
+        y += dy
+        floor_step = at_floor
+        if floor_its >= 4:
+            r, _, info = model.system(y, alpha_ref, lam, control, jacobian=False)
+            hist.append(float(np.abs(r[:n_q]).max()) / (1.0 + info["fmax"]))
+            return y, NewtonInfo(True, it, hist, "at round-off level", alpha=info["alpha"])
+        # round-off floor: a step at the level of machine precision cannot improve further
+        if res <= 1e3 * tol and res >= 0.5 * prev and \
+                ady[:n_q].max() <= 1e-14 * (1.0 + np.abs(y[:n_q]).max()):
+            r, _, info = model.system(y, alpha_ref, lam, control, jacobian=False)
+            hist.append(float(np.abs(r).max()))
+            return y, NewtonInfo(True, it, hist, alpha=info["alpha"])
+        prev = res
+    return y, NewtonInfo(False, maxit, hist, f"no convergence in {maxit} iterations")
+
+
+def _floor(info):
+    """The relative round-off floor of the force residual (the model's estimate, computed when read)."""
+    return info["noise"] / (1.0 + info["fmax"])

@@ -1,0 +1,469 @@
+"""`femslide simulate` of a declared structure: a structure file's ``[simulate]`` table run in time.
+
+    [simulate]
+    t_end = 10.0                                   # s
+    tolerance = 1e-6                               # local error tolerance (relative), 1e-12 .. 1e-2
+    damping = {alpha = 0.0, beta = 0.0}            # Rayleigh: C = alpha M + beta K0 [1/s, s]
+    ground = {direction = [1.0, 0.0], amplitude = 1.0, frequency = 2.0}   # or {direction, record, scale}
+    initial = {body = "deck", rotation = -0.01}    # or u = [dx, dy]; or {joint = "belt", slide = 0.07}
+    elements = 8                                   # elements per rod without its own `elements`
+
+The run: the static equilibrium under the loads (femslide.analysis.static, on the fixed mesh; a structure
+that is a mechanism without friction - a block on a ground slider without a spring - starts from the
+equilibrium with its friction joints stuck, and ``frequencies_of`` says so), held - if
+``initial`` says so - at a body's rotation [rad] and/or centroid displacement u [m] (its component
+along u is held, the rest of the structure in equilibrium: the body pulled along u) or at a slider's
+slide [m] (an extra exact constraint, walked there in small steps), then released at rest and
+integrated to ``t_end`` (femslide/analysis/transient.py: generalized-alpha, adaptive step).  The lowest natural
+frequencies of the frictionless structure about the static equilibrium (femslide/analysis/modes.py) are
+reported as ``frequencies_hz``.
+
+Result (SI): ``converged``, ``steps``, ``t_end``, ``energy_balance`` (kinetic + potential +
+dissipated - work in, relative to the largest of them over the run), ``events`` (per friction joint:
+[{t, kind}], kind "stick", "slip+" or "slip-", the first at t = 0 the joint's mode at the start;
+femslide/joints/friction.py),
+``frequencies_hz``, ``peaks`` {``reactions``: {NAME: {Fx, Fy, M}} largest |value| over time,
+``rods``: {NAME: {M_max}}, ``joints``: {NAME: {slide_min, slide_max}}}, ``wall_time_s``; ``--out DIR``
+writes ``history.csv`` (every reported quantity at every accepted step; friction joints also their
+friction force on a along the axis), a PVD series of VTU frames (each frame's time and global values
+as field data) and, with matplotlib, ``hysteresis_JOINT.png`` (friction force against slide).
+
+Work is bounded a priori: the number of steps is estimated from the lowest frequency and the
+tolerance (second-order local error control: about 2 pi (c3 / tolerance)^(1/3) steps per period)
+and a run estimated to need more than WORK_BUDGET_S seconds is bad input naming t_end and its
+usable range; the step count and the wall time are limited at run time as a safety net.
+Sliders and rollers with ``mu`` carry Coulomb friction (femslide/joints/friction.py: exact stick, events
+located in time); the static start ignores friction.
+"""
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+import scipy.sparse as sp
+
+from femslide.analysis import transient  # noqa: F401  (sets the BLAS threads before numpy is imported)
+from femslide.analysis.excitation import Ground
+from femslide.analysis.excitation import parse as parse_ground
+from femslide.errors import BadInput, SolverFailure
+from femslide.joints.holds import BodyHold
+from femslide.output.series import _hysteresis, _write
+from femslide.results.history import _peak
+
+DEFAULT_ELEMENTS = 8
+WORK_BUDGET_S = 60.0
+STEP_SECONDS = 1.2e-3       # measured cost of one step (2-3 Newton iterations) of a small model ...
+STEP_SECONDS_PER_DOF = 1e-5  # ... plus this per frame dof (2-core development machine, one BLAS thread)
+WALL_LIMIT_S = 110.0
+MODES = 6
+FRAMES = 200                 # at most this many VTU frames in --out
+SIM_KEYS = ("t_end", "tolerance", "damping", "ground", "initial", "elements")
+
+
+@dataclass
+class Spec:
+    t_end: float = 1.0
+    tolerance: float = 1e-6
+    alpha: float = 0.0
+    beta: float = 0.0
+    ground: Ground | None = None
+    initial: dict | None = None
+    elements: int = DEFAULT_ELEMENTS
+
+
+def _num(where, x, lo, hi, lo_open=False):
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        raise BadInput(f"{where} = {x!r} is not a number; allowed: [{lo:g}, {hi:g}]") from None
+    if not math.isfinite(v) or v < lo or v > hi or (lo_open and v == lo):
+        raise BadInput(f"{where} = {x!r}; allowed: {'(' if lo_open else '['}{lo:g}, {hi:g}]")
+    return v
+
+
+def parse_spec(table, base_dir=".", where="[simulate]") -> Spec:
+    """A :class:`Spec` from a structure file's ``[simulate]`` table (see the module docstring)."""
+    if table is None:
+        raise BadInput(f"{where}: a structure file needs a [simulate] table (t_end, tolerance, ...) to be simulated")
+    if not isinstance(table, dict):
+        raise BadInput(f"{where}: must be a table")
+    bad = sorted(set(table) - set(SIM_KEYS))
+    if bad:
+        raise BadInput(f"{where}: unknown key {bad[0]!r}; allowed: {', '.join(SIM_KEYS)}")
+    sp_ = Spec()
+    sp_.t_end = _num(f"{where} t_end", table.get("t_end", 1.0), 0.0, 1e7, lo_open=True)
+    sp_.tolerance = _num(f"{where} tolerance", table.get("tolerance", 1e-6), 1e-12, 1e-2)
+    damp = table.get("damping", {}) or {}
+    if not isinstance(damp, dict) or set(damp) - {"alpha", "beta"}:
+        raise BadInput(f"{where} damping: a table {{alpha = ..., beta = ...}} (Rayleigh, C = alpha M + beta K)")
+    sp_.alpha = _num(f"{where} damping.alpha", damp.get("alpha", 0.0), 0.0, 1e6)
+    sp_.beta = _num(f"{where} damping.beta", damp.get("beta", 0.0), 0.0, 1e3)
+    sp_.ground = parse_ground(table.get("ground"), base_dir, f"{where} ground")
+    ini = table.get("initial")
+    if ini is not None:
+        if not isinstance(ini, dict):
+            raise BadInput(f"{where} initial: a table {{body, rotation, u}} or {{joint, slide}}")
+        if "body" in ini:
+            bad = sorted(set(ini) - {"body", "rotation", "u"})
+            if bad or not ({"rotation", "u"} & set(ini)):
+                raise BadInput(f"{where} initial: a body's hold needs rotation [rad] and/or u = [dx, dy] [m] "
+                               f"(and nothing else{'; got ' + bad[0] if bad else ''})")
+            ini = dict(ini)
+            if "rotation" in ini:
+                ini["rotation"] = _num(f"{where} initial.rotation", ini["rotation"], -math.pi, math.pi)
+            if "u" in ini:
+                u = ini["u"]
+                if not isinstance(u, (list, tuple)) or len(u) != 2:
+                    raise BadInput(f"{where} initial.u = {u!r}; allowed: [dx, dy] in m")
+                ini["u"] = [_num(f"{where} initial.u", x, -1e6, 1e6) for x in u]
+        elif "joint" in ini:
+            if set(ini) != {"joint", "slide"}:
+                raise BadInput(f"{where} initial: a joint's hold is {{joint = NAME, slide = VALUE [m]}}")
+            ini = {"joint": ini["joint"], "slide": _num(f"{where} initial.slide", ini["slide"], -1e6, 1e6)}
+        else:
+            raise BadInput(f"{where} initial: name a body (rotation, u) or a slider/roller joint (slide)")
+    sp_.initial = ini
+    n = parse_elements(table, where)
+    if n is not None:
+        sp_.elements = n
+    return sp_
+
+
+def parse_elements(table, where="[simulate]"):
+    """The table's ``elements`` (elements per rod without its own mesh): an integer in [1, 512], or
+    None when absent; BadInput naming it otherwise (simulate and modes read it)."""
+    if not isinstance(table, dict) or "elements" not in table:
+        return None
+    n = table["elements"]
+    if isinstance(n, bool) or not isinstance(n, (int, float)) or n != int(n) or not 1 <= n <= 512:
+        raise BadInput(f"{where} elements = {n!r}; allowed: an integer in [1, 512]")
+    return int(n)
+
+
+def _held_start(fs, counts, L, F, y, alpha, ini):
+    """The static state held at the ``initial`` values (model units), walked there in small steps."""
+    from femslide.analysis.newton import newton
+    from femslide.joints.holds import SlideLock
+    from femslide.model.discrete import Model
+    m = Model(fs, counts, L, F, finalize=False)
+    if "body" in ini:
+        name = ini["body"]
+        if name not in m.body_index:
+            raise BadInput(f"[simulate] initial.body = {name!r}: no such body; bodies: "
+                           f"{', '.join(m.body_index) or 'none'}")
+        b = fs.body(name)
+        d = m.body_dof(name)
+        r = tuple(np.asarray(b.centroid, float) / L - m.body_X0[m.body_index[name]])
+        what, target, e = [], [], (1.0, 0.0)
+        if "u" in ini:
+            size = math.hypot(*ini["u"])
+            if size == 0.0:
+                raise BadInput("[simulate] initial.u = [0, 0]: give a nonzero displacement (or leave it out)")
+            e = (ini["u"][0] / size, ini["u"][1] / size)
+            what.append("u")
+            target.append(size / L)
+        if "rotation" in ini:
+            what.append("rot")
+            target.append(ini["rotation"])
+        hold = BodyHold(d, r, what, e)
+    else:
+        name = ini["joint"]
+        j = next((j for j in fs.joints if j.name == name), None)
+        if j is None or j.type not in ("slider", "roller"):
+            raise BadInput(f"[simulate] initial.joint = {name!r}: not a slider or roller of the structure")
+        hold = SlideLock(m.joint[name], np.zeros(1), "initial slide", origin=m.slide0[name])
+        target = [ini["slide"] / L]
+    m.add_constraint(hold)
+    m.finalize()
+    target = np.array(target)
+    z = np.concatenate([y, np.zeros(hold.size)])
+    start = hold.value(z[hold.dofs])
+    steps = max(1, int(math.ceil(float(np.abs(target - start).max()) / 0.02)))
+    a = alpha
+    k = 0
+    frac = 0.0
+    dfrac = 1.0 / steps
+    while frac < 1.0:
+        f1 = min(1.0, frac + dfrac)
+        hold.target = start + f1 * (target - start)
+        z1, info = newton(m, z, a)
+        if not info.converged:
+            dfrac *= 0.5
+            k += 1
+            if k > 30:
+                raise SolverFailure(f"the initial state (held at {ini}) could not be reached: {info.reason}")
+            continue
+        z, a, frac = z1, info.alpha, f1
+    return z[:-hold.size], a
+
+
+def _has_friction(j):
+    """Whether joint j has friction: a mu, and mu0 > 0 (mu0 = 0 is an ordinary slider or roller)."""
+    return j.mu is not None and j.mu0 > 0.0
+
+
+def _stuck_statics(fs, exc):
+    """Static solution of the structure with its friction joints stuck (sliders as welds, rollers as
+    pins, at the same points); SolverFailure (the original reason) if that fails too."""
+    from femslide.analysis import static
+    joints = tuple(replace(j, type="weld" if j.type == "slider" else "pin", axis=None, k=0.0, preload=0.0,
+                           mu=None, mu0=None, bearing=None) if j.mu is not None else j for j in fs.joints)
+    try:
+        return static.solve(replace(fs, joints=joints, derived={}))
+    except SolverFailure:
+        raise exc from None
+
+
+def _model_like(fs, m):
+    """The model of ``fs`` on the mesh and in the units of the model ``m``."""
+    from femslide.model.discrete import Model
+    counts = {r.name: r.elements for r in fs.rods}
+    return Model(fs, counts, m.Lref, m.Fref)
+
+
+def _fixed_mesh(fs, n):
+    """The frozen structure with every rod's mesh fixed (``n`` elements unless the rod has its own)."""
+    rods = tuple(r if r.elements else replace(r, elements=n) for r in fs.rods)
+    return replace(fs, rods=rods, derived={})
+
+
+def _stuck_top(fr, y_s, a_s):
+    """Highest of the MODES lowest natural frequencies [Hz] with every friction joint stuck (0 when
+    they cannot be computed); about the frictionless static state, where the locks carry no force."""
+    from femslide.analysis.modes import modes
+    from femslide.model.mass import Masses
+    m = fr.stuck_model()
+    y = np.concatenate([y_s, np.zeros(m.n - y_s.size)])
+    try:
+        freq, _ = modes(m, y, a_s, Masses(m), MODES)
+    except SolverFailure:
+        return 0.0
+    return float(freq[-1]) if len(freq) else 0.0
+
+
+def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
+    """Bad input (naming t_end and the usable range) when the run would take more than WORK_BUDGET_S
+    by the steps its lowest frequency f1 needs; returns the step count allowed at run time (the
+    steps of the highest computed frequency f_top, whose modes a release may excite, times 3)."""
+    from femslide.analysis.generalized_alpha import SAFETY, error_constant
+    # steps per period of a harmonic motion at the error control's step h = (SAFETY tol / c3)^(1/3) / w
+    # (|a_{n+1} - a_n| ~ w^3 h amp), with 1.5 for rejected steps and the control's margin
+    per_period = 2 * math.pi * (error_constant() / (SAFETY * spec.tolerance)) ** (1.0 / 3.0) * 1.5
+    f_forced = spec.ground.frequency if spec.ground is not None and spec.ground.times is None else 0.0
+    periods = spec.t_end * max(f1, f_forced)
+    steps = periods * per_period
+    if spec.ground is not None and spec.ground.times is not None and spec.ground.dt:
+        steps = max(steps, min(spec.t_end, float(spec.ground.times[-1])) / spec.ground.dt)
+    cost = STEP_SECONDS + STEP_SECONDS_PER_DOF * n_q
+    if steps * cost > WORK_BUDGET_S:
+        t_max = spec.t_end * WORK_BUDGET_S / (steps * cost)
+        raise BadInput(f"[simulate] t_end = {spec.t_end:g} s: about {steps:.3g} steps of ~{cost * 1e3:.2g} ms "
+                       f"({per_period:.0f} per period of the lowest mode, {1 / f1:.4g} s, at tolerance "
+                       f"{spec.tolerance:g}) would take ~{steps * cost:.3g} s; allowed: t_end <= {t_max:.4g} s "
+                       f"({WORK_BUDGET_S:g} s of work; a looser tolerance allows more)")
+    if f_top:
+        steps = max(steps, steps * f_top / max(f1, 1e-300))
+    return int(3 * max(steps, 1000)) + 1000
+
+
+def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
+    """Run the dynamics of a frozen structure (see the module docstring); returns the JSON dict,
+    with ``_write(out_dir)`` writing the history and the VTU frames, ``_history`` {column: array}
+    (``t`` first, then the columns of history.csv)."""
+    from femslide.analysis import static
+    from femslide.analysis.modes import modes
+    from femslide.analysis.transient import integrate
+    from femslide.model.mass import Masses
+    from femslide.results.static import joint_forces
+
+    t_wall = time.perf_counter()
+    fs = _fixed_mesh(fs, spec.elements)
+    frequencies_of = "frictionless structure"
+    try:
+        sol = static.solve(fs)
+        model, y_s, a_s = sol.level.model, sol.level.y, sol.level.alpha
+    except SolverFailure as exc:
+        if not any(j.mu is not None for j in fs.joints):
+            raise
+        # frictionless, the structure has no equilibrium of its own (a block on a ground slider
+        # without a spring): at rest its friction joints are stuck - solve the statics so
+        # (a stuck slider holds like a weld, a stuck roller like a pin) and start from there.  A
+        # joint declared with mu0 = 0 is held so too for the start only (at rest, released at t = 0)
+        sol = _stuck_statics(fs, exc)
+        model = _model_like(fs, sol.level.model)
+        y_s = np.zeros(model.n)
+        y_s[:model.n_q] = sol.level.y[:model.n_q]
+        a_s = sol.level.alpha
+        frequencies_of = ("structure with its friction joints stuck" if any(_has_friction(j) for j in fs.joints)
+                          else "structure with its sliders and rollers held (frictionless it has no equilibrium)")
+    L, F = model.Lref, model.Fref
+    masses = Masses(model)
+    if masses.massive_dofs().size == 0:
+        raise BadInput("simulate: nothing in the structure has mass (give a body a mass or a rod a rhoA)")
+    try:
+        freq, _ = modes(model, y_s, a_s, masses, MODES)
+    except SolverFailure:
+        if frequencies_of == "frictionless structure":
+            raise
+        m_stuck = sol.level.model
+        try:
+            freq, _ = modes(m_stuck, sol.level.y, sol.level.alpha, Masses(m_stuck), MODES)
+        except SolverFailure:   # stuck, nothing can move: no frequencies
+            freq = np.zeros(0)
+    C = None
+    if spec.alpha or spec.beta:
+        from femslide.analysis.modes import tangent
+        K0, _, _ = tangent(model, y_s, a_s)
+        r, c, v = masses.matrix(y_s[:model.n_q])
+        M0 = sp.coo_matrix((v, (r, c)), shape=(model.n_q, model.n_q))
+        C = (spec.alpha * M0 + spec.beta * K0).tocoo()
+        C.sum_duplicates()
+    counts = {r.name: r.elements for r in fs.rods}
+    f_ref = [float(freq[0]), float(freq[-1])] if len(freq) else [1.0 / spec.t_end] * 2
+    # joints with mu0 = 0 have no friction at all (the stick/slip direction of a massless slide is
+    # then undetermined): they are frictionless sliders and rollers
+    fric_joints = [j for j in fs.joints if _has_friction(j)]
+    fr = None
+    if fric_joints:
+        from femslide.analysis.stickslip import Friction
+        from femslide.analysis.generalized_alpha import StepSystem
+        fr = Friction(model, fric_joints, lambda m, extras: StepSystem(m, masses, C, spec.ground, extras), counts)
+        if frequencies_of == "frictionless structure":
+            # stuck phases may be much stiffer (a massless rod clamped in its guide must stretch):
+            # the run-time step allowance follows the highest frequency of either
+            f_ref[1] = max(f_ref[1], _stuck_top(fr, y_s, a_s))
+    max_steps = check_work(spec, f_ref[0], model.n_q, f_ref[1])
+    y0, a0 = (y_s, a_s) if spec.initial is None else _held_start(fs, counts, L, F, y_s, a_s, spec.initial)
+    fric_names = {j.name for j in fric_joints}
+
+    def forces(y, n):
+        fx, fy, m = joint_forces(model, y, n)
+        if n in fric_names:
+            from femslide.joints.friction import joint_friction_force
+            gx, gy, gm = joint_friction_force(model.joint[n], fr.coefficient(n, y), y[:model.n_q])
+            fx, fy, m = fx + gx, fy + gy, m + gm
+        return fx, fy, m
+
+    reac = [j.name for j in fs.joints if j.b == "ground"]
+    slides = [j.name for j in fs.joints if j.type in ("slider", "roller")]
+    rods = [r.name for r in fs.rods]
+    bodies = [b.name for b in fs.bodies]
+    cols = ["t"] + [f"reactions.{n}.{k}" for n in reac for k in ("Fx", "Fy", "M")] \
+        + [f"rods.{n}.M_max" for n in rods] + [f"joints.{n}.slide" for n in slides] \
+        + [f"bodies.{n}.{k}" for n in bodies for k in ("x", "y", "rotation")] \
+        + [f"joints.{n}.friction" for n in sorted(fric_names)]
+    frames, frames_rows = [], []   # (t, row index, y, alpha) every t_end / FRAMES
+    next_frame = [0.0]
+
+    rod_elements = [np.nonzero(model.elem_rod == k)[0] for k in range(len(rods))] if rods else []
+
+    def observe(t, y, alpha, v):
+        row = [t]
+        for n in reac:
+            fx, fy, m = forces(y, n)
+            row += [fx * F, fy * F, m * F * L]
+        if rods:
+            qb, _ = model.element_forces(y[:model.n_q], alpha)
+            Mabs = np.abs(qb[:, 1:]).max(axis=1) if qb.size else np.zeros(0)
+            for e in rod_elements:
+                row.append(float(Mabs[e].max()) * F * L if e.size else 0.0)
+        q = y[:model.n_q]
+        for n in slides:
+            link = model.joint[n]
+            row.append((float(link.slide(q[link.dofs])[0]) - model.slide0[n]) * L)
+        for n in bodies:
+            x, yy = model.body_point(n, q, fs.body(n).centroid)
+            row += [float(x), float(yy), float(q[model.body_dof(n) + 2])]
+        for n in sorted(fric_names):   # friction force on a along +axis [N]
+            row.append(-fr.coefficient(n, y) * F)
+        if t >= next_frame[0] or t >= spec.t_end * (1 - 1e-12):
+            frames.append((t, len(frames_rows), y.copy(), alpha.copy()))
+            next_frame[0] = t + spec.t_end / FRAMES
+        frames_rows.append(None)
+        return row
+
+    f_top = f_ref[0]
+    h0 = 0.02 / f_top * spec.tolerance ** (1.0 / 3.0)
+    h_max = spec.t_end / 20.0
+    if spec.ground is not None:
+        if spec.ground.times is not None and spec.ground.dt:
+            h_max = min(h_max, spec.ground.dt)
+        elif spec.ground.times is None:
+            h_max = min(h_max, 0.05 / spec.ground.frequency)
+    t_int = time.perf_counter()
+    run = integrate(model, masses, y0, a0, spec.t_end, spec.tolerance, C=C, ground=spec.ground,
+                    observe=observe, h0=h0, h_max=h_max, max_steps=max_steps,
+                    wall_limit=WALL_LIMIT_S, progress=progress, q_ref=y_s, friction=fr,
+                    period=1.0 / f_ref[0])
+    t_int = time.perf_counter() - t_int
+    H = np.array(run.rows)
+    if not np.all(np.isfinite(H)):
+        raise SolverFailure("simulate: the history holds NaN or inf values")
+    peaks = {"reactions": {}, "rods": {}, "joints": {}}
+    col = {c: i for i, c in enumerate(cols)}
+    T = H[:, 0]
+    brk = [e["t"] for evs in (fr.events.values() if fr is not None else ()) for e in evs if e["t"] > 0.0]
+
+    def peak(x):
+        return _peak(T, x, breaks=brk)
+
+    for n in reac:
+        peaks["reactions"][n] = {k: peak(np.abs(H[:, col[f"reactions.{n}.{k}"]])) for k in ("Fx", "Fy", "M")}
+    for n in rods:
+        peaks["rods"][n] = {"M_max": peak(H[:, col[f"rods.{n}.M_max"]])}
+    for n in slides:
+        s = H[:, col[f"joints.{n}.slide"]]
+        peaks["joints"][n] = {"slide_min": -peak(-s), "slide_max": peak(s)}
+    res = {"converged": True, "steps": run.steps, "rejected_steps": run.rejected,
+           "newton_iterations": run.newton_iterations, "t_end": spec.t_end,
+           "energy_balance": run.energy_balance, "energy": run.energy,
+           "events": fr.events if fr is not None else {},
+           "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of, "peaks": peaks,
+           "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
+    res["_write"] = lambda d: _write(d, name, cols, H, frames, model) + _hysteresis(d, name, cols, H,
+                                                                                    sorted(fric_names))
+    res["wall_time_s"] = time.perf_counter() - t_wall
+    res["_history"] = {c: H[:, i] for i, c in enumerate(cols)}   # t first
+    return res
+
+
+def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
+    """`femslide modes`: the ``count`` lowest natural frequencies [Hz] of the frictionless structure
+    about its static equilibrium (rods without their own `elements` meshed with ``elements``), and a
+    writer of the mode shapes as VTU files (each the structure displaced along the mode, largest
+    translation 5 % of the structure's size, with the frequency as field data)."""
+    from femslide.analysis import static
+    from femslide.analysis.modes import modes
+    from femslide.model.mass import Masses
+    t0 = time.perf_counter()
+    fs = _fixed_mesh(fs, elements)
+    sol = static.solve(fs)
+    model, y, alpha = sol.level.model, sol.level.y, sol.level.alpha
+    masses = Masses(model)
+    if masses.massive_dofs().size == 0:
+        raise BadInput("modes: nothing in the structure has mass (give a body a mass or a rod a rhoA)")
+    freq, shapes = modes(model, y, alpha, masses, count)
+    res = {"converged": True, "frequencies_hz": [float(f) for f in freq],
+           "periods_s": [float(1.0 / f) for f in freq], "elements": {r.name: r.elements for r in fs.rods}}
+
+    def write(out_dir):
+        from femslide.output.vtu import _write_vtu, mesh_data
+        from femslide.results.static import element_cuts
+        os.makedirs(out_dir, exist_ok=True)
+        files = []
+        for k, (f, phi) in enumerate(zip(freq, shapes)):
+            yk = y.copy()
+            yk[:model.n_q] += 0.05 * phi
+            _, alpha_k = model.element_forces(yk[:model.n_q], alpha)
+            points, cells, pdata, cdata = mesh_data(model, yk, alpha_k, cuts=element_cuts(model, yk, alpha_k))
+            path = os.path.join(out_dir, f"{name}_mode{k + 1}.vtu")
+            _write_vtu(path, points, cells, pdata, cdata, {"mode": k + 1, "frequency_hz": float(f)})
+            files.append(path)
+        return files
+
+    res["_write"] = write
+    res["wall_time_s"] = time.perf_counter() - t0
+    return res

@@ -1,0 +1,299 @@
+"""Static equilibrium of a frozen structure on its principal branch, with adaptive mesh refinement.
+
+The answer is the equilibrium reached by ramping all loads together from zero (the principal
+branch).  How the path is followed is chosen from the undeformed structure under full load, on the
+coarsest mesh (femslide.analysis.paths.choose_path):
+
+- stable there (the reduced tangent, with the initial stresses of the loads, is positive definite on
+  the unloaded structure's first-order mechanisms, or there are none): load control, in load steps
+  whose predicted increments stay bounded, each checked against its tangent prediction and for
+  stability; the steps shrink towards a limit point, where the run exits 1 with its load factor
+  (femslide.analysis.paths);
+- not stable (a near-mechanism such as the paper's structure, whose undeformed tangent is singular
+  in the rigid limit, or a structure that must deform to carry its loads): displacement control of
+  the dof that moves most in the softest mode (a body rotation when one takes part), marching in the
+  direction in which the loads do work (:func:`femslide.analysis.continuation.principal_branch`); a maximum of the
+  load factor before full load is a limit point (exit 1);
+- singular with and without the loads' initial stresses: a mechanism (exit 1 naming the free part
+  and direction).
+The equilibrium reached must be stable: on the coarsest mesh, a negative eigenvalue of the reduced
+tangent at full load means the path crossed a bifurcation (exit 1).
+
+Accuracy (femslide.analysis.refine: levels, interpolation between meshes, error estimates): with no
+fixed mesh the rods are refined by doubling (2, 4, 8, ... elements per rod, times
+each rod's length over the shortest rod's) and the named results are Richardson-extrapolated from the
+two finest meshes (the corotational discretisation error is O(h^2)).  Refinement stops when every
+watched result is estimated accurate to ``TARGET``; or when the first two meshes already agree to
+TARGET/10 (the finer mesh's raw values are reported); or when the level-to-level changes stop
+shrinking like h^2 *and* are down at the round-off level of the model (the raw finest values are
+reported).  ``error_estimate`` is the estimated relative error of the largest rod moment, and at
+least its round-off scatter (Newton reconverged from a slightly perturbed state).  A rod with a
+fixed number of elements is not refined; when every rod is fixed the estimate compares the mesh with
+one of half as many elements.  Meshes finer than 16 elements per rod start from the
+Hermite-interpolated solution of the coarser mesh.
+
+Everything inside is nondimensional: lengths by ``Lref`` (the structure's extent) and forces by
+``Fref`` (the total applied load), so that EI/(P L^2) from 1 to 1e12 needs no tuning.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from femslide.analysis.paths import N_START, Path, check_stable, choose_path, solve_level
+from femslide.analysis.refine import (
+    Level,
+    _extrapolate_all,
+    _force_like,
+    _force_noise,
+    _roundoff_scatter,
+    _scales,
+    _units,
+    default_watch,
+    prolong,
+)
+from femslide.errors import BadInput, SolverFailure
+from femslide.model.discrete import Model, PatternCache
+from femslide.model.frozen import Frozen
+from femslide.model.linalg import load_lapack
+from femslide.results.static import unflatten
+
+TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (10x below 1e-6)
+N_MAX = 4096
+N_DIRECT = 16     # meshes finer than this start from the interpolated solution of the coarser one
+ROUNDOFF_LIMIT = 1e-3  # relative round-off scatter of the largest moment above which a result is refused
+
+
+load_lapack()   # every solve needs it: loaded with the module, so that a timed solve does not pay for it
+
+
+def scales(fs: Frozen):
+    """(Lref [m], Fref [N]): the structure's extent and its total applied load (sum of magnitudes;
+    without loads, EI/L^2 of the stiffest rod)."""
+    L = fs.length_scale
+    body_w, rod_w = fs.weights()
+    F = sum(math.hypot(*w) for w in body_w.values())
+    F += sum(math.hypot(*rod_w[r.name]) * r.length for r in fs.rods)
+    for ld in fs.loads:
+        if ld.type == "distributed":
+            F += math.hypot(*ld.force) * fs.rod(ld.on).length
+        else:
+            F += math.hypot(*ld.force) + abs(ld.moment) / L
+    F += sum(abs(j.preload) for j in fs.joints)
+    if F == 0.0:
+        EI = [r.EI if isinstance(r.EI, float) else r.EI.max for r in fs.rods]
+        F = max(EI, default=1.0) / (L * L)
+    return L, F
+
+
+# the stiffness range in which the solver is verified (validation/STABILITY.md: beyond it round-off of
+# the stiff terms outgrows the answers while the estimates do not notice)
+KAPPA_MAX = 1e15     # EI / (F L^2): bending stiffness against the loads
+EA_RATIO_MAX = 1e14  # EA L^2 / EI (L: the model length unit)
+
+
+def check_stiffness_range(fs: Frozen, L: float, F: float):
+    """Bad input (naming the rod and the field) outside the verified stiffness range."""
+    for r in fs.rods:
+        EI = max(r.EI.value) if not isinstance(r.EI, float) else r.EI
+        EA = max(r.EA.value) if not isinstance(r.EA, float) else r.EA
+        EImin = min(r.EI.value) if not isinstance(r.EI, float) else r.EI
+        if not math.isfinite(EA):
+            raise BadInput(f"rod {r.name}: EA = {EA:g} N is not finite (the default EA is 1e6 m^-2 * EI); give EA")
+        if EI / (F * L * L) > KAPPA_MAX:
+            raise BadInput(f"rod {r.name}: EI = {EI:g} N m^2 is more than {KAPPA_MAX:g} times the loads' scale "
+                           f"F L^2 = {F * L * L:g} N m^2; allowed: EI <= {KAPPA_MAX * F * L * L:g} N m^2 "
+                           f"for these loads")
+        if EA * L * L / EImin > EA_RATIO_MAX:
+            raise BadInput(f"rod {r.name}: EA L^2 / EI = {EA * L * L / EImin:g} exceeds {EA_RATIO_MAX:g} (L = {L:g} m, "
+                           f"the structure's size); allowed: EA <= {EA_RATIO_MAX * EImin / (L * L):g} N")
+
+
+@dataclass
+class Solution:
+    """A converged static solution.
+
+    ``result``: the named results of SPEC section 8 (SI units), Richardson-extrapolated from the two
+    finest meshes when the mesh was refined (``coarse`` is then the second finest level; None when the
+    finest mesh's raw values are reported); ``watched``: the watched values, likewise;
+    ``error_estimate``: relative, of the largest rod moment (None for a single fixed element);
+    ``level``: the finest mesh (``model``, ``y``, ``alpha``, ``arrays``: its raw per-rod arrays);
+    ``path``: how the equilibrium was reached."""
+
+    error_estimate: float | None
+    iterations: int
+    level: Level
+    coarse: Level | None
+    path: Path
+    watched: np.ndarray
+    raw_values: bool = False
+    _result: dict | None = None
+
+    @property
+    def model(self):
+        return self.level.model
+
+    @property
+    def result(self) -> dict:
+        if self._result is None:
+            fs = self.model.structure
+            if self.coarse is None:
+                self._result = self.level.res
+            else:
+                self._result = unflatten(self.level.res, _extrapolate_all(self.coarse, self.level, fs), fs)
+        return self._result
+
+
+def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None = None,
+          Lref=None, Fref=None, cache: PatternCache | None = None, target=TARGET) -> Solution:
+    """Principal equilibrium of a frozen structure with adaptive refinement (module docstring).
+
+    ``elements``: a fixed number of elements for every rod (overrides the rods' own); ``watch``:
+    ``watch(level, structure) -> (values, kinds)``, the results whose accuracy decides the
+    refinement (first: the moment the error estimate is about; default: every named result);
+    ``path``: how to reach the equilibrium (default: :func:`choose_path` on the coarsest mesh);
+    ``Lref``, ``Fref``: the model units (default: :func:`scales`); ``cache``: patterns shared with
+    other solves of the same topology (a sweep).
+    """
+    if Lref is None or Fref is None:
+        L0, F0 = scales(fs)
+        Lref, Fref = Lref or L0, Fref or F0
+    check_stiffness_range(fs, Lref, Fref)
+    cache = cache or PatternCache()
+    watch = watch or default_watch
+    rods = fs.rods
+    uniform = elements is not None
+    fixed = {} if uniform else {r.name: r.elements for r in rods if r.elements}
+    adaptive = [r for r in rods if r.name not in fixed]
+    hmin = min((r.length for r in adaptive), default=1.0)
+    mult = {r.name: (1 if uniform else max(1, round(r.length / hmin))) for r in adaptive}
+    cache_lv: dict[int, Level] = {}
+    its = [0]
+    state = {"path": path}
+
+    def counts(n):
+        return {r.name: fixed.get(r.name) or n * mult[r.name] for r in rods}
+
+    def level(n: int) -> Level:
+        """The solution with n elements per (shortest adaptive) rod; meshes finer than N_DIRECT, or
+        whose coarser mesh is solved already, start from the interpolated coarser solution."""
+        if n in cache_lv:
+            return cache_lv[n]
+        start = None
+        c = level((n + 1) // 2) if adaptive and n > 1 and (n > N_DIRECT or (n + 1) // 2 in cache_lv) else None
+        model = Model(fs, counts(n), Lref, Fref, cache)
+        if c is not None:
+            start = prolong(c.model, c.y, c.alpha, model)
+        if state["path"] is None:
+            # on the coarsest mesh: the mechanisms and the loads' work on them do not depend on the
+            # mesh, and a fine mesh of a stiff rod (EA L^2/EI ~ 1e9, 64 elements) spreads the
+            # tangent's eigenvalues beyond what the round-off test for a null space can separate
+            cn = {r.name: min(int(c), N_START) for r, c in zip(rods, counts(n).values())}
+            state["path"] = choose_path(model if cn == counts(n) else Model(fs, cn, Lref, Fref, cache))
+        y, a, k = solve_level(model, state["path"], start)
+        if not cache_lv:
+            check_stable(model, y, a)
+        its[0] += k
+        cache_lv[n] = lv = Level(n, model, y, a)
+        # meshes coarser than the next coarser one are used up (started this one): drop them, so that
+        # a fine solve holds two levels, not the whole hierarchy
+        for k in [k for k in cache_lv if k < (n + 1) // 2]:
+            del cache_lv[k]
+        return lv
+
+    def values(lv):
+        if lv._watched is None:
+            v, kinds = watch(lv, fs)
+            lv._watched = (np.asarray(v, float), list(kinds))
+        return lv._watched
+
+    raw_values = False
+    if uniform:
+        fine = level(elements)
+        coarse, err = None, None
+        if elements >= 2:
+            f1, _ = values(level(elements // 2))
+            f2, _ = values(fine)
+            ratio = (elements / (elements // 2)) ** 2
+            err = abs(f2[0] - f1[0]) / (ratio - 1.0) / max(abs(f2[0]), 1e-300)
+    elif not adaptive:
+        fine = level(1)
+        coarse, err = None, (0.0 if not rods else None)
+        half = {r.name: fixed[r.name] // 2 for r in rods}
+        if rods and all(h >= 1 for h in half.values()):
+            mh = Model(fs, half, Lref, Fref, cache)
+            y, a, k = solve_level(mh, state["path"], None)
+            its[0] += k
+            f1, _ = values(Level(0, mh, y, a))
+            f2, _ = values(fine)
+            r0 = rods[0].name
+            ratio = (fixed[r0] / half[r0]) ** 2
+            err = abs(f2[0] - f1[0]) / (ratio - 1.0) / max(abs(f2[0]), 1e-300)
+    else:
+        p0 = path.first_n if path is not None else N_START
+        n = p0
+        ext = []
+        prev_raw = None
+        fine = level(n)
+        while True:
+            coarse, fine = fine, level(2 * n)
+            f1, kinds = values(coarse)
+            f2, _ = values(fine)
+            units = _units(kinds, Lref, Fref)
+            ext.append((4.0 * f2 - f1) / 3.0)
+            scale = _scales(ext[-1] / units, kinds)
+            change = np.abs(f2 - f1) / units
+            raw = change / scale
+            if len(ext) >= 2:
+                errs = np.abs(ext[-1] - ext[-2]) / units / 15.0 / scale
+                err = float(min(errs[0], raw[0] / 3.0))
+            else:
+                errs = raw / 3.0 * 10.0  # one level only: no estimate of the extrapolated error yet
+                err = float(raw[0] / 3.0)
+            # an output is settled when its estimate meets the target, when it does not change, or
+            # (forces and moments that are zero but for round-off, e.g. the shear of a rod in pure
+            # bending) when its change is within the round-off level of the element forces
+            settled = (errs <= target) | (raw <= 1e-13)
+            small = ~settled & _force_like(kinds) & (np.abs(f2) / units < scale)  # below their group's floor
+            if small.any():
+                zero = 10.0 * _force_noise(fine)
+                settled |= small & (np.abs(f2) / units <= zero) & (change <= zero)
+            if (len(ext) >= 2 or np.all(raw <= 1e-13)) and settled.all():
+                break
+            # the first two meshes already agree to 3e-8: the finer one is accurate to its O(h^2)
+            # estimate raw / 3 <= target / 10; reported as it is (not extrapolated)
+            if len(ext) == 1 and np.all((raw / 3.0 <= 0.1 * target) | settled):
+                raw_values = True
+                break
+            # the changes must shrink like h^2 (x 1/4); outputs whose changes stop shrinking *at the
+            # round-off level* of the stiff model only gain noise from refining: when all unsettled
+            # outputs are such, stop and report the finest level's raw values.  (On coarse meshes
+            # changes can stall far above round-off: then keep refining.)
+            if prev_raw is not None:
+                stalled = raw > 0.6 * prev_raw
+                if np.all(settled | stalled):
+                    noise = 1e3 * max(_roundoff_scatter(fine), 1e-13)
+                    if np.all(settled | (raw <= noise)):
+                        err = float(max(raw[0], prev_raw[0]))
+                        raw_values = True
+                        break
+            prev_raw = raw
+            if 2 * n >= N_MAX:
+                raise SolverFailure(f"the mesh refinement reached {2 * n} elements per rod without meeting "
+                                    f"the error target {target:g} (estimate {err:.3g}); fix a mesh with "
+                                    f"`elements` to accept a coarser answer")
+            n *= 2
+        if raw_values:
+            coarse = None
+    if err is not None:
+        scatter = _roundoff_scatter(fine)
+        err = max(err, scatter)
+        if scatter > ROUNDOFF_LIMIT:
+            n_el = fine.model.elements.size if fine.model.elements is not None else 0
+            raise SolverFailure(f"round-off dominates the answer: the largest rod moment of the {n_el}-element "
+                                f"mesh is determined only to {scatter:.2g} (relative) by the stiff axial terms "
+                                f"(EA/EI of the rods, element length); use fewer elements (or the adaptive default)")
+    watched = values(fine)[0] if coarse is None else (4.0 * values(fine)[0] - values(coarse)[0]) / 3.0
+    return Solution(err, its[0], fine, coarse, state["path"], watched, raw_values)

@@ -1,0 +1,261 @@
+"""Implicit time integration of a declared structure: the constrained (index-3) equations of motion
+
+    M(q) q'' + C q' + f(q) + G(q)^T mu = -M a_g(t) e,     g(q) = 0,
+
+on the model's own assembly (:meth:`femslide.model.discrete.Model.system`: f the internal forces, springs and
+dead loads, G the exact joint constraints) and solved by the statics' Newton loop
+(:func:`femslide.analysis.newton.newton`) once per step.  Units: the model's (lengths by Lref, forces by Fref),
+time in seconds.
+
+Integrator: generalized-alpha for constrained mechanical systems (Arnold & Bruls 2007; the
+Chung-Hulbert parameters of spectral radius ``RHO_INF`` at infinite frequency): the equations hold
+exactly at t_{n+1} (positions on the constraint manifold, no drift; massless dofs - rods with
+rhoA = 0, node rotations - in static equilibrium at every step), with an acceleration-like variable a,
+
+    q_{n+1} = q_n + h v_n + h^2 ((1/2 - beta) a_n + beta a_{n+1}),
+    v_{n+1} = v_n + h ((1 - gamma) a_n + gamma a_{n+1}),
+    (1 - alpha_m) a_{n+1} + alpha_m a_n = (1 - alpha_f) q''_{n+1} + alpha_f q''_n.
+
+Second order in q, v and the multipliers.  Newton's unknowns are q_{n+1} and mu_{n+1}; the iteration
+matrix is [[M beta' + C gamma' + K, G^T], [G, 0]] with beta' = (1 - alpha_m)/((1 - alpha_f) beta h^2),
+gamma' = gamma / (beta h), plus the derivatives of a body's inertia when its frame origin is not its
+centroid (femslide/model/mass.py).  Step size: adaptive, with the local error estimate of the positions
+e = c3 h^2 (a_{n+1} - a_n), c3 = (alpha_m - alpha_f)/2 + beta - 1/6 (Taylor expansion of the
+position update), filtered through the step's iteration matrix S as RADAU5 filters its estimate,
+e_f = S^-1 (M c_acc + C c_vel) e (the effect of a position error at the step's start on the step's
+solution: unchanged in the modes the step resolves, omega h << 1, and ~1/(omega h)^2 in stiff modes
+the step does not resolve and rho_inf damps - a massive rod's axial and high bending modes, whose
+raw estimate is noise that rejected half the steps), over the dofs with mass, kept below
+SAFETY = 0.5 times ``tolerance`` times the amplitude of the recent motion (the largest
+displacement from the static state, remembered over about one period of the lowest mode; floor
+1e-6 Lref): a step with a larger error is repeated with a smaller h, the next step is
+h (0.9 / err)^(1/3) (between 0.2 h and 2 h).  Under a recorded ground motion the steps end on the
+record's sample times, so that the input is linear within every step.
+
+Damping: Rayleigh, C = alpha M0 + beta K0 with M0 and K0 the mass matrix and the tangent at the
+static state (constant).  Energy balance: kinetic + potential (strain, springs, dead loads including
+gravity) + dissipated - work of the ground-motion inertia loads (integral of F_g . v); dissipated is
+the integral of the damping and friction power (v.C v + mu N |s'|) plus the energy released by the
+jumps of massless parts at friction events (``_requilibrate``); the integrals per step by 3-point
+Gauss on the cubic Hermite interpolant of the step (:func:`_step_work`); reported relative to the
+largest energy of the run.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from femslide.analysis.generalized_alpha import (
+    EPS,
+    NEWTON_TOL,
+    NEWTON_TOL_MAX,
+    SAFETY,
+    START_STEP,
+    State,
+    StepSystem,
+    _consistent_start,
+    _step_work,
+    error_constant,
+)
+from femslide.analysis.newton import newton
+from femslide.analysis.stickslip import _locate, _settle, _switch
+from femslide.errors import BadInput, SolverFailure
+
+MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/analysis/simulate.py comes first)
+
+
+@dataclass
+class Integration:
+    """Outcome of :func:`integrate`: the record rows of ``observe``, step counts and the energy
+    balance."""
+
+    rows: list = field(default_factory=list)
+    steps: int = 0
+    rejected: int = 0
+    newton_iterations: int = 0
+    energy_balance: float = 0.0
+    energy: dict = field(default_factory=dict)
+
+
+def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, observe=None,
+              h0=None, h_max=None, max_steps=MAX_STEPS, wall_limit=None, progress=None, q_ref=None,
+              friction=None, period=None):
+    """Integrate from rest at the state (y0, alpha0) (model units) to ``t_end`` [s].
+
+    ``C``: Rayleigh damping matrix (scipy COO, model units) or None; ``ground``: a
+    :class:`femslide.analysis.excitation.Ground` or None; ``observe(t, y, alpha, v)`` -> a row recorded at every
+    accepted step (t = 0 included); ``h0``: first step [s]; ``h_max``: largest step; ``q_ref``: the
+    static equilibrium (default: the start), from which the displacements that scale the error are
+    measured; ``friction``: a :class:`femslide.analysis.stickslip.Friction` (stick/slip modes and events) or
+    None; ``period`` [s]: the time over which the error scale (the motion's amplitude) is
+    remembered (default: the whole run).  Raises SolverFailure when a step cannot be completed
+    (Newton fails at the smallest step)
+    or the step count or wall time runs out."""
+    c3 = error_constant()
+    n_q = model.n_q
+    heavy = masses.massive_dofs()
+    if heavy.size == 0:
+        raise BadInput("simulate: nothing in the structure has mass (give bodies a mass or rods a rhoA)")
+    zero = np.zeros(n_q)
+    s = State(0.0, y0.copy(), zero.copy(), zero.copy(), zero.copy(), alpha0.copy())
+    q_static = (y0[:n_q] if q_ref is None else q_ref[:n_q]).copy()
+    amp = max(1e-6, float(np.abs(y0[heavy] - q_static[heavy]).max()))
+    amp_all = amp
+    h = h0 or 1e-3 * t_end
+    h_max = h_max or t_end
+    h_min = 1e-12 * max(t_end, 1.0)
+    stops = None
+    if ground is not None and ground.times is not None:
+        stops = ground.times[(ground.times > 0.0) & (ground.times < t_end)]
+    out = Integration()
+    V0 = model.potential(y0, alpha0)
+    T0 = masses.kinetic(y0[:n_q], s.v)
+    D = W = 0.0
+    J = 0.0            # of D: the energy released by jumps of massless parts at friction events
+    Emax = 0.0
+    bal = 0.0
+    Csr = C.tocsr() if C is not None else None
+    fr = friction
+    # Newton's residual (relative to the internal forces) well below the step's error budget
+    newton_tol = min(NEWTON_TOL_MAX, max(NEWTON_TOL, 1e-3 * tolerance))
+
+    def ground_power(q, v, t):
+        if ground is None:
+            return 0.0
+        g = ground.accel(t) * ground.direction / model.Lref
+        return float(np.dot(masses.ground_load(q, g), v))
+
+    def loss_power(y, v):
+        P = float(v @ (Csr @ v)) if Csr is not None else 0.0
+        return P + (fr.power(y, v) if fr is not None else 0.0)
+
+    def attempt(sysm, s, h):
+        sysm.prepare(s, h)
+        y, info = newton(sysm, sysm.predictor(), s.alpha, tol=newton_tol, maxit=12)
+        out.newton_iterations += info.iterations
+        if not info.converged:
+            return None, info
+        a1, v1, acc1 = sysm.kinematics(y[:n_q])
+        return (y, info.alpha, a1, v1, acc1), info
+
+    h_s = START_STEP * h
+    if fr is None:
+        sysm = StepSystem(model, masses, C, ground)
+        s = _consistent_start(sysm, s, h_s)
+    else:
+        s, sysm, released = _settle(fr, s, h_s, list(range(len(fr.joints))), ())
+        D += released
+        J += released
+    if observe:
+        out.rows.append(observe(0.0, s.y, s.alpha, s.v))
+    t0 = time.perf_counter()
+    switches, t_switch = 0, None
+    ph_of = None   # the state the event functions ph were evaluated at
+    while s.t < t_end * (1 - 1e-14):
+        if out.steps + out.rejected >= max_steps:
+            raise SolverFailure(f"simulate: the step count limit {max_steps} was reached at t = {s.t:.6g} s "
+                                f"(tolerance too tight or the motion too fast for this t_end)")
+        if wall_limit and time.perf_counter() - t0 > wall_limit:
+            raise SolverFailure(f"simulate: the wall-time limit {wall_limit:g} s was reached at t = {s.t:.6g} s")
+        h = min(h, h_max, t_end - s.t)
+        t_stop = None
+        if stops is not None:
+            # a step ends on the record's next sample (the input is linear within a step: a kink of
+            # the record inside a step was smoothed over, and its work not what the steps applied)
+            # (a sample within 1e-9 h_max ahead counts as reached: an event may end a step there)
+            k = int(np.searchsorted(stops, s.t + 1e-9 * h_max, side="right"))
+            if k < stops.size:
+                gap = float(stops[k] - s.t)
+                # (gap carries the round-off of t: a step capped at the record's dt may fall short of
+                # it by ulps, which must not count as a sliver)
+                if h >= gap - 1e-9 * gap - 16.0 * EPS * max(1.0, abs(s.t)):
+                    h, t_stop = gap, float(stops[k])
+                elif h > 0.5 * gap:
+                    h = 0.5 * gap   # two even steps rather than one and a sliver
+        if fr is not None:
+            # a joint whose mode no longer holds at the start of a step (two events at one instant):
+            # switch it now
+            if ph_of is not s:
+                ph, ph_of = fr.phi(s.y, s.v), s
+            # (a joint that has just started to slip is not late at that instant: a massless slide's
+            # velocity follows the masses, and at a reversal it may still carry the old sign by a
+            # hair; if it really moves the other way, the next step's start finds it late)
+            fresh = [fr.started_slip(i, s.t) for i in range(ph.size)]
+            late = [i for i in np.nonzero(ph < -1e-10)[0] if not fresh[i]]
+            if late:
+                switches = switches + 1 if s.t == t_switch else 1
+                t_switch = s.t
+                if switches > 2 * len(fr.joints) + 2:
+                    raise SolverFailure(f"simulate: the friction joints' stick/slip modes do not settle at "
+                                        f"t = {s.t:.9g} s")
+                s, sysm, released = _switch(fr, s, int(late[0]), START_STEP * h)
+                D += released
+                J += released
+                continue
+        cand, info = attempt(sysm, s, h)
+        if cand is None:
+            out.rejected += 1
+            if h <= h_min:
+                raise SolverFailure(f"simulate: Newton failed at t = {s.t:.6g} s with the smallest step "
+                                    f"{h:.3g} s: {info.reason}", info.history)
+            h *= 0.25
+            continue
+        y, alpha1, a1, v1, acc1 = cand
+        q = y[:n_q]
+        e = np.zeros(n_q)   # (the massless dofs' a is no estimate of anything: left out)
+        e[heavy] = c3 * h * h * (a1[heavy] - s.a[heavy])
+        est = np.abs(sysm.filtered_error(e)[heavy])
+        disp = float(np.abs(q[heavy] - q_static[heavy]).max())
+        err = float(est.max()) / (SAFETY * tolerance * max(amp, disp, 1e-3 * amp_all)) if est.size else 0.0
+        if err > 1.0 and h > h_min:
+            out.rejected += 1
+            h *= max(0.2, 0.9 * err ** (-1.0 / 3.0))
+            continue
+        event = None
+        h_next = h * min(2.0, max(0.2, 0.9 * max(err, 1e-12) ** (-1.0 / 3.0)))
+        if fr is not None:
+            phi0, phi1 = ph, fr.phi(y, v1)   # (ph: the modes' event functions at s, above)
+            cross = (phi1 < 0.0) & (phi0 >= 0.0)
+            if cross.any():
+                h_ev, cand = _locate(lambda hh, sy=sysm, st=s: attempt(sy, st, hh), fr, phi0, cross, h, cand)
+                y, alpha1, a1, v1, acc1 = cand
+                q = y[:n_q]
+                event = int(np.argmin(np.where(cross, fr.phi(y, v1), np.inf)))
+                h_next = max(h, 10 * h_ev) if h_ev < 0.1 * h else h
+                h = h_ev
+        disp = float(np.abs(q[heavy] - q_static[heavy]).max())
+        amp_all = max(amp_all, disp)
+        # the amplitude of the recent motion (a decaying memory of one period): a decaying or
+        # growing motion keeps its relative accuracy
+        amp = max(disp, amp * math.exp(-h / period) if period else amp, 1e-6)
+        t1 = t_stop if (t_stop is not None and event is None) else s.t + h
+        if ground is not None or Csr is not None or fr is not None:   # (else no work, no loss)
+            dW, dD = _step_work(s, y, v1, h, ground_power, loss_power, n_q)
+            W += dW
+            D += dD
+        s = State(t1, y, v1, acc1, a1, alpha1)
+        if fr is not None and event is None:
+            ph, ph_of = phi1, s   # (evaluated at this state's (y, v1) above)
+        out.steps += 1
+        if event is not None:
+            s, sysm, released = _switch(fr, s, event, START_STEP * h_next)
+            D += released
+            J += released
+        T = masses.kinetic(s.y[:n_q], s.v)         # (after a switch: the state it left)
+        V = model.potential(s.y, s.alpha) - V0
+        Emax = max(Emax, abs(T), abs(V), abs(D), abs(W))
+        bal = max(bal, abs(T + V + D - W - T0))
+        if observe:
+            out.rows.append(observe(t1, s.y, s.alpha, s.v))
+        if progress:
+            progress(t1)
+        h = h_next
+    out.energy_balance = bal / Emax if Emax > 0 else 0.0
+    out.energy = {"kinetic": masses.kinetic(s.y[:n_q], s.v) * model.Fref * model.Lref,
+                  "potential": (model.potential(s.y, s.alpha) - V0) * model.Fref * model.Lref,
+                  "dissipated": D * model.Fref * model.Lref, "work_in": W * model.Fref * model.Lref,
+                  "jump_loss": J * model.Fref * model.Lref}
+    return out

@@ -1,0 +1,2 @@
+"""The model layer: declaring a structure, freezing it, and its discretisation (dofs, assembly,
+masses, linear algebra)."""

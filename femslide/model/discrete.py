@@ -1,0 +1,572 @@
+"""The discretised model of a frozen structure: meshed rods, frames, joints, loads and assembly.
+
+Every part moves as a frame with three dofs (u, v, theta): the nodes of the rod meshes first, then
+the rigid bodies (displacement of the body's origin - its pin to the ground if it has one, else
+its centroid - and rotation); the ground has none.  Unknowns are
+y = [q, mu] (+ lam in displacement control): q the frame dofs, mu the joint multipliers.  The
+equations are the stationarity of the Lagrangian  U_rods(q) + U_springs(q) + lam V_loads(q) +
+sum mu_i g_i(q):
+
+    R(q) + lam f(q) + G(q)^T mu = 0,    g(q) = 0,
+
+solved by Newton with the consistent tangent [[K + lam K_V + sum mu_i H_i, G^T], [G, 0]].  In
+displacement control one dof is prescribed and lam is the extra unknown.
+
+The model is nondimensional: lengths by ``Lref`` [m], forces by ``Fref`` [N] (moments by Fref Lref),
+so that EI/(P a^2) from 1 to 1e12 needs no tuning; :mod:`femslide.results.static` scales back to SI.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from femslide.elements import corotational
+from femslide.elements.loads import PointForce, distributed_nodal_loads
+from femslide.joints.base import Carrier, Link, RotationalSpring, SlideSpring
+from femslide.model.frozen import Frozen
+from femslide.model.linalg import Banded, _unique
+from femslide.model.parts import Table
+from femslide.model.patterns import PatternCache
+
+DENSE_LIMIT = 100  # unknowns; above it a banded LU is faster when the band is narrow
+SPARSE_LIMIT = 600  # unknowns; above it a wide-band system goes to sparse LU
+
+
+class _Topology:
+    """Dof layout of a finalized model and the scatter patterns of its Jacobian (static; shared by
+    models of the same topology through a :class:`PatternCache`)."""
+
+    def __init__(self, model, con_dofs, term_dofs, lin_dofs):
+        n_q = model.n_q
+        sizes = [c.size for c in model.constraints]
+        self.c_off = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
+        self.n_c = int(self.c_off[-1])
+        self.n = n_q + self.n_c
+        rows, cols = [], []
+        self.ebinT = None
+        if model.elements is not None:
+            c = model.elements.conn
+            ed = np.concatenate([3 * c[:, :1] + np.arange(3), 3 * c[:, 1:] + np.arange(3)], axis=1)
+            self.ebinT = ed.T.ravel()  # matches the (6, n_elements) layout of the element forces
+            rows.append(np.repeat(ed, 6, axis=1).ravel())
+            cols.append(np.tile(ed, (1, 6)).ravel())
+        for d in term_dofs:
+            rows.append(np.repeat(d, d.size))
+            cols.append(np.tile(d, d.size))
+        for i, d in enumerate(con_dofs):
+            o, m = n_q + self.c_off[i], sizes[i]
+            rows += [np.repeat(d, d.size), np.repeat(np.arange(o, o + m), d.size), np.tile(d, m)]
+            cols += [np.tile(d, d.size), np.tile(d, m), np.repeat(np.arange(o, o + m), d.size)]
+        self.rows = np.concatenate(rows).astype(np.intp)
+        self.cols = np.concatenate(cols).astype(np.intp)
+        self.con_mu = [slice(self.c_off[i], self.c_off[i + 1]) for i in range(len(sizes))]
+        # loads act on few dofs: d r / d lam is sparse with a static pattern
+        self.load_dofs = _unique(np.concatenate([*term_dofs, lin_dofs])).astype(np.intp)
+        self.patterns = {}
+        # the residual is one bincount of the element forces, the loads, the terms' forces and the
+        # joints' forces and equations (Model.system), in this order; d r / d lam one of the loads
+        # and the terms' parts
+        ip = np.intp
+        con_rows = [np.arange(n_q + self.c_off[i], n_q + self.c_off[i + 1]) for i in range(len(sizes))]
+        parts = [self.ebinT if self.ebinT is not None else np.zeros(0, ip), lin_dofs, *term_dofs]
+        for d, g in zip(con_dofs, con_rows):
+            parts += [d, g]
+        self.rbins = np.concatenate(parts).astype(ip)
+        self.rbins_control = np.concatenate([self.rbins, [self.n]]).astype(ip)
+        self.rbins_applied = self.rbins[parts[0].size:]
+        self.fbins = np.concatenate([lin_dofs, *term_dofs]).astype(ip)
+        # the dofs of the terms and joints, gathered in one call (their slices: Model.finalize)
+        self.jt_dofs = np.concatenate([np.zeros(0, ip), *term_dofs, *con_dofs]).astype(ip)
+
+    def pattern(self, control):
+        key = None if control is None else int(control)
+        if key in self.patterns:
+            return self.patterns[key]
+        if control is None:
+            rows, cols, size = self.rows, self.cols, self.n
+        else:
+            j = self.n
+            ld = self.load_dofs
+            rows = np.concatenate([self.rows, [j], ld])
+            cols = np.concatenate([self.cols, [key], np.full(ld.size, j)])
+            size = self.n + 1
+        # storage: dense (band None) for small systems, banded when the renumbered band is narrow,
+        # else dense up to SPARSE_LIMIT unknowns and sparse above
+        band, sparse = None, False
+        if size > DENSE_LIMIT:
+            band = Banded(rows, cols, size)
+            if band.kl + band.ku >= size // 4:
+                band, sparse = None, size > SPARSE_LIMIT
+        flat = rows * size + cols if band is None and not sparse else None
+        self.patterns[key] = (rows, cols, size, band, sparse, flat)
+        return self.patterns[key]
+
+
+def element_stiffness(L0, s0, EI, EA):
+    """Basic stiffness (n, 3, 3) of beam elements of lengths L0 starting at arc lengths s0: the
+    closed form EA/L, EI/L [[4, 2], [2, 4]] for constant EI and EA, scikit-fem forms otherwise."""
+    if isinstance(EI, Table) or isinstance(EA, Table):
+        from femslide.elements.forms import basic_stiffness
+        return basic_stiffness(L0, s0, EI, EA)
+    kb = np.zeros((L0.size, 3, 3))
+    kb[:, 0, 0] = EA / L0
+    kb[:, 1, 1] = kb[:, 2, 2] = 4.0 * EI / L0
+    kb[:, 1, 2] = kb[:, 2, 1] = 2.0 * EI / L0
+    return kb
+
+
+def _scaled(x, f, L):
+    """A stiffness in model units: values times f; a table's arc lengths divided by L."""
+    return Table(tuple(v / L for v in x.s), tuple(v * f for v in x.value)) if isinstance(x, Table) else x * f
+
+
+class _RodPlan:
+    __slots__ = ("name", "S", "E", "length", "EI", "EA", "q", "loaded")
+
+
+class _Mesh:
+    """The meshes of a structure's rods for given element counts (geometry only, model units): shared
+    through the PatternCache by the models of one geometry (the cases of a sweep over stiffnesses)."""
+
+    def __init__(self, plan, counts):
+        Xs, conn, rod_of, self.rod_nodes, self.rod_elements, s0 = [], [], [], [], [], []
+        off = eoff = 0
+        for k, (rp, n) in enumerate(zip(plan.rods, counts)):
+            t = np.arange(n + 1) / n
+            X = np.empty((n + 1, 2))
+            X[:, 0] = rp.S[0] + t * (rp.E[0] - rp.S[0])
+            X[:, 1] = rp.S[1] + t * (rp.E[1] - rp.S[1])
+            Xs.append(X)
+            c = np.empty((n, 2), np.intp)
+            c[:, 0] = np.arange(off, off + n)
+            c[:, 1] = c[:, 0] + 1
+            conn.append(c)
+            rod_of.append(np.full(n, k))
+            s0.append(t[:-1] * rp.length)
+            self.rod_nodes.append(np.arange(off, off + n + 1))
+            self.rod_elements.append(np.arange(eoff, eoff + n))
+            off += n + 1
+            eoff += n
+        self.n_nodes = off
+        self.prolongations = {}   # interpolation plans from coarser meshes (static.prolong)
+        self.X0 = np.concatenate(Xs) if Xs else np.zeros((0, 2))
+        # the first node of each node's rod (rods are numbered node block by node block)
+        self.node_first = np.repeat([r[0] for r in self.rod_nodes], [r.size for r in self.rod_nodes]) \
+            if self.rod_nodes else np.zeros(0, np.intp)
+        self.conn = None
+        if conn:
+            self.conn = np.concatenate(conn)
+            self.D0 = self.X0[self.conn[:, 1]] - self.X0[self.conn[:, 0]]
+            self.L0 = np.hypot(self.D0[:, 0], self.D0[:, 1])
+            self.beta0 = np.arctan2(self.D0[:, 1], self.D0[:, 0])
+            self.elem_rod = np.concatenate(rod_of)
+            self.s0 = np.concatenate(s0)
+            self.xmax = float(np.abs(self.X0).max())
+        self._elements = None
+
+    def element_set(self):
+        """The elements' geometric data (corotational.ElementSet without stiffness), built once."""
+        if self._elements is None:
+            self._elements = corotational.ElementSet(self.conn, self.D0, self.L0, self.beta0,
+                                                     np.zeros((self.L0.size, 3, 3)), self.xmax)
+        return self._elements
+
+
+class _JointPlan:
+    __slots__ = ("name", "kind", "ra", "rb", "at", "axis", "k", "preload", "c")
+
+
+class _Plan:
+    """What a frozen structure's models share whatever their meshes, in model units."""
+
+    def __init__(self, fs: Frozen, L: float, F: float):
+        rods = fs.rods
+        body_w, rod_w = fs.weights()
+        dist = {r.name: np.zeros(2) for r in rods}
+        for ld in fs.loads:
+            if ld.type == "distributed":
+                dist[ld.on] += np.asarray(ld.force)
+        self.rods = []
+        self.rod_index = {}
+        self.geometry = tuple((r.start, r.end) for r in rods) + (L,)
+        for k, rod in enumerate(rods):
+            rp = _RodPlan()
+            rp.name = rod.name
+            rp.S, rp.E = np.asarray(rod.start, float) / L, np.asarray(rod.end, float) / L
+            rp.length = rod.length / L
+            rp.EI, rp.EA = _scaled(rod.EI, 1.0 / (F * L * L), L), _scaled(rod.EA, 1.0 / F, L)
+            rp.q = (dist[rod.name] + np.asarray(rod_w[rod.name])) * (L / F)
+            rp.loaded = bool(rp.q.any())
+            self.rods.append(rp)
+            self.rod_index[rod.name] = k
+        self.body_index = {b.name: i for i, b in enumerate(fs.bodies)}
+        self.body_X0 = np.array([body_origin(fs, b) for b in fs.bodies], float).reshape(-1, 2) / L
+        bp = np.zeros((len(fs.bodies), 3))
+        self.node_loads, self.point_forces = [], []
+        for b in fs.bodies:
+            Fx, Fy = body_w[b.name]
+            i = self.body_index[b.name]
+            r = np.asarray(b.centroid, float) / L - self.body_X0[i]
+            if np.abs(r).max() <= 1e-14:
+                bp[i, :2] -= (Fx / F, Fy / F)
+            elif Fx or Fy:
+                self.point_forces.append((b.name, (float(r[0]), float(r[1])), (Fx / F, Fy / F), 0.0, "weight"))
+        for ld in fs.loads:
+            if ld.type != "force":
+                continue
+            ref, _ = fs.refs[ld.name]
+            vec = np.array([ld.force[0] / F, ld.force[1] / F, ld.moment / (F * L)])
+            if ref.kind == "rod_end":
+                self.node_loads.append((ref.name, ref.end, -vec))
+                continue
+            i = self.body_index[ref.name]
+            r = np.asarray(ld.at, float) / L - self.body_X0[i]
+            if np.abs(r).max() <= 1e-14:
+                bp[i] -= vec
+            else:
+                self.point_forces.append((ref.name, (float(r[0]), float(r[1])), (float(vec[0]), float(vec[1])),
+                                          float(vec[2]), ld.name))
+        self.body_p = bp.ravel()
+        self.joints = []
+        for j in fs.joints:
+            jp = _JointPlan()
+            jp.name, jp.kind, jp.axis = j.name, j.type, j.axis
+            jp.ra, jp.rb = fs.refs[j.name]
+            jp.at = (j.at[0] / L, j.at[1] / L)
+            jp.k, jp.preload, jp.c = j.k * L / F, j.preload / F, j.c / (F * L)
+            self.joints.append(jp)
+        # everything a model's frames, joints, springs and loads depend on, not the rods' stiffness:
+        # models of one key and mesh share them (the cases of a sweep over EI, Model._share)
+        self.key = (L, F, self.geometry, tuple((rp.name, tuple(rp.q.tolist())) for rp in self.rods),
+                    tuple(self.body_index), self.body_X0.tobytes(), self.body_p.tobytes(),
+                    tuple((r, e, tuple(v.tolist())) for r, e, v in self.node_loads), tuple(self.point_forces),
+                    tuple((j.name, j.kind, j.ra, j.rb, j.at, j.axis, j.k, j.preload, j.c) for j in self.joints))
+
+
+def body_origin(fs: Frozen, body) -> tuple:
+    """Reference point [m] of a body's frame: the point of its first pin to the ground (the body then
+    turns about its frame origin and that pin is a linear constraint), else its centroid."""
+    for j in fs.joints:
+        ra, rb = fs.refs[j.name]
+        if j.type == "pin" and rb.kind == "ground" and ra.kind == "body" and ra.name == body.name:
+            return tuple(j.at)
+    return tuple(body.centroid)
+
+
+def _plan(fs: Frozen, L: float, F: float) -> _Plan:
+    """The structure's plan for these model units (kept on the frozen structure)."""
+    key = ("plan", L, F)
+    plan = fs.derived.get(key)
+    if plan is None:
+        plan = fs.derived[key] = _Plan(fs, L, F)
+    return plan
+
+
+class Model:
+    """A frozen structure meshed with ``elements[rod]`` elements per rod, in model units.
+
+    Built complete (joints, springs, loads) and finalized; callers that add constraints or terms
+    of their own (the dynamics) pass ``finalize=False`` and call :meth:`finalize` themselves.
+    """
+
+    def __init__(self, structure: Frozen, elements: dict, Lref: float, Fref: float,
+                 cache: PatternCache | None = None, finalize: bool = True):
+        self.structure, self.Lref, self.Fref = structure, Lref, Fref
+        self.cache = cache or PatternCache()
+        plan = _plan(structure, Lref, Fref)
+        self.rod_index = plan.rod_index
+        counts = tuple(int(elements[rp.name]) for rp in plan.rods)
+        mesh = self.cache.mesh((plan.geometry, counts), lambda: _Mesh(plan, counts))
+        self.X0, self.rod_nodes, self.n_nodes = mesh.X0, mesh.rod_nodes, mesh.n_nodes
+        self.node_first = mesh.node_first
+        self.mesh = mesh
+        off = mesh.n_nodes
+        if mesh.conn is not None:
+            kbs = [element_stiffness(mesh.L0[e], mesh.s0[e], rp.EI, rp.EA)
+                   for rp, e in zip(plan.rods, mesh.rod_elements)]
+            self.elements = mesh.element_set().with_stiffness(kbs[0] if len(kbs) == 1 else np.concatenate(kbs))
+            self.elem_rod = mesh.elem_rod
+        else:
+            self.elements = None
+            self.elem_rod = np.zeros(0, np.intp)
+        if finalize:
+            shared = self.cache.frames((plan.key, counts))
+            if shared is not None:
+                self._share(shared)
+                return
+        self.rods_loaded = any(rp.loaded for rp in plan.rods)   # a distributed load on some rod
+        self.elem_q = np.repeat([rp.q for rp in plan.rods], counts, axis=0) if mesh.conn is not None \
+            else np.zeros((0, 2))
+        p_lin = [-distributed_nodal_loads(self.X0[nodes], rp.q) if rp.loaded else None
+                 for rp, nodes in zip(plan.rods, self.rod_nodes)]
+        # bodies: frames after the nodes, at their origins (a ground pin, else the centroid)
+        self.body_index = plan.body_index
+        self.body_X0 = plan.body_X0
+        nb3 = 3 * off
+        self.n_q = nb3 + plan.body_p.size
+        p = np.zeros(self.n_q)
+        for pl, nodes in zip(p_lin, self.rod_nodes):
+            if pl is not None:
+                p[3 * nodes[0]:3 * nodes[-1] + 3] = pl.ravel()
+        p[nb3:] = plan.body_p
+        for rod, end, vec in plan.node_loads:
+            d = 3 * self.node(rod, end)
+            p[d:d + 3] += vec
+        self.p_lin = p
+        self.constraints, self.terms = [], []
+        self.joint, self.spring, self.slide0 = {}, {}, {}
+        for jp in plan.joints:
+            link = Link(jp.name, jp.kind, self._carrier(jp.ra, jp.at), self._carrier(jp.rb, jp.at), jp.axis)
+            self.joint[jp.name] = self.add_constraint(link)
+            if jp.kind in ("slider", "roller"):
+                # reference slide: a's point (a rod end may sit anywhere on the line) past ``at``
+                pa = (link.a.X[0] + link.a.r[0] - jp.at[0], link.a.X[1] + link.a.r[1] - jp.at[1])
+                self.slide0[jp.name] = s0 = pa[0] * jp.axis[0] + pa[1] * jp.axis[1]
+                if jp.k or jp.preload:
+                    self.spring[jp.name] = self.add_term(SlideSpring(link, jp.k, jp.preload, s0, jp.name))
+            elif jp.c:
+                self.spring[jp.name] = self.add_term(RotationalSpring(link, jp.c, jp.name))
+        for body, r, Fv, M, name in plan.point_forces:
+            d = self.body_dof(body)
+            self.add_term(PointForce(np.arange(d, d + 3), r, Fv, M, name))
+        if finalize:
+            self.finalize()
+            self.cache.frames((plan.key, counts), self)
+
+    _OWN = frozenset(("structure", "Lref", "Fref", "cache", "rod_index", "X0", "rod_nodes", "n_nodes", "node_first",
+                      "mesh", "elements", "elem_rod", "last_tangent"))
+
+    def _share(self, other: "Model"):
+        """Take the frames, joints, terms, loads and dof layout of a finalized model of the same
+        plan key and mesh (they do not depend on the rods' stiffness): the joints, terms and
+        (read-only) arrays are shared, the lists and dicts copied."""
+        d = self.__dict__
+        for k, v in other.__dict__.items():
+            if k not in self._OWN:
+                d[k] = v.copy() if isinstance(v, (list, dict)) else v
+
+    # -- layout -----------------------------------------------------------------------------------
+    def node(self, rod: str, i: int) -> int:
+        """Model index of node i (negative counts from the end) of the named rod."""
+        return int(self.rod_nodes[self.rod_index[rod]][i])
+
+    def body_dof(self, body: str) -> int:
+        """First dof (u) of the named body's frame."""
+        return 3 * (self.n_nodes + self.body_index[body])
+
+    def _carrier(self, ref, at):
+        if ref.kind == "ground":
+            return Carrier(None, (0.0, 0.0), at)
+        if ref.kind == "rod_end":   # the joint point on a rod end is the end node itself
+            nd = self.node(ref.name, ref.end)
+            X = self.X0[nd]
+            return Carrier(3 * nd, (float(X[0]), float(X[1])), (0.0, 0.0))
+        X = self.body_X0[self.body_index[ref.name]]
+        return Carrier(self.body_dof(ref.name), (float(X[0]), float(X[1])),
+                       (at[0] - float(X[0]), at[1] - float(X[1])))
+
+    def body_point(self, name: str, q, p):
+        """Current position [m] of the body point whose reference position is p [m]."""
+        d = self.body_dof(name)
+        X = self.body_X0[self.body_index[name]] * self.Lref
+        u, v, th = q[d] * self.Lref, q[d + 1] * self.Lref, q[d + 2]
+        c, s = np.cos(th), np.sin(th)
+        r = np.asarray(p, float) - X
+        return np.column_stack([X[0] + u + c * r[..., 0] - s * r[..., 1], X[1] + v + s * r[..., 0] + c * r[..., 1]]) \
+            if r.ndim == 2 else np.array([X[0] + u + c * r[0] - s * r[1], X[1] + v + s * r[0] + c * r[1]])
+
+    def add_constraint(self, c):
+        self.constraints.append(c)
+        return c
+
+    def add_term(self, t):
+        self.terms.append(t)
+        return t
+
+    def finalize(self):
+        """Fix the dof layout and the scatter pattern of the Jacobian."""
+        con_dofs = [c.dofs for c in self.constraints]
+        term_dofs = [t.dofs for t in self.terms]
+        lin_dofs = np.nonzero(self.p_lin)[0].astype(np.intp)
+        topo = self.cache.topology(self, con_dofs, term_dofs, lin_dofs)
+        self._topo = topo
+        self.c_off, self.n_c, self.n = topo.c_off, topo.n_c, topo.n
+        self._load_dofs, self._term_dofs = topo.load_dofs, term_dofs
+        self._p_sel = self.p_lin[lin_dofs]
+        # (assemble, slice of the gathered dofs[, slice of the multipliers]) per term and joint
+        o = 0
+        self._term_evals, self._con_evals = [], []
+        for t, d in zip(self.terms, term_dofs):
+            self._term_evals.append((getattr(t, "assemble", None) or _term_assembler(t), o, o + d.size))
+            o += d.size
+        for c, d, ci in zip(self.constraints, con_dofs, topo.con_mu):
+            self._con_evals.append((getattr(c, "assemble", None) or _constraint_assembler(c), o, o + d.size,
+                                    ci.start, ci.stop))
+            o += d.size
+        rot = np.arange(2, self.n_q, 3)
+        self._rot = rot.astype(np.intp)
+        return self
+
+    def _pattern(self, control):
+        return self._topo.pattern(control)
+
+    def rotation_dofs(self):
+        """Indices of the rotational dofs (node and body rotations) among the unknowns."""
+        return self._rot
+
+    def multipliers(self, y, link):
+        i = self.constraints.index(link)
+        return y[self.n_q + self.c_off[i]:self.n_q + self.c_off[i + 1]]
+
+    def zero_state(self):
+        ne = self.elements.size if self.elements is not None else 0
+        return np.zeros(self.n), np.zeros(ne)
+
+    # -- evaluation ---------------------------------------------------------------------------------
+    def nodal(self, q):
+        return q[: 3 * self.n_nodes].reshape(-1, 3)
+
+    def element_forces(self, q, alpha_ref):
+        """Basic forces (N, M1, M2) of every element and the chord rotations alpha."""
+        if self.elements is None:
+            return np.zeros((0, 3)), np.zeros(0)
+        _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False)
+        return qb, alpha
+
+    def potential(self, y, alpha_ref, skip=None):
+        """Potential energy at y (model units): the rods' strain energy, the springs' energy and the
+        dead loads' potential (gravity included); the term ``skip`` (an extra term of a caller)
+        left out."""
+        q = y[:self.n_q]
+        V = corotational.strain_energy(self.elements, self.nodal(q), alpha_ref) if self.elements is not None else 0.0
+        V += float(np.dot(self.p_lin, q))
+        for t, d in zip(self.terms, self._term_dofs):
+            if t is not skip:
+                V += float(t.eval(q[d], 1.0)[0])
+        return V
+
+    def applied(self, y, lam=1.0):
+        """The generalised forces on the frames from everything but the rod elements - loads (times
+        ``lam``), springs and joint multipliers - in the residual's sign (minus the force on the
+        frame), model units.  At equilibrium the elements' internal forces balance them; results
+        recover cut forces and moments along rods from them (exact to the residual)."""
+        rv, _ = self._joint_terms(y, lam, None)
+        # the residual's bincount without the elements (the joints' equations land beyond n_q)
+        return np.bincount(self._topo.rbins_applied, weights=np.concatenate([lam * self._p_sel, rv]),
+                           minlength=self.n)[:self.n_q]
+
+    def _joint_terms(self, y, lam, jv):
+        """The terms' (springs, point loads) and joints' shares of the equations at y, as Python
+        floats in the residual's order: (rv, fv) - their residual entries and the terms' d force /
+        d lam - with their Jacobian entries appended to ``jv`` unless it is None."""
+        n_q = self.n_q
+        z = y[:n_q][self._topo.jt_dofs].tolist()
+        mu = y[n_q:n_q + self.n_c].tolist()
+        rv, fv = [], []
+        for ev, a, b in self._term_evals:
+            ev(z[a:b], lam, rv, jv, fv)
+        for ev, a, b, ma, mb in self._con_evals:
+            ev(z[a:b], mu[ma:mb], rv, jv)
+        return rv, fv
+
+    def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
+        """Residual and Jacobian of the equations at y.
+
+        ``control``: None (load ``lam`` given) or (dof, value): the dof is prescribed, lam is the
+        last unknown y[-1].  Returns (r, A, info) with A dense, banded or sparse CSC
+        (:func:`solve_linear` solves any of them; ``dense=True`` asks for a dense array whatever
+        the size), or None with ``jacobian=False`` (then info["noise"] is not estimated either).
+
+        One evaluation of all elements (:func:`femslide.elements.corotational.element_terms`), the terms and
+        joints in Python floats (few numbers each, where numpy's per-call cost would dominate), one
+        bincount for the residual and one for a dense Jacobian.
+        """
+        n_q, topo = self.n_q, self._topo
+        q = y[:n_q]
+        if control is not None:
+            lam = y[-1]
+        size = self.n + (1 if control is not None else 0)
+        jv = [] if jacobian else None
+        rv, fv = self._joint_terms(y, lam, jv)
+        fmax = 0.0
+        alpha = alpha_ref
+        parts = []
+        info = _Info(lam=lam)
+        if self.elements is not None:
+            F, K, _, alpha, noise = corotational.element_terms(self.elements, q, alpha_ref, jacobian)
+            parts.append(F.ravel())
+            fmax = float(np.abs(F).max())
+            if jacobian:
+                info.later("noise", lambda: 4.0 * float(noise().max()))
+        if self._p_sel.size:
+            parts.append(lam * self._p_sel)
+        info.later("fl", lambda: np.bincount(topo.fbins, weights=np.concatenate([self._p_sel, fv]), minlength=n_q)
+                   if topo.fbins.size else np.zeros(n_q))
+        if control is not None:
+            dof, value = control
+            rv.append(float(q[dof]) - value)
+        parts.append(rv)
+        r = np.bincount(topo.rbins if control is None else topo.rbins_control, weights=np.concatenate(parts),
+                        minlength=size)
+        info.update(fmax=fmax, alpha=alpha)
+        if not jacobian or self.elements is None:
+            info["noise"] = 0.0
+        if not jacobian:
+            return r, None, info
+        if control is not None:
+            jv.append(1.0)
+            jv += info["fl"][self._load_dofs].tolist()
+        rows, cols, size, band, sparse, flat = self._pattern(None if control is None else control[0])
+        vals = np.concatenate([K.ravel(), jv]) if self.elements is not None else np.array(jv)
+        if band is not None and not dense:
+            A = band.assemble(vals)
+        elif sparse and not dense:
+            import scipy.sparse as sp
+            A = sp.csc_matrix((vals, (rows, cols)), shape=(size, size))
+        else:
+            flat = rows * size + cols if flat is None else flat
+            A = np.bincount(flat, weights=vals, minlength=size * size).reshape(size, size)
+        return r, A, info
+
+
+class _Info(dict):
+    """The info of :meth:`Model.system`: "fmax" (largest element force), "noise" (round-off level of
+    the element forces, with the Jacobian), "fl" (d r / d lam over the frame dofs), "lam", "alpha";
+    "noise" and "fl" are computed when first read (from copies of the evaluated state)."""
+
+    def later(self, key, compute):
+        self.__dict__[key] = compute
+
+    def __missing__(self, key):
+        compute = self.__dict__.pop(key, None)
+        if compute is None:
+            raise KeyError(key)
+        self[key] = value = compute()
+        return value
+
+
+def _term_assembler(t):
+    """The assembly function (see femslide.elements.loads.PointForce.assemble) of a term that has only
+    ``eval(z, lam) -> (energy, force, Hessian, d force / d lam)``."""
+    def assemble(z, lam, rv, jv, fv):
+        _, g, H, g0 = t.eval(np.array(z), lam)
+        rv += g.tolist()
+        if jv is not None:
+            jv += np.ravel(H).tolist()
+        fv += g0.tolist()
+    return assemble
+
+
+def _constraint_assembler(c):
+    """The assembly function (see femslide.joints.base.Link.assemble) of a constraint that has only
+    ``eval(z, mu) -> (g, G, sum_i mu_i H_i)``."""
+    def assemble(z, mu, rv, jv):
+        mu = np.array(mu)
+        g, G, Hmu = c.eval(np.array(z), mu)
+        rv += (mu @ G).tolist()
+        rv += np.ravel(g).tolist()
+        if jv is not None:
+            Gl = np.ravel(G).tolist()
+            jv += np.ravel(Hmu).tolist()
+            jv += Gl
+            jv += Gl
+    return assemble

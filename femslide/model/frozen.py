@@ -1,0 +1,304 @@
+"""The frozen structure: a declaration checked as a whole, immutable, every name resolved.
+
+:meth:`Frozen.from_structure` (called by ``Structure.freeze()``) checks every field, resolves the
+parts a joint or load names (``ROD.start``, ``ROD.end``, a body, ``"ground"``) to :class:`PointRef`,
+fills in defaults (joint points, body centroids and inertias from their outlines) and checks that
+every part is connected to the ground.  The solvers take only frozen structures; data derived by a
+solver (its plan in model units) is cached in ``derived``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
+
+from femslide.errors import BadInput
+from femslide.model.parts import (
+    EA_PER_EI,
+    GROUND,
+    JOINT_TYPES,
+    LOAD_TYPES,
+    MAX_ELEMENTS,
+    Body,
+    Joint,
+    Load,
+    Rod,
+    Table,
+    _num,
+    _stiffness,
+    _vec,
+    polygon_area_centroid_inertia,
+)
+
+if TYPE_CHECKING:
+
+    pass
+
+if TYPE_CHECKING:
+    from femslide.model.structure import Structure
+
+
+@dataclass(frozen=True)
+class PointRef:
+    """A joint or load point resolved: the part (``kind`` "rod_end", "body" or "ground"), its name
+    and, for a rod end, which end (0 start, -1 end)."""
+
+    kind: str
+    name: str
+    end: int = 0
+
+
+@dataclass(frozen=True)
+class Frozen:
+    """A checked, immutable structure (SI units).  Built by :meth:`Structure.freeze`."""
+
+    gravity: tuple
+    rods: tuple
+    bodies: tuple
+    joints: tuple
+    loads: tuple
+    refs: dict = field(default_factory=dict)   # joint/load name -> (PointRef a, PointRef b or None)
+    derived: dict = field(default_factory=dict, compare=False, repr=False)  # data derived by solvers
+
+    # -- lookup -------------------------------------------------------------------------------------
+    def rod(self, name) -> Rod:
+        return next(r for r in self.rods if r.name == name)
+
+    def body(self, name) -> Body:
+        return next(b for b in self.bodies if b.name == name)
+
+    def point(self, ref: PointRef):
+        """Reference position [m] of a rod end or a body's centroid."""
+        if ref.kind == "rod_end":
+            r = self.rod(ref.name)
+            return r.start if ref.end == 0 else r.end
+        if ref.kind == "body":
+            return self.body(ref.name).centroid
+        return None
+
+    @property
+    def length_scale(self) -> float:
+        """Largest extent of the reference geometry [m] (the solver's length unit)."""
+        pts = [p for r in self.rods for p in (r.start, r.end)]
+        pts += [b.centroid for b in self.bodies]
+        pts += [p for b in self.bodies for p in (b.outline or ())]
+        pts += [j.at for j in self.joints if j.at is not None]
+        xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+        ext = max(max(xs) - min(xs), max(ys) - min(ys)) if pts else 1.0
+        return ext if ext > 0 else max((r.length for r in self.rods), default=1.0)
+
+    def weights(self):
+        """Gravity force [N] of each body (x, y) and per unit length of each rod."""
+        gx, gy = self.gravity
+        return ({b.name: (b.mass * gx, b.mass * gy) for b in self.bodies},
+                {r.name: (r.rhoA * gx, r.rhoA * gy) for r in self.rods})
+
+    # -- checking -----------------------------------------------------------------------------------
+    @staticmethod
+    def from_structure(s: Structure) -> "Frozen":
+        gravity = _vec("gravity", s.gravity)
+        rods = []
+        for r in s.rods.values():
+            w = f"rod {r.name}"
+            start, end = _vec(f"{w}: start", r.start), _vec(f"{w}: end", r.end)
+            L = math.hypot(end[0] - start[0], end[1] - start[1])
+            if not L > 0:
+                raise BadInput(f"{w}: start and end coincide; a rod needs a positive length")
+            EI = _stiffness(f"{w}: EI", r.EI, L)
+            if r.EA is None:
+                EA = EI.scaled(EA_PER_EI) if isinstance(EI, Table) else EA_PER_EI * EI
+            else:
+                EA = _stiffness(f"{w}: EA", r.EA, L)
+            rhoA = _num(f"{w}: rhoA", r.rhoA, 0.0)
+            n = r.elements
+            if n is not None:
+                if isinstance(n, bool) or not isinstance(n, (int, float)) or n != int(n) or not 1 <= n <= MAX_ELEMENTS:
+                    raise BadInput(f"{w}: elements = {n!r}; allowed: an integer in [1, {MAX_ELEMENTS}] "
+                                   f"(or absent: adaptive)")
+                n = int(n)
+            rods.append(Rod(r.name, start, end, EI, EA, rhoA, n))
+        rodnames = {r.name for r in rods}
+        bodies = []
+        for b in s.bodies.values():
+            w = f"body {b.name}"
+            mass = _num(f"{w}: mass", b.mass, 0.0)
+            outline = None
+            area = 0.0
+            c_out = None
+            J_out = 0.0
+            if b.outline is not None:
+                try:
+                    outline = tuple(_vec(f"{w}: outline point", p) for p in b.outline)
+                except TypeError:
+                    raise BadInput(f"{w}: outline must be a list of [x, y] points") from None
+                if len(outline) < 2:
+                    raise BadInput(f"{w}: outline needs at least 2 points")
+                area, c_out, J_out = polygon_area_centroid_inertia(outline)
+            if b.centroid is not None:
+                centroid = _vec(f"{w}: centroid", b.centroid)
+            elif c_out is not None:
+                centroid = c_out
+            elif outline is not None:
+                centroid = (sum(p[0] for p in outline) / len(outline), sum(p[1] for p in outline) / len(outline))
+            else:
+                centroid = None  # placed at its first joint point below
+            if b.inertia is not None:
+                inertia = _num(f"{w}: inertia", b.inertia, 0.0)
+            else:
+                inertia = mass * J_out / area if area > 0 else 0.0
+            bodies.append(Body(b.name, mass, centroid, inertia, outline))
+        bodynames = {b.name for b in bodies}
+
+        def resolve(what, text, allow_ground, allow_rod=False):
+            if not isinstance(text, str):
+                raise BadInput(f"{what} = {text!r}: expected a name")
+            if text == GROUND:
+                if allow_ground:
+                    return PointRef("ground", GROUND)
+                raise BadInput(f"{what} = {GROUND!r}: only b may be the ground")
+            if text in bodynames:
+                return PointRef("body", text)
+            name, _, end = text.partition(".")
+            if name in rodnames and end in ("start", "end"):
+                return PointRef("rod_end", name, 0 if end == "start" else -1)
+            if allow_rod and text in rodnames:
+                return PointRef("rod", text)
+            if name in rodnames:
+                raise BadInput(f"{what} = {text!r}: a rod end is ROD.start or ROD.end")
+            parts = sorted(rodnames | bodynames)
+            raise BadInput(f"{what} = {text!r} names no body or rod end; parts: {', '.join(parts) or 'none'}")
+
+        refs = {}
+        # bodies without a centroid sit at their first joint point
+        joints_in = list(s.joints.values())
+        for j in joints_in:
+            w = f"joint {j.name}"
+            if j.type not in JOINT_TYPES:
+                raise BadInput(f"{w}: type {j.type!r}; allowed: {', '.join(JOINT_TYPES)}")
+            ra = resolve(f"{w}: a", j.a, allow_ground=False)
+            rb = resolve(f"{w}: b", j.b, allow_ground=True)
+            if ra == rb or (ra.kind == rb.kind == "body" and ra.name == rb.name):
+                raise BadInput(f"{w}: a and b are the same part ({j.a})")
+            refs[j.name] = (ra, rb)
+        for i, b in enumerate(bodies):
+            if b.centroid is None:
+                for j in joints_in:
+                    ra, rb = refs[j.name]
+                    if b.name in (ra.name, rb.name) and j.at is not None:
+                        bodies[i] = replace(b, centroid=_vec(f"joint {j.name}: at", j.at))
+                        break
+                else:
+                    raise BadInput(f"body {b.name}: give its centroid (or an outline, or a joint with `at`)")
+        frozen_b = {b.name: b for b in bodies}
+        frozen_r = {r.name: r for r in rods}
+
+        def pos(ref):
+            if ref.kind == "rod_end":
+                r = frozen_r[ref.name]
+                return r.start if ref.end == 0 else r.end
+            if ref.kind == "body":
+                return frozen_b[ref.name].centroid
+            return None
+
+        joints = []
+        for j in joints_in:
+            w = f"joint {j.name}"
+            ra, rb = refs[j.name]
+            if j.at is not None:
+                at = _vec(f"{w}: at", j.at)
+            elif ra.kind == "rod_end":
+                at = pos(ra)
+            elif rb.kind == "rod_end":
+                at = pos(rb)
+            else:
+                raise BadInput(f"{w}: give the joint point `at` (neither a nor b is a rod end)")
+            scale = max(1.0, max(abs(v) for v in at))
+            for ref, side in ((ra, "a"), (rb, "b")):
+                if ref.kind == "rod_end" and math.dist(pos(ref), at) > 1e-9 * scale \
+                        and (side == "b" or j.type in ("pin", "weld")):
+                    raise BadInput(f"{w}: at = {list(at)} is not the position of the rod end {side} = "
+                                   f"{getattr(j, side)!r} {list(pos(ref))}")
+            axis = None
+            if j.type in ("slider", "roller"):
+                if j.axis is None:
+                    raise BadInput(f"{w}: a {j.type} needs its guide direction `axis`")
+                axis = _vec(f"{w}: axis", j.axis, nonzero=True)
+                na = math.hypot(*axis)
+                axis = (axis[0] / na, axis[1] / na)
+                if ra.kind == "rod_end":
+                    pa = pos(ra)
+                    off = (pa[0] - at[0]) * -axis[1] + (pa[1] - at[1]) * axis[0]
+                    if abs(off) > 1e-9 * scale:
+                        raise BadInput(f"{w}: the rod end {j.a} is {off:g} m off the guide line through at "
+                                       f"along axis; it must start on the line")
+            elif j.axis is not None:
+                raise BadInput(f"{w}: axis is for sliders and rollers, not a {j.type}")
+            c = _num(f"{w}: c", j.c, 0.0)
+            if c and j.type != "pin":
+                raise BadInput(f"{w}: a rotational spring c is for pins, not a {j.type}")
+            k = _num(f"{w}: k", j.k, 0.0)
+            pre = _num(f"{w}: preload", j.preload)
+            if (k or pre) and j.type not in ("slider", "roller"):
+                raise BadInput(f"{w}: k and preload are for sliders and rollers, not a {j.type}")
+            mu = mu0 = bearing = None
+            if j.mu is not None or j.mu0 is not None:
+                if j.type not in ("slider", "roller"):
+                    raise BadInput(f"{w}: friction (mu, mu0) is for sliders and rollers, not a {j.type}")
+                mu = _num(f"{w}: mu", 0.0 if j.mu is None else j.mu, 0.0)
+                mu0 = mu if j.mu0 is None else _num(f"{w}: mu0", j.mu0, 0.0)
+                if mu0 < mu:
+                    raise BadInput(f"{w}: mu0 = {mu0:g} < mu = {mu:g}; allowed: mu0 >= mu (static >= kinetic)")
+            if j.bearing is not None:
+                if j.type != "slider":
+                    raise BadInput(f"{w}: bearing is for sliders")
+                bearing = _num(f"{w}: bearing", j.bearing, 0.0, lo_open=True)
+            joints.append(Joint(j.name, j.type, j.a, j.b, at, axis, c, k, pre, mu, mu0, bearing))
+
+        loads = []
+        for ld in s.loads.values():
+            w = f"load {ld.name}"
+            if ld.type not in LOAD_TYPES:
+                raise BadInput(f"{w}: type {ld.type!r}; allowed: {', '.join(LOAD_TYPES)}")
+            F = _vec(f"{w}: force", ld.force)
+            if ld.type == "distributed":
+                ref = resolve(f"{w}: on", ld.on, allow_ground=False, allow_rod=True)
+                if ref.kind != "rod":
+                    raise BadInput(f"{w}: a distributed load acts on a rod; on = {ld.on!r} is not a rod")
+                if ld.moment or ld.at is not None:
+                    raise BadInput(f"{w}: a distributed load has no moment or at")
+                loads.append(Load(ld.name, ld.type, ld.on, F))
+                refs[ld.name] = (ref, None)
+                continue
+            ref = resolve(f"{w}: on", ld.on, allow_ground=False)
+            M = _num(f"{w}: moment", ld.moment)
+            at = None
+            if ld.at is not None:
+                at = _vec(f"{w}: at", ld.at)
+                if ref.kind == "rod_end" and math.dist(at, pos(ref)) > 1e-9 * max(1.0, *map(abs, at)):
+                    raise BadInput(f"{w}: at = {list(at)} is not the position of the rod end {ld.on}")
+            if at is None:
+                at = pos(ref)
+            loads.append(Load(ld.name, ld.type, ld.on, F, M, at))
+            refs[ld.name] = (ref, None)
+
+        fr = Frozen(gravity, tuple(rods), tuple(bodies), tuple(joints), tuple(loads), refs)
+        fr._check_connected()
+        return fr
+
+    def _check_connected(self):
+        """Every part must be connected to the ground through joints (or it is bad input)."""
+        parent = {}
+
+        def find(x):
+            while parent.setdefault(x, x) != x:
+                x = parent[x]
+            return x
+
+        for j in self.joints:
+            ra, rb = self.refs[j.name]
+            parent[find(ra.name)] = find(rb.name)
+        loose = [p.name for p in (*self.rods, *self.bodies) if find(p.name) != find(GROUND)]
+        if loose:
+            what = ", ".join(loose)
+            raise BadInput(f"part(s) {what} not connected to the ground by any chain of joints; "
+                           f"add a joint with b = \"ground\" (a support) or to a supported part")

@@ -1,0 +1,168 @@
+"""Linear algebra of the model's Newton systems: dense, banded and sparse solves.
+
+The Jacobians of :meth:`femslide.model.discrete.Model.system` are saddle-point matrices
+[[K, G^T], [G, 0]].  Rod meshes make K block-tridiagonal; joints add a few entries near the rod ends.
+Small systems are solved dense (LAPACK dgesv), larger ones with a narrow band after reverse
+Cuthill-McKee renumbering as a LAPACK band (dgbsv, O(n) per solve), wide-band ones by sparse LU
+(SuperLU).  The LAPACK routines are loaded from scipy's compiled wrappers without importing
+``scipy.linalg`` (whose import costs ten times a small solve).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+RCM_LOCAL_LIMIT = 5000  # unknowns; up to it the banded ordering is computed without scipy
+
+
+class Banded:
+    """A static sparsity pattern renumbered by reverse Cuthill-McKee and stored as a LAPACK band.
+
+    Rod meshes give block-tridiagonal tangents; joints and the bordered control add a few entries
+    near the rod ends.  After renumbering, the saddle-point system is solved by banded LU with
+    partial pivoting (dgbsv) in O(n) per Newton iteration, without building a sparse matrix.
+    """
+
+    def __init__(self, rows, cols, size):
+        if size <= RCM_LOCAL_LIMIT:
+            perm = reverse_cuthill_mckee(rows, cols, size)
+        else:   # large: scipy's compiled RCM (its import is small against the solve)
+            import scipy.sparse as sp
+            from scipy.sparse.csgraph import reverse_cuthill_mckee as rcm
+            pat = sp.coo_matrix((np.ones(rows.size), (rows, cols)), shape=(size, size)).tocsr()
+            perm = rcm((pat + pat.T).tocsr(), symmetric_mode=True).astype(np.intp)
+        inv = np.empty_like(perm)
+        inv[perm] = np.arange(size)
+        pr, pc = inv[rows], inv[cols]
+        self.kl = int(max(0, (pr - pc).max()))
+        self.ku = int(max(0, (pc - pr).max()))
+        self.size = size
+        self.perm, self.inv = perm, inv   # inv: position of each unknown in the band
+        nrow = 2 * self.kl + self.ku + 1
+        self.shape = (nrow, size)
+        self.flat = (self.kl + self.ku + pr - pc) * size + pc
+
+    def assemble(self, vals):
+        ab = np.bincount(self.flat, weights=vals, minlength=self.shape[0] * self.size)
+        return BandMatrix(self, ab.reshape(self.shape))
+
+
+def _unique(a):
+    """Sorted distinct values of a 1-d array (np.unique's result; np.unique itself imports numpy.ma,
+    35 ms on the first call of a process)."""
+    a = np.sort(np.asarray(a).ravel())
+    if a.size:
+        a = a[np.concatenate(([True], a[1:] != a[:-1]))]
+    return a
+
+
+def reverse_cuthill_mckee(rows, cols, size):
+    """Reverse Cuthill-McKee ordering of the symmetrised pattern (rows, cols) of a size x size matrix:
+    breadth-first from a node of least degree in each connected part, neighbours by increasing
+    degree, reversed.  numpy and one Python pass over the edges (a few ms per 1e4 unknowns), so that
+    banded models need not import scipy.sparse."""
+    r = np.concatenate([rows, cols])
+    c = np.concatenate([cols, rows])
+    key = _unique(r * size + c)
+    r, c = key // size, key % size
+    off = r != c
+    r, c = r[off], c[off]
+    ptr = np.searchsorted(r, np.arange(size + 1)).tolist()
+    deg = np.diff(ptr)
+    nbrs = c[np.lexsort((c, deg[c], r))].tolist()
+    seen = bytearray(size)
+    perm = []
+    for s in np.argsort(deg, kind="stable").tolist():
+        if seen[s]:
+            continue
+        seen[s] = 1
+        perm.append(s)
+        i = len(perm) - 1
+        while i < len(perm):
+            v = perm[i]
+            i += 1
+            for w in nbrs[ptr[v]:ptr[v + 1]]:
+                if not seen[w]:
+                    seen[w] = 1
+                    perm.append(w)
+    return np.array(perm[::-1], np.intp)
+
+
+_FLAPACK = []
+
+
+def _lapack(name):
+    """A LAPACK routine (dgesv, dgbsv) from scipy's compiled LAPACK wrappers, loaded as that one
+    extension module (a few ms) rather than through ``scipy.linalg``, whose import chain costs ten
+    times a whole small solve; the regular import when scipy's layout differs.  (numpy's own
+    ``linalg.solve`` needs no scipy but is twice as slow on these small systems.)"""
+    if not _FLAPACK:
+        try:
+            import importlib.machinery
+            import importlib.util
+            import os
+            spec = importlib.util.find_spec("scipy")
+            d = os.path.join(os.path.dirname(spec.origin), "linalg")
+            fname = next(f for f in os.listdir(d) if f.startswith("_flapack.")
+                         and f.endswith(tuple(importlib.machinery.EXTENSION_SUFFIXES)))
+            sp_ = importlib.util.spec_from_file_location("scipy.linalg._flapack", os.path.join(d, fname))
+            mod = importlib.util.module_from_spec(sp_)
+            sp_.loader.exec_module(mod)
+            mod.dgesv, mod.dgbsv   # noqa: B018 - both present, else the fallback
+            _FLAPACK.append(mod)
+        except Exception:  # noqa: BLE001 - any surprise: the documented import
+            from scipy.linalg import lapack
+            _FLAPACK.append(lapack)
+    return getattr(_FLAPACK[0], name)
+
+
+def load_lapack():
+    """Load the compiled LAPACK routines now (a few ms, the first time in a process): the FE modules
+    call it when imported, so that a timed solve does not pay for it (``import_time_s``)."""
+    _lapack("dgesv")
+
+
+class BandMatrix:
+    def __init__(self, pattern, ab):
+        self.pattern, self.ab = pattern, ab
+
+    def solve(self, b):
+        p = self.pattern
+        _, _, x, info = _lapack("dgbsv")(p.kl, p.ku, self.ab, b[p.perm], overwrite_ab=1, overwrite_b=1)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"singular matrix (LAPACK gbsv info {info})")
+        out = np.empty_like(x)
+        out[p.perm] = x
+        return out
+
+
+def solve_linear(A, b):
+    """Solve A x = b for the dense, banded or sparse Jacobian of :meth:`Model.system`.
+
+    Dense and banded systems go to LAPACK's dgesv and dgbsv (:func:`_lapack`: without importing
+    scipy.linalg), sparse ones to scipy's SuperLU.  A dense A is not modified."""
+    if isinstance(A, BandMatrix):
+        return A.solve(b)
+    if isinstance(A, np.ndarray):
+        _, _, x, info = _lapack("dgesv")(A, b, overwrite_a=0, overwrite_b=0)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"singular matrix (LAPACK gesv info {info})")
+        return x
+    import scipy.sparse.linalg as spla
+    return spla.splu(A, permc_spec="COLAMD").solve(b)
+
+
+def lu_factor(A):
+    """LU factors of a dense square matrix (LAPACK dgetrf, loaded as :func:`solve_linear` loads its
+    routines); LinAlgError when A is singular.  A is not modified."""
+    lu, piv, info = _lapack("dgetrf")(A, overwrite_a=0)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"singular matrix (LAPACK getrf info {info})")
+    return lu, piv
+
+
+def lu_solve(factors, b):
+    """x with A x = b from :func:`lu_factor`'s factors of A (LAPACK dgetrs)."""
+    x, info = _lapack("dgetrs")(factors[0], factors[1], b)
+    if info != 0:
+        raise ValueError(f"LAPACK getrs info {info}")
+    return x

@@ -1,0 +1,1 @@
+"""Files and pictures: VTU/PVD, member diagrams (matplotlib), pyvista rendering, simulation files."""

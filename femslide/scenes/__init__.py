@@ -1,0 +1,2 @@
+"""The built-in scenes: the paper's structures as declarations, the spring-hinge models, the exact
+one-mass oscillator."""

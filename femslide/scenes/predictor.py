@@ -1,0 +1,164 @@
+"""Newton start of the paper's structures: the spring-hinge mechanism, deformed, at a body rotation.
+
+The equivalent spring-hinge model (femslide.scenes.hinge) gives the body rotation phi of the equilibrium to
+within a few per mille for EI >= 1e2 N m^2 (and within tens of per cent at EI = 1e1).  From phi alone
+this module builds a state of the FE model that satisfies its joints up to O(h^2) and has no axial
+strain, so that Newton, started there, needs only a few iterations.  It knows the paper's structure
+by its declared names (femslide.scenes.paper): the body ``deck`` (pinned at A1 when the left rod is rigid:
+then the rod is part of it); the flexible left rod ``left`` welded to it at ``A``; the right support ``right``
+(a rigid body pinned at B1, or a flexible rod pinned at B1) held by the sliding clamp ``clamp``; the
+optional telescopic piece ``piece`` welded to the right rod's top.
+
+- deck: turned by Theta; its position follows from the rigid left rod's ground pin, or from the
+  welded flexible left rod, whose chord keeps its length and turns so that the clamp's guide point
+  stays on the rigid right rod's guide line, or, with a flexible rod in the clamp instead, so that
+  the two rods share the kinematic misfit equally (opposite top angles against their chords);
+- flexible rods (pinned at the ground node, top welded or in the clamp that locks the top rotation
+  to the deck's): the chord runs from the ground node to the top, which is the weld point or the
+  point of the guide line at the rod's chord length from the ground node; the shape is the linear
+  beam under a top moment with zero moment at the pin: the tangent turns from the chord by
+  t(xi) = t_top (3 xi^2 - 1) / 2 (xi = s/L); elements are laid end to end with their lengths;
+- rigid bodies turn with the deck about their ground pins; the piece sits on the rod's top.
+Multipliers start at zero (the equations are linear in them).  Angles are counter-clockwise.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+def _chord(L, t_top):
+    """Chord of a rod of length L bent by the tangent angles t_top (3 xi^2 - 1) / 2 (to O(t^4))."""
+    return L * (1.0 - t_top * t_top / 10.0)
+
+
+def _line_top(point, e, base, chord):
+    """The point of the line through ``point`` along ``e`` at distance ``chord`` from ``base``, on the
+    +e side; None if the line is out of reach."""
+    c0 = point - base
+    ce = c0 @ e
+    disc = ce * ce - c0 @ c0 + chord * chord
+    if disc < 0.0:
+        return None
+    return base + c0 + (-ce + math.sqrt(disc)) * e
+
+
+def _bent_top(weld_point, line_point, e, base, L, beta0, th):
+    """(top, beta, t_top) of a rod of length L pinned at ``base`` (initial chord angle beta0) whose top
+    is welded at ``weld_point`` or, if that is None, held in the clamp whose guide line passes through
+    ``line_point`` along ``e`` (the top turns with the deck, rotation th): the top point, the chord
+    angle and the top tangent's angle against the chord.  None if the guide line is out of reach."""
+    chord = L
+    for _ in range(4):
+        top = weld_point if weld_point is not None else _line_top(line_point, e, base, chord)
+        if top is None:
+            return None
+        beta = math.atan2(top[1] - base[1], top[0] - base[0])
+        t_top = math.remainder(th - (beta - beta0), 2.0 * math.pi)
+        new = _chord(L, t_top)
+        if abs(new - chord) <= 1e-15 * L:
+            break
+        chord = new
+    return top, beta, t_top
+
+
+def mechanism_state(model, theta):
+    """(y, alpha): a start state of a paper structure's model at deck rotation ``theta`` [rad,
+    counter-clockwise], or None if the geometry admits none (guide line out of reach)."""
+    fs = model.structure
+    th = float(theta)
+    ct, st = math.cos(th), math.sin(th)
+    R = np.array([[ct, -st], [st, ct]])
+    nrm = np.array([ct, st])    # deck's (1, 0): normal of the guide
+    e = np.array([-st, ct])     # deck's (0, 1): guide direction
+    L = model.Lref
+    pt = {j.name: np.asarray(j.at) / L for j in fs.joints}
+    Xd = model.body_X0[model.body_index["deck"]]
+    A1, B0, B1 = pt["A1"], pt["clamp"], pt["B1"]
+    A0 = pt["A"] if "A" in pt else A1  # the weld point of a flexible left rod
+    left_rod = "left" in model.rod_index
+    right_rod = "right" in model.rod_index
+
+    def deck_at(A_new):
+        """Deck centroid displacement with the weld point A at A_new."""
+        return A_new + R @ (Xd - A0) - Xd
+
+    if not left_rod:           # a rigid left rod is part of the deck, pinned at A1
+        Ud = A1 + R @ (Xd - A1) - Xd
+    else:
+        base = model.X0[model.node("left", 0)]
+        Lw = float(np.hypot(*(A0 - base)))
+
+        def weld_top(psi):  # psi: clockwise chord angle of the left rod from the vertical
+            return base + _chord(Lw, th + psi) * np.array([math.sin(psi), math.cos(psi)])
+
+        if not right_rod:
+            # the guide point B stays on the line through B1 along e:
+            # chord sin(psi + Theta) + (base - B1) . n + (B - A)_x = 0
+            psi = -th
+            for _ in range(50):  # a contraction: the chord depends on psi only through t^2 / 10
+                rhs = -((base - B1) @ nrm + (B0 - A0)[0]) / _chord(Lw, th + psi)
+                if abs(rhs) > 1.0:
+                    return None
+                psi, old = math.asin(rhs) - th, psi
+                if abs(psi - old) <= 1e-15:
+                    break
+            Ud = deck_at(weld_top(psi))
+        else:
+            base_j = model.X0[model.node("right", 0)]
+            L_j = float(np.hypot(*(model.X0[model.node("right", -1)] - base_j)))
+
+            def mismatch(psi):  # sum of the top angles (tangent against chord) of the two rods
+                A_new = weld_top(psi)
+                B_new = A_new + R @ (B0 - A0)
+                bent = _bent_top(None, B_new, e, base_j, L_j, math.pi / 2, th)
+                return math.nan if bent is None else bent[2] + (th + psi)
+
+            p0, p1 = -th, -th + 1e-3 * (1.0 + abs(th))
+            f0, f1 = mismatch(p0), mismatch(p1)
+            for _ in range(20):
+                if not (math.isfinite(f0) and math.isfinite(f1)) or f1 == f0:
+                    break
+                p0, p1, f0 = p1, p1 - f1 * (p1 - p0) / (f1 - f0), f1
+                f1 = mismatch(p1)
+                if abs(p1 - p0) <= 1e-12:
+                    break
+            if not math.isfinite(f1):
+                return None
+            Ud = deck_at(weld_top(p1))
+    y, alpha = model.zero_state()
+    Uq = model.nodal(y[:model.n_q])
+    A_new = Xd + Ud + R @ (A0 - Xd)
+    B_new = Xd + Ud + R @ (B0 - Xd)
+    for k, name in enumerate(r.name for r in fs.rods):
+        nodes = model.rod_nodes[k]
+        X = model.X0[nodes]
+        base = X[0]
+        Lr = float(np.hypot(*(X[-1] - X[0])))
+        xi = np.hypot(*(X - base).T) / Lr
+        beta0 = math.atan2(X[-1, 1] - X[0, 1], X[-1, 0] - X[0, 0])
+        bent = _bent_top(A_new if name == "left" else None, B_new, e, base, Lr, beta0, th)
+        if bent is None:
+            return None
+        _, beta, t_top = bent
+        xa, xb = xi[:-1], xi[1:]
+        t_el = 0.5 * t_top * (xa * xa + xa * xb + xb * xb - 1.0)
+        gam = beta + t_el
+        seg = np.diff(xi) * Lr
+        P = np.vstack([base, base + np.cumsum(seg[:, None] * np.column_stack([np.cos(gam), np.sin(gam)]), axis=0)])
+        Uq[nodes, :2] = P - X
+        Uq[nodes, 2] = (beta - beta0) + 0.5 * t_top * (3.0 * xi * xi - 1.0)
+        alpha[model.elem_rod == k] = gam - model.elements.beta0[model.elem_rod == k]
+    for b in fs.bodies:
+        d = model.body_dof(b.name)
+        Xb = model.body_X0[model.body_index[b.name]]
+        if b.name == "deck":
+            U = Ud
+        elif b.name == "right":     # the rigid right rod turns with the deck about its ground pin
+            U = B1 + R @ (Xb - B1) - Xb
+        else:                                 # the piece, welded to the right rod's top node
+            top = model.node("right", -1)
+            U = model.X0[top] + Uq[top, :2] + R @ (Xb - model.X0[top]) - Xb
+        y[d:d + 2], y[d + 2] = U, th
+    return y, alpha
