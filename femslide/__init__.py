@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any, Union
 
 from femslide.app.result import Result
 from femslide.errors import BadInput, SolverFailure
+from femslide.version import __version__  # noqa: F401  (femslide.__version__)
 from femslide.model.parts import Table
 from femslide.model.structure import Structure
 
@@ -38,7 +39,6 @@ Target = Union[Structure, "Frozen", str, os.PathLike]
 
 __all__ = ["Structure", "Table", "solve", "simulate", "sweep", "load", "list_scenes", "plot", "Result", "BadInput",
            "SolverFailure"]
-__version__ = "0.2.0"
 
 
 def list_scenes() -> list[str]:
@@ -91,6 +91,8 @@ def _run(command, target, params):
         import time
         t_imp = time.perf_counter()
         from femslide.analysis import static  # noqa: F401  (timed apart: import_time_s)
+        from femslide.model.linalg import load_lapack
+        load_lapack()
         from femslide.app.run import solve_structure
         t0 = time.perf_counter()
         res = solve_structure(fs, elements=elements)

@@ -57,7 +57,6 @@ from femslide.analysis.refine import (
 from femslide.errors import BadInput, SolverFailure
 from femslide.model.discrete import Model, PatternCache
 from femslide.model.frozen import Frozen
-from femslide.model.linalg import load_lapack
 from femslide.results.static import unflatten
 
 TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (10x below 1e-6)
@@ -66,7 +65,6 @@ N_DIRECT = 16     # meshes finer than this start from the interpolated solution 
 ROUNDOFF_LIMIT = 1e-3  # relative round-off scatter of the largest moment above which a result is refused
 
 
-load_lapack()   # every solve needs it: loaded with the module, so that a timed solve does not pay for it
 
 
 def scales(fs: Frozen):

@@ -50,7 +50,7 @@ EPILOG = "Exit status: 0 converged, 1 failed to converge (reason on stderr), 2 b
 
 
 def _version() -> str:
-    from femslide import __version__
+    from femslide.version import __version__
     return __version__
 
 

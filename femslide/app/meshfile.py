@@ -152,25 +152,6 @@ class MeshFile:
         return len(self.lines(f"rod:{rod}"))
 
 
-def read_meshio(path: str, what: str = "mesh file"):
-    """meshio.read(path), or BadInput naming the file.  meshio reports some unreadable files by
-    printing a line and calling sys.exit(1) (meshio 5: a corrupt .vtu), which is caught here too."""
-    import contextlib
-    import io
-
-    import meshio
-    err = io.StringIO()
-    try:
-        with contextlib.redirect_stdout(err), contextlib.redirect_stderr(err):
-            return meshio.read(path)
-    except (Exception, SystemExit) as exc:
-        detail = err.getvalue().strip().splitlines()
-        why = (str(exc) if not isinstance(exc, SystemExit) else "") or (detail[-1] if detail else "")
-        why = why.replace("Error: ", "")
-        raise BadInput(f"{what} {path}: cannot be read ({why or type(exc).__name__}); allowed: a "
-                       f"readable mesh file in a meshio format (.vtu, .msh, .xdmf, ...)") from None
-
-
 def read(path: str) -> MeshFile:
     """Read a mesh file with meshio and collect its named groups; BadInput when it cannot be used."""
     import numpy as np
@@ -181,6 +162,7 @@ def read(path: str) -> MeshFile:
         raise BadInput(f"mesh file {path}: {size / 2**20:.0f} MiB; allowed: at most "
                        f"{MAX_MESH_BYTES // 2**20} MiB (a mesh within n_elements <= 100000 per rod needs "
                        f"far less)")
+    from femslide.output.vtu import read_meshio
     mesh = read_meshio(path, "mesh file")
     if not any(b.type == "line" for b in mesh.cells):
         raise BadInput(f"mesh file {path} has no line cells (the rods' elements)")

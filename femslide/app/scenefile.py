@@ -39,7 +39,7 @@ def is_scene_file(name: str) -> bool:
 
 def is_fe(scene: Scene) -> bool:
     """Scenes whose mesh a file can fix: the FE statics scenes (runners in femslide.scenes.paper)."""
-    return getattr(scene, "runner", "").startswith(".paper:")
+    return getattr(scene, "kind", "") == "fe-statics"
 
 
 def no_mesh_reason(scene) -> str:

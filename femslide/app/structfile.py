@@ -256,6 +256,8 @@ class StructureFile:
     def prepare(self):
         """Import the FE statics (timed apart from the solve, as ``import_time_s``)."""
         from femslide.analysis import static  # noqa: F401
+        from femslide.model.linalg import load_lapack
+        load_lapack()
         if self.command in ("simulate", "modes"):
             from femslide.analysis import simulate as simulation  # noqa: F401
 

@@ -68,7 +68,7 @@ def solve_case(scene_name: str, values: dict, out_dir: str | None = None, cache=
 
 
 def _version():
-    from femslide import __version__
+    from femslide.version import __version__
     return __version__
 
 

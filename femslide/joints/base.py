@@ -323,3 +323,10 @@ class SlideSpring:
             n = len(ds)
             jv += [k * (ds[i] * ds[j]) + f * Hs[i * n + j] for i in range(n) for j in range(n)]
         fv += [-self.F0 * x for x in ds]
+
+
+def at_joint_point(link, z, f):
+    """(Fx, Fy, M) at the joint point of a force f = (fx, fy, m) on part a's frame (``z`` the joint's
+    dofs as a list): the frame moment about a's origin includes the moment of the force about it."""
+    Rx, Ry = link.lever(z)
+    return f[0], f[1], f[2] - (Rx * f[1] - Ry * f[0])

@@ -39,7 +39,7 @@ import math
 
 import numpy as np
 
-from femslide.results.static import at_joint_point
+from femslide.joints.base import at_joint_point
 
 
 class FrictionJoint:

@@ -387,7 +387,10 @@ class Model:
         con_dofs = [c.dofs for c in self.constraints]
         term_dofs = [t.dofs for t in self.terms]
         lin_dofs = np.nonzero(self.p_lin)[0].astype(np.intp)
-        topo = self.cache.topology(self, con_dofs, term_dofs, lin_dofs)
+        key = (self.n_q, self.elements.conn.tobytes() if self.elements is not None else b"",
+               tuple((c.size, d.tobytes()) for c, d in zip(self.constraints, con_dofs)),
+               tuple(d.tobytes() for d in term_dofs), lin_dofs.tobytes())
+        topo = self.cache.topology(key, lambda: _Topology(self, con_dofs, term_dofs, lin_dofs))
         self._topo = topo
         self.c_off, self.n_c, self.n = topo.c_off, topo.n_c, topo.n
         self._load_dofs, self._term_dofs = topo.load_dofs, term_dofs

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING
 
 from femslide.errors import BadInput
 from femslide.model.parts import (
@@ -29,13 +28,6 @@ from femslide.model.parts import (
     _vec,
     polygon_area_centroid_inertia,
 )
-
-if TYPE_CHECKING:
-
-    pass
-
-if TYPE_CHECKING:
-    from femslide.model.structure import Structure
 
 
 @dataclass(frozen=True)
@@ -95,7 +87,8 @@ class Frozen:
 
     # -- checking -----------------------------------------------------------------------------------
     @staticmethod
-    def from_structure(s: Structure) -> "Frozen":
+    def from_structure(s) -> "Frozen":
+        """Check a :class:`femslide.model.structure.Structure` ``s`` and freeze it."""
         gravity = _vec("gravity", s.gravity)
         rods = []
         for r in s.rods.values():

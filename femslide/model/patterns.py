@@ -27,12 +27,10 @@ class PatternCache:
             self._frames.setdefault(key, model)
         return self._frames.get(key)
 
-    def topology(self, model, con_dofs, term_dofs, lin_dofs):
-        key = (model.n_q, model.elements.conn.tobytes() if model.elements is not None else b"",
-               tuple((c.size, d.tobytes()) for c, d in zip(model.constraints, con_dofs)),
-               tuple(d.tobytes() for d in term_dofs), lin_dofs.tobytes())
+    def topology(self, key, build):
+        """The dof layout and Jacobian patterns (femslide.model.discrete._Topology) of a model topology
+        ``key``, built by ``build()`` once."""
         topo = self._topologies.get(key)
         if topo is None:
-            from femslide.model.discrete import _Topology
-            topo = self._topologies[key] = _Topology(model, con_dofs, term_dofs, lin_dofs)
+            topo = self._topologies[key] = build()
         return topo

@@ -38,15 +38,11 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import fields, replace
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from femslide.errors import BadInput
 from femslide.model.frozen import Frozen
 from femslide.model.parts import _JOINT_FIELDS, GROUND, Body, Field, Joint, Load, Rod, Vec
-
-if TYPE_CHECKING:
-
-    from femslide.analysis.static import Solution
 
 
 class Structure:
@@ -319,8 +315,3 @@ class Structure:
             the message names the object and the field.
         """
         return Frozen.from_structure(self)
-
-    def solve(self, **options: Any) -> Solution:
-        """Static equilibrium (see :func:`femslide.analysis.static.solve`)."""
-        from femslide.analysis.static import solve
-        return solve(self.freeze(), **options)

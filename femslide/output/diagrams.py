@@ -103,7 +103,7 @@ def frame_data(source, magnify: float = 1.0, frame: int | None = None) -> dict:
 
 
 def _from_file(path, magnify, frame):
-    from femslide.app.meshfile import read_meshio
+    from femslide.output.vtu import read_meshio
     from femslide.output.vtu import pick_file
     vtu, t = pick_file(path, frame)
     m = read_meshio(vtu, "result file" if vtu == path else f"{path}: frame file")

@@ -35,7 +35,7 @@ WINDOW = (900, 700)
 def _check_readable(vtu, given):
     """A corrupt or truncated VTU is bad input naming the file (VTK would only log errors and hand
     back an empty grid): it is parsed with meshio first."""
-    from femslide.app.meshfile import read_meshio
+    from femslide.output.vtu import read_meshio
     what = "result file" if vtu == given else f"{given}: frame file"
     read_meshio(vtu, what)
 
@@ -64,7 +64,7 @@ def value_range(path, diagram=None):
     the diagram's values including the parabolas of distributed loads); None without rods."""
     import numpy as np
 
-    from femslide.app.meshfile import read_meshio
+    from femslide.output.vtu import read_meshio
     from femslide.output.diagrams import frame_data, samples
     lo, hi = math.inf, -math.inf
     for f in series_files(path):

@@ -454,3 +454,22 @@ def pick_file(path, frame=None):
     if ext != ".vtu":
         raise BadInput(f"{path}: expected a .vtu or .pvd file")
     return path, None
+
+
+def read_meshio(path: str, what: str = "mesh file"):
+    """meshio.read(path), or BadInput naming the file.  meshio reports some unreadable files by
+    printing a line and calling sys.exit(1) (meshio 5: a corrupt .vtu), which is caught here too."""
+    import contextlib
+    import io
+
+    import meshio
+    err = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(err), contextlib.redirect_stderr(err):
+            return meshio.read(path)
+    except (Exception, SystemExit) as exc:
+        detail = err.getvalue().strip().splitlines()
+        why = (str(exc) if not isinstance(exc, SystemExit) else "") or (detail[-1] if detail else "")
+        why = why.replace("Error: ", "")
+        raise BadInput(f"{what} {path}: cannot be read ({why or type(exc).__name__}); allowed: a "
+                       f"readable mesh file in a meshio format (.vtu, .msh, .xdmf, ...)") from None

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from femslide.analysis import transient  # noqa: F401  (sets the BLAS threads before numpy is imported)
 
 
 def _peak(t, x, candidates=16, breaks=()):

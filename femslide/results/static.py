@@ -26,6 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from femslide.joints.base import at_joint_point
+
 
 def rod_arrays(model, y, alpha, cuts=None):
     """Per rod (by name): node arrays s, x, y, u, v, theta, N, V, M (SI) and the largest |M| along
@@ -170,13 +172,6 @@ def joint_forces(model, y, name):
     else:
         f = [-gen[i] for i in range(link.ia, link.ia + 3)]
     return at_joint_point(link, z, f)
-
-
-def at_joint_point(link, z, f):
-    """(Fx, Fy, M) at the joint point of a force f = (fx, fy, m) on part a's frame (``z`` the joint's
-    dofs as a list): the frame moment about a's origin includes the moment of the force about it."""
-    Rx, Ry = link.lever(z)
-    return f[0], f[1], f[2] - (Rx * f[1] - Ry * f[0])
 
 
 def extract(model, y, alpha, arrays=None) -> dict:

@@ -1,17 +1,21 @@
 """Built-in scenes as data: the parameters each accepts, its defaults, its rules and its runner.
 
-A runner is named ``"module:function"`` and imported only when the scene runs, so listing scenes or
-solving a spring-hinge scene never imports the FE machinery (or numpy).  A runner has the signature
-``run(values: dict) -> result: dict``: ``values`` are validated parameters (plus private keys
-starting with ``_``, e.g. ``_quiet`` to switch off progress bars), ``result`` the JSON object of the
-contract (SPEC section 7); private result keys (``_write``: the --out writer) are not printed.
+A scene's ``kind`` says what machinery it runs on: "hinge" (the exact spring-hinge models, pure
+Python), "fe-statics" (the paper's structures and the cantilevers as FE declarations),
+"oscillator" (the exact one-mass friction oscillator) and "fe-dynamics" (the paper's section 5.2
+structure in time).  Its runner is a function that imports that machinery when called, so listing
+scenes or solving a spring-hinge scene never imports the FE machinery (or numpy); ``machinery``
+imports it beforehand, so that a run's ``import_time_s`` and ``wall_time_s`` are measured apart.
+A runner has the signature ``run(values: dict) -> result: dict``: ``values`` are validated
+parameters (plus private keys starting with ``_``, e.g. ``_quiet`` to switch off progress bars),
+``result`` the JSON object of the contract (SPEC section 7); private result keys are not printed.
 Runners raise :class:`~femslide.errors.SolverFailure` when they do not converge.  Every run starts
 from scratch, so a case gives the same numbers whether it is solved alone or in a sweep.
 """
 from __future__ import annotations
 
-import importlib
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from femslide.errors import BadInput, SolverFailure
@@ -34,20 +38,20 @@ class Scene:
     command: str  # "solve" or "simulate"
     model: str
     params: ParamSet
-    runner: str
+    kind: str     # "hinge", "fe-statics", "oscillator" or "fe-dynamics"
+    runner: Callable[[dict], dict]
 
     def resolve(self, given: dict) -> dict:
         return self.params.resolve(given, scene=self.name)
 
     def prepare(self):
-        """Import the runner's module (and with it the machinery the scene needs); returns the
-        runner.  Separate from :meth:`run` so that a run's ``wall_time_s`` measures the solve and
-        ``import_time_s`` the imports."""
-        module, func = self.runner.split(":")
-        return getattr(importlib.import_module(module, __package__), func)
+        """Import the machinery the scene needs (numpy, the FE modules, LAPACK).  Separate from
+        :meth:`run` so that a run's ``wall_time_s`` measures the solve and ``import_time_s`` the
+        imports."""
+        MACHINERY[self.kind]()
 
     def run(self, values: dict) -> dict:
-        res = self.prepare()(values)
+        res = self.runner(values)
         bad = _non_finite(res)
         if bad and res.get("converged", True):
             raise SolverFailure(f"the result is not finite ({bad} = {_at(res, bad)}); not reported as "
@@ -87,48 +91,103 @@ def _at(res, path):
     return obj
 
 
+# -- runners: each imports its machinery when called ----------------------------------------------
+
+def _hinge(model):
+    def run(v):
+        from femslide.scenes import hinge
+        return {"slider": hinge.solve_slider, "fixed": hinge.solve_fixed,
+                "extra-mass": hinge.solve_extra_mass}[model](**v)
+    return run
+
+
+def _fe_statics(scene):
+    def run(v):
+        from femslide.scenes import paper
+        return paper.run(scene, v)
+    return run
+
+
+def _oscillator(v):
+    from femslide.scenes import sdof
+    return sdof.run(v)
+
+
+def _fe_dynamics(which):
+    def run(v):
+        from femslide.scenes import beam_dynamics
+        return (beam_dynamics.run_oscillation if which == "oscillation" else beam_dynamics.run_friction)(v)
+    return run
+
+
+def _load_fe():
+    from femslide.analysis import static  # noqa: F401
+    from femslide.model.linalg import load_lapack
+    load_lapack()
+
+
+def _load_oscillator():
+    from femslide.scenes import sdof  # noqa: F401
+
+
+def _load_fe_dynamics():
+    _load_fe()
+    from femslide.scenes import beam_dynamics  # noqa: F401
+
+
+def _load_nothing():
+    from femslide.scenes import hinge  # noqa: F401
+
+
+MACHINERY = {"hinge": _load_nothing, "fe-statics": _load_fe, "oscillator": _load_oscillator,
+             "fe-dynamics": _load_fe_dynamics}
+
+
 SCENES: dict[str, Scene] = {s.name: s for s in [
     Scene("hinge-slider", "solve", "section 2: rigid fixed rod; sliding rod with a spring hinge at height l1",
-          ParamSet(GEOMETRY + ("l1", "c"), rules=(rule_l1_le_l,)), ".runners:hinge_slider"),
+          ParamSet(GEOMETRY + ("l1", "c"), rules=(rule_l1_le_l,)), "hinge", _hinge("slider")),
     Scene("hinge-fixed", "solve", "section 3: fixed rod with a spring hinge at l/2; rigid sliding rod",
-          ParamSet(GEOMETRY + ("c",)), ".runners:hinge_fixed"),
+          ParamSet(GEOMETRY + ("c",)), "hinge", _hinge("fixed")),
     Scene("hinge-spring", "solve", "section 4: section 2 plus a linear spring k between rod and guide",
-          ParamSet(GEOMETRY + ("l1", "c", "k"), rules=(rule_l1_le_l,)), ".runners:hinge_spring"),
+          ParamSet(GEOMETRY + ("l1", "c", "k"), rules=(rule_l1_le_l,)), "hinge", _hinge("slider")),
     Scene("hinge-extra-mass", "solve",
           "section 5.1: preloaded slider spring, telescopic rod piece (m1, l2), extra mass dm on the body",
           ParamSet(GEOMETRY + ("l1", "c", "k", "dm", "m1", "l2"), defaults={"dm": 1e-3},
-                   rules=(rule_l1_lt_l,)), ".runners:hinge_extra_mass"),
+                   rules=(rule_l1_lt_l,)), "hinge", _hinge("extra-mass")),
     # -- FE statics scenes (declarations in femslide/scenes/paper.py) --
     Scene("beam-slider", "solve", "right rod a flexible FE beam (free length L) in the sliding clamp, left rod rigid",
-          ParamSet(FE + ("L",), defaults={"L": None}, rules=(rule_L_le_l,)), ".paper:run_beam_slider"),
+          ParamSet(FE + ("L",), defaults={"L": None}, rules=(rule_L_le_l,)), "fe-statics", _fe_statics("beam-slider")),
     Scene("beam-fixed", "solve", "left rod a flexible FE beam welded at A, right rod rigid in the sliding clamp",
-          ParamSet(FE), ".paper:run_beam_fixed"),
+          ParamSet(FE), "fe-statics", _fe_statics("beam-fixed")),
     Scene("beam-both", "solve", "both rods flexible FE beams (left welded at A, right in the sliding clamp)",
-          ParamSet(FE), ".paper:run_beam_both"),
+          ParamSet(FE), "fe-statics", _fe_statics("beam-both")),
     Scene("beam-spring", "solve", "beam-slider with a linear spring k along the guide (at rest in the vertical state)",
-          ParamSet(FE + ("L", "k"), defaults={"L": None}, rules=(rule_L_le_l,)), ".paper:run_beam_spring"),
+          ParamSet(FE + ("L", "k"), defaults={"L": None}, rules=(rule_L_le_l,)),
+          "fe-statics", _fe_statics("beam-spring")),
     Scene("beam-extra-mass", "solve",
           "FE section 5.1: preloaded slider spring, flexible rod of length L under a rigid telescopic piece "
           "(m1, l2), extra mass dm",
           ParamSet(FE + ("L", "k", "dm", "m1", "l2"), defaults={"L": 1.5, "dm": 1e-3}, rules=(rule_L_le_l,)),
-          ".paper:run_beam_extra_mass"),
+          "fe-statics", _fe_statics("beam-extra-mass")),
     Scene("cantilever-moment", "solve", "clamped rod under an end moment m_ratio * 2 pi EI/L (1: full circle)",
-          ParamSet(("L", "EI", "EA", "n_elements", "m_ratio"), defaults={"EI": 1.0}), ".paper:run_cantilever_moment"),
+          ParamSet(("L", "EI", "EA", "n_elements", "m_ratio"), defaults={"EI": 1.0}),
+          "fe-statics", _fe_statics("cantilever-moment")),
     Scene("cantilever-load", "solve", "clamped rod under a transverse dead tip load p_ratio * EI/L^2 (+y)",
-          ParamSet(("L", "EI", "EA", "n_elements", "p_ratio"), defaults={"EI": 1.0}), ".paper:run_cantilever_load"),
+          ParamSet(("L", "EI", "EA", "n_elements", "p_ratio"), defaults={"EI": 1.0}),
+          "fe-statics", _fe_statics("cantilever-load")),
     # -- one-mass dynamic scenes (femslide/scenes/sdof.py) --
     Scene("sdof-free", "simulate",
           "paper 003 ex. 1: free vibration of a mass on a spring with Coulomb friction (mu, mu0), exact",
           ParamSet(("m", "k", "g", "mu", "mu0", "c_v", "w0", "t_end"),
                    defaults={"m": 1.0, "k": 200.0, "g": 9.81, "mu": 0.2, "mu0": 0.24, "c_v": 0.0,
                              "w0": 0.07, "t_end": 2.0},
-                   rules=(rule_mu0_ge_mu,)), ".sdof:run_free"),
+                   rules=(rule_mu0_ge_mu,)), "oscillator", _oscillator),
     Scene("sdof-decay", "simulate",
           "paper 003 ex. 2: decaying oscillation under constant friction (N = m g = 20 N), exact",
           ParamSet(("m", "k", "g", "mu", "mu0", "c_v", "w0", "t_end"),
                    defaults={"m": 20.0 / 9.81, "k": 1000.0, "g": 9.81, "mu": 0.15, "mu0": 0.18,
                              "c_v": 0.0, "w0": 0.08, "t_end": 3.0},
-                   rules=(rule_mu0_ge_mu,)), ".sdof:run_decay"),
+                   rules=(rule_mu0_ge_mu,)), "oscillator", _oscillator),
     Scene("sdof-harmonic", "simulate",
           "paper 003 ex. 3: ex. 2 from rest under F = P0 sin(theta t) - m ag sin(theta t) - m a_rec(t); "
           "P0 defaults to 10 N, or to 0 when ag or record is given",
@@ -137,14 +196,14 @@ SCENES: dict[str, Scene] = {s.name: s for s in [
                    defaults={"m": 20.0 / 9.81, "k": 1000.0, "g": 9.81, "mu": 0.15, "mu0": 0.18,
                              "c_v": 0.0, "w0": 0.0, "P0": None, "theta_ratio": 0.5, "ag": 0.0,
                              "record": None, "t_end": 30.0},
-                   rules=(rule_mu0_ge_mu,)), ".sdof:run_harmonic"),
+                   rules=(rule_mu0_ge_mu,)), "oscillator", _oscillator),
     # -- structure dynamic scenes (femslide/scenes/beam_dynamics.py) --
     Scene("beam-oscillation", "simulate",
           "FE section 5.2: beam-extra-mass at dm = 0 (massless rods; body and piece m1 carry the inertia) "
           "released from rest at phi0; w = phi; F2(t) by d'Alembert",
           ParamSet(FE + ("L", "k", "m1", "l2", "c_v", "phi0", "t_end"),
                    defaults={"L": 1.5, "n_elements": 8, "t_end": 3.0}, rules=(rule_L_le_l,)),
-          ".beam_dynamics:run_oscillation"),
+          "fe-dynamics", _fe_dynamics("oscillation")),
     Scene("beam-friction", "simulate",
           "beam-oscillation with Coulomb friction (mu, mu0) in the sliding clamp (N = |clamp transverse force|), "
           "m1 = 0, ground acceleration ag sin(theta t) (+ record), theta = theta_ratio * omega (frictionless)",
@@ -152,7 +211,7 @@ SCENES: dict[str, Scene] = {s.name: s for s in [
                    defaults={"L": 1.5, "n_elements": 8, "EI": 1e4, "EA": 1e6, "mu": 0.2, "mu0": 0.24,
                              "phi0": 0.0, "ag": 1.0, "theta_ratio": 1.0, "record": None, "t_end": 3.0},
                    rules=(rule_L_le_l, rule_mu0_ge_mu)),
-          ".beam_dynamics:run_friction"),
+          "fe-dynamics", _fe_dynamics("friction")),
 ]}
 
 

@@ -8,14 +8,9 @@ from __future__ import annotations
 
 import math
 import os
-from typing import TYPE_CHECKING
-
 import numpy as np
 
 from femslide.errors import SolverFailure
-
-if TYPE_CHECKING:
-    from femslide.scenes.oscillator import Oscillator
 
 # 10-point Gauss-Legendre rule on [-1, 1] (energy balance): computed once
 _GAUSS10 = np.polynomial.legendre.leggauss(10)
@@ -28,7 +23,7 @@ HISTORY_ROWS = 1_000_000  # history.csv: 64 samples per shortest period, at most
 class Solution:
     """Stored closed-form segments of a run, with vectorised evaluation and summary quantities."""
 
-    def __init__(self, osc: Oscillator, w0, t_end, segs, turning, forever, friction_work):
+    def __init__(self, osc, w0, t_end, segs, turning, forever, friction_work):
         self.osc, self.w0, self.t_end = osc, w0, t_end
         self.segs, self.turning, self.forever = segs, turning, forever
         self.friction_work = friction_work

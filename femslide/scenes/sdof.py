@@ -257,5 +257,3 @@ def _run(osc, w0, t_end):
                             f"{ENERGY_TOL:g} (relative to the largest energy)")
     return res
 
-
-run_free = run_decay = run_harmonic = run
