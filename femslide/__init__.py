@@ -79,7 +79,7 @@ def load(path: str) -> Structure:
 def _run(command, target, params):
     from femslide.app.run import load_target, run_case
     from femslide.model.frozen import Frozen
-    if isinstance(target, (Structure, Frozen)):   # solve (simulate takes structures in simulation.run_api)
+    if isinstance(target, (Structure, Frozen)):   # solve (simulate takes structures in app.api.run_api)
         from femslide.app.structfile import apply
         s = target if isinstance(target, Structure) else None
         elements = params.pop("elements", None)
@@ -93,9 +93,10 @@ def _run(command, target, params):
         from femslide.analysis import static  # noqa: F401  (timed apart: import_time_s)
         from femslide.model.linalg import load_lapack
         load_lapack()
-        from femslide.app.run import solve_structure
+        from femslide.app.cases import statics
+        from femslide.app.result import Result
         t0 = time.perf_counter()
-        res = solve_structure(fs, elements=elements)
+        res = Result.of(statics(fs, elements=elements))
         res["wall_time_s"] = time.perf_counter() - t0
         res["import_time_s"] = t0 - t_imp
         return res
@@ -227,7 +228,7 @@ def sweep(target: Target, *, fixed: dict[str, Any] | None = None, jobs: int = 1,
     >>> df = femslide.sweep("beam-slider", EI=[1e4, 1e6, 1e8])          # doctest: +SKIP
     >>> df[["EI", "M_max", "reactions.B1.Fx"]]                           # doctest: +SKIP
     """
-    from femslide.app.run import sweep_table
+    from femslide.app.api import sweep_table
     return sweep_table(target, varied, fixed=fixed, jobs=jobs, quiet=quiet)
 
 

@@ -89,7 +89,7 @@ def _belt(axis=(1.0, 0.0), k=200.0, m=1.0, simulate=None, mu=None):
 def _run(s, **table):
     from femslide.analysis.simulate import parse_spec, simulate
     res = simulate(s.freeze(), parse_spec(table))
-    return res, res["_history"]
+    return res, res.history
 
 
 def test_free_oscillation_against_the_exact_cosine():
@@ -295,7 +295,7 @@ def test_paper_003_example_1_as_a_structure_against_the_exact_oscillator():
     spec = parse_spec(sf.simulate_table)
     spec.t_end = 0.7
     res = simulate(sf.structure.freeze(), spec)
-    h = res["_history"]
+    h = res.history
     tp = _turning_points(res, h)
     exact = [(p["t"], p["w"]) for p in ref["turning_points"]]
     assert len(tp) == len(exact) == 3
@@ -375,7 +375,7 @@ def test_ground_records_at2_and_csv(tmp_path):
         spec = parse_spec({"t_end": 0.5, "tolerance": 1e-8,
                            "ground": {"direction": [1.0, 0.0], "record": rec, "scale": scale}}, str(tmp_path))
         res = simulate(_belt().freeze(), spec)
-        h = res["_history"]
+        h = res.history
         w = -0.7 / (omega ** 2 - W ** 2) * (np.sin(W * h["t"]) - W / omega * np.sin(omega * h["t"]))
         assert np.abs(h["joints.belt.slide"] - w).max() < 3e-6
 
@@ -597,7 +597,8 @@ def test_mode_shape_vtu_carries_the_mode_bending_moment(tmp_path):
     from femslide.analysis.simulate import natural_modes
     L, EI = 1.5, 2.0
     res = natural_modes(_cantilever(16, L=L, EI=EI).freeze(), count=1)
-    (path,) = res["_write"](str(tmp_path))
+    from femslide.output.files import write
+    (path,) = write(res, str(tmp_path))
     m = meshio.read(path)
     tip = float(np.abs(m.point_data["displacement"][:, 1]).max())
     beta = 1.8751040687 / L

@@ -38,19 +38,17 @@ located in time); the static start ignores friction.
 from __future__ import annotations
 
 import math
-import os
 import time
 from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
 
-from femslide.analysis import transient  # noqa: F401  (sets the BLAS threads before numpy is imported)
 from femslide.analysis.excitation import Ground
 from femslide.analysis.excitation import parse as parse_ground
 from femslide.errors import BadInput, SolverFailure
 from femslide.joints.holds import BodyHold
-from femslide.output.series import _hysteresis, _write
+from femslide.results.outcome import Frames, Loop, ModeShapes, Outcome, Table
 from femslide.results.history import _peak
 
 DEFAULT_ELEMENTS = 8
@@ -269,10 +267,11 @@ def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
     return int(3 * max(steps, 1000)) + 1000
 
 
-def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
-    """Run the dynamics of a frozen structure (see the module docstring); returns the JSON dict,
-    with ``_write(out_dir)`` writing the history and the VTU frames, ``_history`` {column: array}
-    (``t`` first, then the columns of history.csv)."""
+def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
+    """Run the dynamics of a frozen structure (see the module docstring): the outcome's values are
+    the JSON object, its history {column: array} (``t`` first, then the columns of history.csv), its
+    tables history.csv, its frames the states for the VTU series and its loops the friction joints'
+    hysteresis."""
     from femslide.analysis import static
     from femslide.analysis.modes import modes
     from femslide.analysis.transient import integrate
@@ -423,18 +422,20 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> dict:
            "events": fr.events if fr is not None else {},
            "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of, "peaks": peaks,
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
-    res["_write"] = lambda d: _write(d, name, cols, H, frames, model) + _hysteresis(d, name, cols, H,
-                                                                                    sorted(fric_names))
+    history = {c: H[:, i] for i, c in enumerate(cols)}   # t first
     res["wall_time_s"] = time.perf_counter() - t_wall
-    res["_history"] = {c: H[:, i] for i, c in enumerate(cols)}   # t first
+    return Outcome(res, name, history=history, tables=[Table("history.csv", cols, list(H.T))],
+                   frames=Frames(model, [(t, y, a, {c: H[i, j] for j, c in enumerate(cols) if j > 0})
+                                         for t, i, y, a in frames]),
+                   loops=[Loop(n, history[f"joints.{n}.slide"], history[f"joints.{n}.friction"])
+                          for n in sorted(fric_names)])
     return res
 
 
 def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
     """`femslide modes`: the ``count`` lowest natural frequencies [Hz] of the frictionless structure
-    about its static equilibrium (rods without their own `elements` meshed with ``elements``), and a
-    writer of the mode shapes as VTU files (each the structure displaced along the mode, largest
-    translation 5 % of the structure's size, with the frequency as field data)."""
+    about its static equilibrium (rods without their own `elements` meshed with ``elements``), with
+    the mode shapes to write as VTU files (femslide.output.files.write_modes)."""
     from femslide.analysis import static
     from femslide.analysis.modes import modes
     from femslide.model.mass import Masses
@@ -449,21 +450,5 @@ def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
     res = {"converged": True, "frequencies_hz": [float(f) for f in freq],
            "periods_s": [float(1.0 / f) for f in freq], "elements": {r.name: r.elements for r in fs.rods}}
 
-    def write(out_dir):
-        from femslide.output.vtu import _write_vtu, mesh_data
-        from femslide.results.static import element_cuts
-        os.makedirs(out_dir, exist_ok=True)
-        files = []
-        for k, (f, phi) in enumerate(zip(freq, shapes)):
-            yk = y.copy()
-            yk[:model.n_q] += 0.05 * phi
-            _, alpha_k = model.element_forces(yk[:model.n_q], alpha)
-            points, cells, pdata, cdata = mesh_data(model, yk, alpha_k, cuts=element_cuts(model, yk, alpha_k))
-            path = os.path.join(out_dir, f"{name}_mode{k + 1}.vtu")
-            _write_vtu(path, points, cells, pdata, cdata, {"mode": k + 1, "frequency_hz": float(f)})
-            files.append(path)
-        return files
-
-    res["_write"] = write
     res["wall_time_s"] = time.perf_counter() - t0
-    return res
+    return Outcome(res, name, modes=ModeShapes(model, y, alpha, list(freq), shapes))

@@ -75,3 +75,21 @@ def progress(total, desc="", quiet=False, unit="it"):
         return NoBar()
     return _Bar(tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, dynamic_ncols=True,
                      leave=False), tqdm)
+
+
+class TimeProgress:
+    """A progress bar over simulated time: ``at(t)`` moves it to t of ``t_end`` (in 1000 steps, with
+    the time left shown); ``close()`` ends it.  Quiet as :func:`progress` is."""
+
+    def __init__(self, t_end, desc, quiet=False):
+        self.bar = progress(1000, desc, quiet, unit="\u2030")
+        self.t_end, self.done = t_end, 0
+
+    def at(self, t):
+        k = int(min(1000, 1000 * t / self.t_end))
+        if k > self.done:
+            self.bar.update(k - self.done)
+            self.done = k
+
+    def close(self):
+        self.bar.close()

@@ -45,10 +45,23 @@ class Result(dict):
         ``solution.level`` (model, state, raw per-rod arrays) and how the load path was followed.
     """
 
-    solution = None
-    _writer = None
-    _history_source = None
+    _outcome = None
     _history = None
+
+    @classmethod
+    def of(cls, outcome) -> "Result":
+        """The result of a run's :class:`femslide.results.outcome.Outcome` (or of a plain dict of
+        values: the spring-hinge scenes)."""
+        from femslide.results.outcome import Outcome
+        if not isinstance(outcome, Outcome):
+            outcome = Outcome(dict(outcome))
+        res = cls({k: v for k, v in outcome.values.items() if not str(k).startswith("_")})
+        res._outcome = outcome
+        return res
+
+    @property
+    def solution(self):
+        return self._outcome.solution if self._outcome is not None else None
 
     # -- FE statics: values by name --------------------------------------------------------------
     def _named(self) -> dict:
@@ -174,10 +187,10 @@ class Result(dict):
 
         Computed from the stored solution when first asked for, then kept.
         """
-        if self._history is None and self._history_source is not None:
-            src = self._history_source
-            h = src() if callable(src) else src
-            self._history = {k: h[k] for k in ["t"] + [k for k in h if k != "t"]}
+        if self._history is None and self._outcome is not None:
+            h = self._outcome.get_history()
+            if h is not None:
+                self._history = {k: h[k] for k in ["t"] + [k for k in h if k != "t"]}
         return self._history
 
     # -- tables and files ------------------------------------------------------------------------
@@ -249,7 +262,8 @@ class Result(dict):
         from femslide.app.outputs import check_out_dir
         out_dir = os.fspath(out_dir)
         check_out_dir(out_dir, "out_dir")
-        files = self._writer(out_dir) if self._writer else []
+        from femslide.output.files import write
+        files = write(self._outcome, out_dir) if self._outcome is not None else []
         path = os.path.join(out_dir, "result.json")
         with open(path, "w") as fh:
             json.dump(clean({**self, "files": files}), fh, indent=1)

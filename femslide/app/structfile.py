@@ -154,7 +154,6 @@ def parse_value(text):
     except ValueError:
         pass
     if t[:1] and t[0] in "[{":
-        from femslide.app.scenefile import tomllib
         try:
             doc = tomllib.loads("v = " + t)
             if list(doc) == ["v"]:
@@ -274,15 +273,15 @@ class StructureFile:
             spec = self._spec(values)
             if elements is not None:
                 spec.elements = elements
-            from femslide.scenes.beam_dynamics import _Progress
-            bar = _Progress(spec.t_end, values, f"simulate {self.name}")
+            from femslide.app.progress import TimeProgress
+            bar = TimeProgress(spec.t_end, f"simulate {self.name}", bool(values.get("_quiet")))
             try:
                 return simulate(s.freeze(), spec, name=self.name, progress=bar.at)
             finally:
                 bar.close()
-        from femslide.app.run import solve_structure
+        from femslide.app.cases import statics
         s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
-        return solve_structure(s.freeze(), elements=elements, name=self.name, cache=values.get("_cache"))
+        return statics(s.freeze(), elements=elements, name=self.name, cache=values.get("_cache"))
 
 
 def _toml_value(x):

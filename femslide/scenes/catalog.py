@@ -19,6 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from femslide.errors import BadInput, SolverFailure
+from femslide.results.outcome import Outcome
 from femslide.scenes.params import ParamSet, rule_l1_le_l, rule_l1_lt_l, rule_mu0_ge_mu
 
 GEOMETRY = ("a", "b", "d", "l", "m", "g")
@@ -51,12 +52,13 @@ class Scene:
         MACHINERY[self.kind]()
 
     def run(self, values: dict) -> dict:
-        res = self.runner(values)
+        out = self.runner(values)
+        res = out.values if isinstance(out, Outcome) else out
         bad = _non_finite(res)
         if bad and res.get("converged", True):
             raise SolverFailure(f"the result is not finite ({bad} = {_at(res, bad)}); not reported as "
                                 f"converged")
-        return res
+        return out
 
 
 def _non_finite(obj, path=""):

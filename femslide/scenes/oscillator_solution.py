@@ -7,10 +7,10 @@ turning points, the stop and the steady amplitude of a forced run, and writes th
 from __future__ import annotations
 
 import math
-import os
 import numpy as np
 
 from femslide.errors import SolverFailure
+from femslide.results.outcome import Table
 
 # 10-point Gauss-Legendre rule on [-1, 1] (energy balance): computed once
 _GAUSS10 = np.polynomial.legendre.leggauss(10)
@@ -303,17 +303,13 @@ class Solution:
         f = np.where(st == 0, F - o.k * w, st * o.fk)
         return {"t": t, "w": w, "v": v, "state": st.astype(int), "F": F, "f": f}
 
-    def write(self, outdir, points_per_period=64):
-        """Write history.csv (t, w, v, state) and turning_points.csv; return the file names."""
+    def tables(self, points_per_period=64):
+        """The files of a run: history.csv (t, w, v, state) and turning_points.csv (t, w)."""
         h = self.history(points_per_period)
         t, w, v, st = h["t"], h["w"], h["v"], h["state"]
         if not (np.isfinite(w).all() and np.isfinite(v).all()):
             raise SolverFailure("the time history is not finite; nothing written")
-        path = os.path.join(outdir, "history.csv")
-        np.savetxt(path, np.column_stack([t, w, v, st]), delimiter=",",
-                   header="t [s],w [m],v [m/s],state (+1/-1 sliding direction; 0 stuck)",
-                   fmt=["%.17g", "%.17g", "%.17g", "%d"], comments="")
-        path2 = os.path.join(outdir, "turning_points.csv")
         tp = np.array(self.turning, dtype=float).reshape(-1, 2)
-        np.savetxt(path2, tp, delimiter=",", header="t [s],w [m]", fmt="%.17g", comments="")
-        return ["history.csv", "turning_points.csv"]
+        return [Table("history.csv", ["t [s]", "w [m]", "v [m/s]", "state (+1/-1 sliding direction; 0 stuck)"],
+                      [t, w, v, st], ["%.17g", "%.17g", "%.17g", "%d"]),
+                Table("turning_points.csv", ["t [s]", "w [m]"], [tp[:, 0], tp[:, 1]])]

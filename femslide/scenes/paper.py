@@ -18,6 +18,7 @@ import math
 
 from femslide.analysis import static
 from femslide.analysis.paths import Control, Path
+from femslide.results.outcome import Outcome
 from femslide.errors import BadInput, SolverFailure
 from femslide.model.structure import Structure
 from femslide.results.static import joint_forces
@@ -189,33 +190,12 @@ def solve_scene(scene: str, v: dict, cache=None) -> static.Solution:
                         Lref=Lref, Fref=Fref, cache=cache)
 
 
-def run(scene: str, v: dict) -> dict:
-    """The scene's runner: the section 7 result (and a writer of its VTU files)."""
+def run(scene: str, v: dict) -> Outcome:
+    """The scene's runner: the section 7 result, with the solution behind it (its VTU carries the
+    contract's values of the finest mesh)."""
     sol = solve_scene(scene, v, cache=v.get("_cache"))
     out = {"converged": True, **contract(scene, sol.watched), "iterations": sol.iterations,
            "error_estimate": sol.error_estimate}
-
-    def write(d):
-        from femslide.output.vtu import write_static
-        lv = sol.level
-        return write_static(sol, d, scene, extra=contract(scene, watch(scene)(lv, lv.model.structure)[0]))
-
-    out["_write"] = write
-    out["_solution"] = sol
-    return out
-
-
-def _runner(scene):
-    def r(values):
-        return run(scene, values)
-    r.__name__ = "run_" + scene.replace("-", "_")
-    return r
-
-
-run_beam_slider = _runner("beam-slider")
-run_beam_fixed = _runner("beam-fixed")
-run_beam_both = _runner("beam-both")
-run_beam_spring = _runner("beam-spring")
-run_beam_extra_mass = _runner("beam-extra-mass")
-run_cantilever_moment = _runner("cantilever-moment")
-run_cantilever_load = _runner("cantilever-load")
+    lv = sol.level
+    return Outcome(out, scene, solution=sol,
+                   static_values=contract(scene, watch(scene)(lv, lv.model.structure)[0]))

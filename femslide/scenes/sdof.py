@@ -38,6 +38,7 @@ import numpy as np
 
 from femslide.analysis.records import read_record
 from femslide.errors import BadInput, SolverFailure
+from femslide.results.outcome import Outcome
 from femslide.scenes.oscillator import Forcing, Oscillator
 from femslide.scenes.oscillator_solution import E_MAX, TWO_PI
 from femslide.scenes.params import floor_g
@@ -213,7 +214,7 @@ def check_bounds(osc, w0, t_end, values):
                        f"for these parameters")
 
 
-def run(values: dict) -> dict:
+def run(values: dict) -> Outcome:
     """Simulate one scene; returns the contract result dict.  SolverFailure (exit 1) when the
     result is not finite or the energy balance is worse than ENERGY_TOL."""
     osc, w0, t_end = build(values)
@@ -245,8 +246,6 @@ def _run(osc, w0, t_end):
         "omega": osc.omega,
         "period": TWO_PI / osc.omega,
         "theta": osc.F.theta if osc.F.harmonic else None,
-        "_write": sol.write,
-        "_history": sol.history,   # the time history as arrays, computed when asked for
     })
     bad = [key for key in ("w_max", "energy_balance") if not math.isfinite(res[key])]
     if bad or not all(math.isfinite(t) and math.isfinite(w) for t, w in sol.turning):
@@ -255,5 +254,6 @@ def _run(osc, w0, t_end):
     if res["energy_balance"] > ENERGY_TOL:
         raise SolverFailure(f"energy balance {res['energy_balance']:.3g} is worse than the tolerance "
                             f"{ENERGY_TOL:g} (relative to the largest energy)")
-    return res
+    # the history is computed when first asked for (the API's Result.history, --out)
+    return Outcome(res, "sdof", history=sol.history, tables=sol.tables)
 
