@@ -355,7 +355,7 @@ def test_ground_records_at2_and_csv(tmp_path):
     """A PEER .AT2 record (in g, NPTS/DT header) and a CSV record (t, a in m/s^2) sampling
     0.7 sin(2 pi 1.3 t) m/s^2 every 1 ms reproduce the exact harmonic response of the block within
     3e-6 m (linear interpolation of the record, tolerance 1e-8); a record's scale multiplies it."""
-    from femslide.analysis.excitation import read_at2, read_csv
+    from femslide.analysis.excitation import read_at2, read_csv_record
     dt, n = 1e-3, 601
     t = np.arange(n) * dt
     a = 0.7 * np.sin(2 * np.pi * 1.3 * t)
@@ -368,7 +368,7 @@ def test_ground_records_at2_and_csv(tmp_path):
     (tmp_path / "r.csv").write_text("t,a\n" + rows + "\n")
     tt, aa = read_at2(str(tmp_path / "r.AT2"))
     assert np.allclose(aa, a, atol=1e-10) and tt[-1] == pytest.approx(0.6)
-    assert np.allclose(read_csv(str(tmp_path / "r.csv"))[1], 2 * a)
+    assert np.allclose(read_csv_record(str(tmp_path / "r.csv"))[1], 2 * a)
     omega, W = math.sqrt(200.0), 2 * math.pi * 1.3
     for rec, scale in (("r.AT2", 1.0), ("r.csv", 0.5)):
         from femslide.analysis.simulate import parse_spec, simulate

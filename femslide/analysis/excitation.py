@@ -1,5 +1,11 @@
 """Base excitation of the dynamics: a ground acceleration a_g(t) [m/s^2] along a fixed direction.
 
+The one place where ground motion is read and evaluated: :class:`Record` (a sampled signal, linear
+between its samples, zero outside them), the readers of record files (:func:`read_csv_record`,
+:func:`read_at2`) and :class:`Ground` (harmonic and/or recorded acceleration along a direction) for
+the FE dynamics; the exact one-mass oscillator (femslide.scenes.oscillator) takes its recorded
+forcing from a :class:`Record` too.
+
 Two kinds (the ``ground`` entry of a structure file's ``[simulate]`` table):
 
 - harmonic: ``{direction = [1, 0], amplitude = 1.0, frequency = 2.0}``: a_g = amplitude sin(2 pi f t)
@@ -14,37 +20,79 @@ base acceleration enters as the inertia load -m a_g on every mass (:mod:`femslid
 """
 from __future__ import annotations
 
+import bisect
 import math
 import os
 import re
-
-import numpy as np
 
 from femslide.errors import BadInput
 
 G_STANDARD = 9.80665  # m/s^2: PEER NGA records are in units of g
 MAX_ROWS = 1_000_000
+MAX_RECORD_ROWS = 1_000_000       # each row is a segment boundary of the exact oscillator (~20 us each: 20 s)
+MAX_RECORD_BYTES = 64 * 2**20     # a 1e6-row CSV of full-precision numbers is ~40 MB
+
+
+class Record:
+    """A sampled signal: ``values`` at ``times`` (strictly increasing lists of floats), linear between
+    samples and zero outside them.  Pure Python (the exact oscillator must start without numpy)."""
+
+    def __init__(self, times, values):
+        self.times, self.values = list(times), list(values)
+
+    def piece(self, t):
+        """(p, q, t_next): the signal on [t, t_next) is p + q (s - t), until the next sample t_next
+        (the piece that starts at t: zero from the last sample on)."""
+        rt, rv = self.times, self.values
+        i = bisect.bisect_right(rt, t) - 1
+        if i < 0:
+            return 0.0, 0.0, rt[0]
+        if i >= len(rt) - 1:
+            return 0.0, 0.0, math.inf
+        q = (rv[i + 1] - rv[i]) / (rt[i + 1] - rt[i])
+        return rv[i] + q * (t - rt[i]), q, rt[i + 1]
+
+    def value(self, t):
+        """The signal at t, continuous from the left at the last sample (the input at the end of a
+        time step that ends there)."""
+        rt = self.times
+        if not rt[0] <= t <= rt[-1]:
+            return 0.0
+        if t == rt[-1]:
+            return float(self.values[-1])
+        return self.piece(t)[0]
+
+    def eval_np(self, t):
+        """The pieces that start at the times t (numpy array), as :meth:`piece`."""
+        import numpy as np
+        t = np.asarray(t, dtype=float)
+        rt = np.asarray(self.times)
+        inside = (t >= rt[0]) & (t < rt[-1])
+        return np.where(inside, np.interp(t, rt, np.asarray(self.values)), 0.0)
 
 
 class Ground:
-    """a_g(t) e: ``direction`` e (unit (2,)), ``accel(t)`` [m/s^2] (scalar), ``dt`` the record's
-    sampling interval (None for harmonic)."""
+    """a_g(t) e: ``direction`` e (unit (2,)), ``accel(t)`` [m/s^2] (scalar) = amplitude
+    sin(2 pi frequency t) + record(t) (either or both); ``times`` the record's sample times (numpy,
+    None without a record) and ``dt`` their smallest interval."""
 
-    def __init__(self, direction, amplitude=0.0, frequency=0.0, times=None, values=None):
+    def __init__(self, direction, amplitude=0.0, frequency=0.0, record: Record | None = None):
+        import numpy as np
         e = np.asarray(direction, float)
         self.direction = e / np.hypot(*e)
         self.amplitude, self.frequency = float(amplitude), float(frequency)
-        self.times, self.values = times, values
-        self.dt = None if times is None else float(np.min(np.diff(times))) if times.size > 1 else None
+        self.harmonic = self.amplitude != 0.0 and self.frequency > 0.0
+        self.record = record
+        self.times = None if record is None else np.asarray(record.times, float)
+        self.dt = float(np.min(np.diff(self.times))) if self.times is not None and self.times.size > 1 else None
 
     def accel(self, t: float) -> float:
-        if self.times is None:
-            return self.amplitude * math.sin(2.0 * math.pi * self.frequency * t)
-        return float(np.interp(t, self.times, self.values, left=0.0, right=0.0))
+        a = self.amplitude * math.sin(2.0 * math.pi * self.frequency * t) if self.harmonic else 0.0
+        return a + self.record.value(t) if self.record is not None else a
 
 
 def read_at2(path: str):
-    """(t [s], a [m/s^2]) of a PEER NGA .AT2 record (4 header lines; the 4th gives NPTS and DT)."""
+    """(t [s], a [m/s^2]) (lists) of a PEER NGA .AT2 record (4 header lines; the 4th gives NPTS and DT)."""
     try:
         with open(path) as fh:
             lines = fh.read().splitlines()
@@ -61,21 +109,12 @@ def read_at2(path: str):
     if not 1 <= n <= MAX_ROWS or not dt > 0:
         raise BadInput(f"ground record {path}: NPTS = {n}, DT = {dt:g}; allowed: 1 <= NPTS <= {MAX_ROWS}, DT > 0")
     try:
-        vals = np.array([float(x) for ln in lines[4:] for x in ln.replace(",", " ").split()])
+        vals = [float(x) for ln in lines[4:] for x in ln.replace(",", " ").split()]
     except ValueError:
         raise BadInput(f"ground record {path}: non-numeric data after the header") from None
-    if vals.size < n:
-        raise BadInput(f"ground record {path}: NPTS = {n} but only {vals.size} values")
-    a = vals[:n] * G_STANDARD
-    return np.arange(n) * dt, a
-
-
-def read_csv(path: str):
-    """(t [s], a [m/s^2]) of a CSV record: columns t, a (a header line, blank and # comment lines
-    allowed), read by :func:`femslide.analysis.records.read_record`, the project's one CSV record reader."""
-    from femslide.analysis.records import read_record
-    t, a = read_record(path)
-    return np.asarray(t, float), np.asarray(a, float)
+    if len(vals) < n:
+        raise BadInput(f"ground record {path}: NPTS = {n} but only {len(vals)} values")
+    return [k * dt for k in range(n)], [x * G_STANDARD for x in vals[:n]]
 
 
 def parse(spec, base_dir: str = ".", where: str = "simulate.ground") -> Ground | None:
@@ -115,8 +154,66 @@ def parse(spec, base_dir: str = ".", where: str = "simulate.ground") -> Ground |
         path = path if os.path.isabs(path) else os.path.join(base_dir, path)
         if not os.path.isfile(path):
             raise BadInput(f"{where}.record: file {path} not found")
-        t, a = read_at2(path) if path.upper().endswith(".AT2") else read_csv(path)
-        return Ground(e, times=t, values=a * num("scale", 1.0))
+        t, a = read_at2(path) if path.upper().endswith(".AT2") else read_csv_record(path)
+        scale = num("scale", 1.0)
+        return Ground(e, record=Record(t, [x * scale for x in a]))
     if "scale" in spec:
         raise BadInput(f"{where}.scale is for records; a harmonic ground motion has amplitude and frequency")
     return Ground(e, amplitude=num("amplitude", 1.0), frequency=num("frequency", 2.0, 0.0, lo_open=True))
+
+
+def read_csv_record(path: str):
+    """Read a base-acceleration record: CSV with columns t [s], a [m/s^2].
+
+    One header line (non-numeric first field) and blank or ``#`` comment lines are allowed; times
+    must be finite and strictly increasing, at least two rows.  Returns ``(times, accelerations)``
+    as lists of floats.  Raises :class:`BadInput` naming ``record`` otherwise.
+    """
+    allowed = "a readable CSV text file with columns t [s], a [m/s^2]"
+    try:
+        size = os.path.getsize(path)
+        if size > MAX_RECORD_BYTES:
+            raise BadInput(f"parameter record: {path!r} is {size / 2**20:.0f} MiB; allowed: {allowed} "
+                           f"of at most {MAX_RECORD_BYTES // 2**20} MiB and {MAX_RECORD_ROWS} rows")
+        with open(path, newline="", encoding="utf-8") as fh:
+            text = fh.read()
+    except OSError as exc:
+        raise BadInput(f"parameter record: cannot read {path!r} ({exc.strerror or exc}); "
+                       f"allowed: {allowed}") from None
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise BadInput(f"parameter record: {path!r} is not text ({exc}); allowed: {allowed}") from None
+    ts, acc = [], []
+    seen_data = False
+    for lineno, line in enumerate(text.splitlines(), 1):
+        s = line.strip()
+        if not s or s.startswith("#"):
+            continue
+        parts = [p.strip() for p in s.replace(";", ",").split(",")]
+        if len(parts) == 1:
+            parts = s.split()
+        try:
+            if len(parts) < 2:
+                raise ValueError
+            t, a = float(parts[0]), float(parts[1])
+        except ValueError:
+            if not seen_data and not ts:
+                seen_data = True  # the header line
+                continue
+            raise BadInput(f"parameter record: {path!r} line {lineno}: expected two numbers "
+                           f"'t, a', got {s[:60]!r}") from None
+        seen_data = True
+        if not (math.isfinite(t) and math.isfinite(a)):
+            raise BadInput(f"parameter record: {path!r} line {lineno}: non-finite value")
+        if ts and not t > ts[-1]:
+            raise BadInput(f"parameter record: {path!r} line {lineno}: times must be strictly "
+                           f"increasing (t = {t:g} s after {ts[-1]:g} s)")
+        ts.append(t)
+        acc.append(a)
+        if len(ts) > MAX_RECORD_ROWS:
+            raise BadInput(f"parameter record: {path!r} has more than {MAX_RECORD_ROWS} data rows; "
+                           f"allowed: at most {MAX_RECORD_ROWS} rows (each is a segment of the exact "
+                           f"solution; resample the record)")
+    if len(ts) < 2:
+        raise BadInput(f"parameter record: {path!r} has {len(ts)} data rows; "
+                       f"allowed: a CSV file with at least two rows 't, a'")
+    return ts, acc

@@ -250,7 +250,7 @@ def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
     # steps per period of a harmonic motion at the error control's step h = (SAFETY tol / c3)^(1/3) / w
     # (|a_{n+1} - a_n| ~ w^3 h amp), with 1.5 for rejected steps and the control's margin
     per_period = 2 * math.pi * (error_constant() / (SAFETY * spec.tolerance)) ** (1.0 / 3.0) * 1.5
-    f_forced = spec.ground.frequency if spec.ground is not None and spec.ground.times is None else 0.0
+    f_forced = spec.ground.frequency if spec.ground is not None and spec.ground.harmonic else 0.0
     periods = spec.t_end * max(f1, f_forced)
     steps = periods * per_period
     if spec.ground is not None and spec.ground.times is not None and spec.ground.dt:
@@ -390,7 +390,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     if spec.ground is not None:
         if spec.ground.times is not None and spec.ground.dt:
             h_max = min(h_max, spec.ground.dt)
-        elif spec.ground.times is None:
+        if spec.ground.harmonic:
             h_max = min(h_max, 0.05 / spec.ground.frequency)
     t_int = time.perf_counter()
     run = integrate(model, masses, y0, a0, spec.t_end, spec.tolerance, C=C, ground=spec.ground,

@@ -29,31 +29,24 @@ MAX_STEPS = 5_000_000   # closed-form segments before the run is declared failed
 
 
 class Forcing:
-    """F(t) = A sin(theta t) + R(t), R linear between record nodes, 0 outside them [N]."""
+    """F(t) = A sin(theta t) + R(t) [N], R a :class:`femslide.analysis.excitation.Record` (linear
+    between its samples, 0 outside them) or None."""
 
-    def __init__(self, A=0.0, theta=0.0, rec_t=None, rec_F=None):
+    def __init__(self, A=0.0, theta=0.0, record=None):
         self.A = float(A)
         self.theta = float(theta)
         self.harmonic = self.A != 0.0 and self.theta > 0.0
         if not self.harmonic:
             self.A = 0.0
-        self.rt = list(rec_t) if rec_t is not None else []
-        self.rF = list(rec_F) if rec_F is not None else []
-        self.has_record = bool(self.rt)
+        self.record = record
+        self.has_record = record is not None
         self.forced = self.harmonic or self.has_record
 
     def piece(self, t):
         """(p, q, t_next): R(t + tau) = p + q tau until the next record node t_next."""
-        rt = self.rt
-        if not rt:
+        if self.record is None:
             return 0.0, 0.0, math.inf
-        i = bisect.bisect_right(rt, t) - 1
-        if i < 0:
-            return 0.0, 0.0, rt[0]
-        if i >= len(rt) - 1:
-            return 0.0, 0.0, math.inf
-        q = (self.rF[i + 1] - self.rF[i]) / (rt[i + 1] - rt[i])
-        return self.rF[i] + q * (t - rt[i]), q, rt[i + 1]
+        return self.record.piece(t)
 
     def record_value(self, t):
         p, q, _ = self.piece(t)
@@ -73,11 +66,7 @@ class Forcing:
 
     def eval_np(self, t):
         t = np.asarray(t, dtype=float)
-        F = np.zeros_like(t)
-        if self.has_record:
-            rt = np.asarray(self.rt)
-            inside = (t >= rt[0]) & (t < rt[-1])
-            F = np.where(inside, np.interp(t, rt, np.asarray(self.rF)), 0.0)
+        F = self.record.eval_np(t) if self.has_record else np.zeros_like(t)
         if self.harmonic:
             F = F + self.A * np.sin(self.theta * t)
         return F
@@ -248,7 +237,7 @@ class Oscillator:
         if not F.forced:
             return None if abs(kw) <= thr else t
         # both: scan to the end of the record, then the harmonic criterion
-        t_rec_end = F.rt[-1]
+        t_rec_end = F.record.times[-1]
         if t < t_rec_end:
             def g(tau):
                 tt = t + tau
@@ -265,7 +254,7 @@ class Oscillator:
         return _harmonic_exceed(F.A, F.theta, t, -kw, thr)
 
     def _record_exceed(self, t, kw, thr):
-        rt, rF = self.F.rt, self.F.rF
+        rt, rF = self.F.record.times, self.F.record.values
         if t < rt[0]:
             if abs(kw) > thr:
                 return t

@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 
-from femslide.analysis.records import read_record
+from femslide.analysis.excitation import Record, read_csv_record
 from femslide.errors import BadInput, SolverFailure
 from femslide.results.outcome import Outcome
 from femslide.scenes.oscillator import Forcing, Oscillator
@@ -70,11 +70,12 @@ def build(values: dict) -> tuple[Oscillator, float, float]:
         P0 = 0.0 if (ag or rec) else 10.0
     theta = values.get("theta_ratio", 1.0) * omega
     A = P0 - m * ag
-    rec_t = rec_F = None
+    rec_F = record = None
     if rec:
-        rec_t, acc = read_record(rec)
+        rec_t, acc = read_csv_record(rec)
         rec_F = [-m * a for a in acc]
-    forcing = Forcing(A, theta if A else 0.0, rec_t, rec_F)
+        record = Record(rec_t, rec_F)
+    forcing = Forcing(A, theta if A else 0.0, record)
     _check_finite(values, m=m, k=k, omega=omega, theta=theta, A=A, sigma=values.get("c_v", 0.0) / (2 * m),
                   N=m * values["g"], fk=values["mu"] * m * values["g"], fs=values["mu0"] * m * values["g"],
                   rec_F=rec_F, rec=rec)
@@ -112,7 +113,7 @@ def _impulse(osc, t_end):
     imp = abs(F.A) * t_end if F.harmonic else 0.0
     if F.has_record:
         if not hasattr(F, "_imp_cum"):   # cumulative bound at the nodes (t_end is bisected on)
-            rt, rF = np.asarray(F.rt), np.abs(np.asarray(F.rF))
+            rt, rF = np.asarray(F.record.times), np.abs(np.asarray(F.record.values))
             piece = np.maximum(rF[:-1], rF[1:])
             lo, hi = np.maximum(rt[:-1], 0.0), np.maximum(rt[1:], 0.0)
             F._imp_cum = (hi, piece, np.concatenate([[0.0], np.cumsum(piece * (hi - lo))]))
@@ -120,7 +121,7 @@ def _impulse(osc, t_end):
         j = int(np.searchsorted(hi, t_end, side="left"))   # pieces 0 .. j-1 end before t_end
         imp += float(cum[j])
         if j < piece.size:
-            start = hi[j - 1] if j > 0 else max(F.rt[0], 0.0)
+            start = hi[j - 1] if j > 0 else max(F.record.times[0], 0.0)
             imp += float(piece[j]) * max(0.0, t_end - start)
     return imp
 
@@ -154,8 +155,8 @@ def work_periods(osc, w0, t_end):
     T = TWO_PI / om
     if F.harmonic:
         return t_end / T, T
-    span = min(t_end, F.rt[-1]) if F.has_record else 0.0
-    n_nodes = bisect.bisect_right(F.rt, t_end) if F.has_record else 0
+    span = min(t_end, F.record.times[-1]) if F.has_record else 0.0
+    n_nodes = bisect.bisect_right(F.record.times, t_end) if F.has_record else 0
     P = span / T + n_nodes / 4.0          # a record node costs about a quarter period's work
     tail = t_end - span
     if tail <= 0:
