@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from femslide.analysis.events import root_up
 from femslide.analysis.generalized_alpha import NEWTON_TOL, State, _consistent_start, add_coo
 from femslide.errors import SolverFailure
 from femslide.joints.friction import FrictionJoint
@@ -138,44 +139,22 @@ class Friction:
 
 
 def _locate(attempt, fr, phi0, cross, h, cand, max_iter=60):
-    """The step size at which the first event function of the crossing joints reaches zero (Illinois
-    on h in (0, h], each trial a step from the same state); returns (h_event, candidate)."""
-    def Phi(c):
-        return float(np.min(np.where(cross, fr.phi(c[0], c[3]), np.inf)))
+    """The step size at which the first event function of the crossing joints reaches zero, located
+    by femslide.analysis.events.root_up on the step size in (0, h], each trial a step from the same
+    state (so the event lies on the step's own solution); returns (h_event, candidate): the trial at
+    or just past the event."""
+    def g(c):
+        return -float(np.min(np.where(cross, fr.phi(c[0], c[3]), np.inf)))
+    tried = {h: cand}
 
-    lo, f_lo = 0.0, float(np.min(phi0[cross]))
-    hi, f_hi = h, Phi(cand)
-    best = (hi, cand)
-    side = 0
-    for _ in range(max_iter):
-        if hi - lo <= 1e-14 * max(1.0, h) * 100 or f_hi == 0.0:
-            break
-        x = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
-        if not lo < x < hi:
-            x = 0.5 * (lo + hi)
+    def trial(x):
         c, _ = attempt(x)
         if c is None:
-            x = 0.5 * (lo + hi)
-            c, _ = attempt(x)
-            if c is None:
-                break
-        fx = Phi(c)
-        if fx < 0.0:
-            hi, f_hi, best = x, fx, (x, c)
-            if side == -1:
-                f_lo *= 0.5
-            side = -1
-        else:
-            lo, f_lo = x, fx
-            best_lo = (x, c)
-            if side == 1:
-                f_hi *= 0.5
-            side = 1
-            if fx == 0.0:
-                return best_lo
-        if abs(fx) <= 1e-15 * (1.0 + abs(f_lo)):
-            return (x, c)
-    return best
+            return None
+        tried[x] = c
+        return g(c)
+    x = root_up(trial, 0.0, h, -float(np.min(phi0[cross])), g(cand), xtol=1e-12, maxiter=max_iter)
+    return x, tried[x]
 
 
 class _Light:

@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from femslide.analysis.roots import NoRoot, first_crossing
+from femslide.analysis.events import NoRoot, first_crossing
 from femslide.errors import BadInput, SolverFailure
 
 

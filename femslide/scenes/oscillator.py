@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from femslide.analysis.events import _first_up
+from femslide.analysis.events import first_up
 from femslide.errors import BadInput, SolverFailure
 from femslide.scenes.oscillator_solution import Solution
 
@@ -225,7 +225,7 @@ class Oscillator:
         def g(tau):
             w, v, a = fd(tau)
             return -s * v, -s * a
-        return _first_up(g, tau_max, self.h_scan, from_zero=from_rest)
+        return first_up(g, tau_max, self.h_scan, from_zero=from_rest)
 
     def _breakaway(self, t, w, t_stop=math.inf):
         """First time >= t at which |F - k w| exceeds mu0 N with the mass held at w, or None."""
@@ -245,7 +245,7 @@ class Oscillator:
                 d = F.slope(tt)
                 return abs(G) - thr, (d if G >= 0 else -d)
             h = min(self.h_scan, TWO_PI / F.theta / 16.0)
-            tau = _first_up(g, min(t_rec_end, t_stop) - t, h)
+            tau = first_up(g, min(t_rec_end, t_stop) - t, h)
             if tau is not None:
                 return t + tau
             if t_stop < t_rec_end:
