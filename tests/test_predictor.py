@@ -10,6 +10,7 @@ import pytest
 from femslide.analysis import static
 from femslide.analysis.newton import newton
 from femslide.elements import corotational
+from femslide.joints.holds import DofHold
 from femslide.model.discrete import Model
 from femslide.scenes import paper
 from femslide.scenes.catalog import SCENES
@@ -56,7 +57,7 @@ def test_controlled_newton_from_the_prediction_is_short(scene):
     y_eq, _, _ = static.solve_level(m, path)
     y, alpha = mechanism_state(m, y_eq[th])
     z = np.concatenate([y, [1.0]])
-    _, info = newton(m, z, alpha, control=(th, y_eq[th]))
+    _, info = newton(m, z, alpha, control=DofHold(th, y_eq[th]))
     assert info.converged and info.iterations <= 6, info
 
 

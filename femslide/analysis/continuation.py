@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from femslide.analysis.newton import newton
+from femslide.joints.holds import DofHold
 from femslide.errors import SolverFailure
 from femslide.model.linalg import solve_linear
 
@@ -54,7 +55,7 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, alpha
 
     def controlled(phi, z0, a0, maxit=40):
         nonlocal total_it
-        z, info = newton(model, z0, a0, control=(theta_dof, sign * phi), tol=tol, maxit=maxit)
+        z, info = newton(model, z0, a0, control=DofHold(theta_dof, sign * phi), tol=tol, maxit=maxit)
         total_it += info.iterations
         hist_all.extend(info.history)
         if not info.converged:
@@ -63,7 +64,7 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, alpha
 
     def tangent(z, a):
         """d z / d phi along the controlled path (its last entry is d lam / d phi)."""
-        _, A, _ = model.system(z, a, control=(theta_dof, 0.0))
+        _, A, _ = model.system(z, a, control=DofHold(theta_dof, 0.0))
         rhs = np.zeros(z.size)
         rhs[-1] = sign
         return solve_linear(A, rhs)

@@ -144,7 +144,7 @@ def parse_elements(table, where="[simulate]"):
 def _held_start(fs, counts, L, F, y, alpha, ini):
     """The static state held at the ``initial`` values (model units), walked there in small steps."""
     from femslide.analysis.newton import newton
-    from femslide.joints.holds import SlideLock
+    from femslide.joints.holds import SlideHold
     from femslide.model.discrete import Model
     m = Model(fs, counts, L, F, finalize=False)
     if "body" in ini:
@@ -172,7 +172,7 @@ def _held_start(fs, counts, L, F, y, alpha, ini):
         j = next((j for j in fs.joints if j.name == name), None)
         if j is None or j.type not in ("slider", "roller"):
             raise BadInput(f"[simulate] initial.joint = {name!r}: not a slider or roller of the structure")
-        hold = SlideLock(m.joint[name], np.zeros(1), "initial slide", origin=m.slide0[name])
+        hold = SlideHold(m.joint[name], np.zeros(1), "initial slide", origin=m.slide0[name])
         target = [ini["slide"] / L]
     m.add_constraint(hold)
     m.finalize()

@@ -2,7 +2,7 @@
 
 :class:`Friction` holds the friction joints of a model (femslide.joints.friction: the Coulomb law of
 one joint) and their modes (0 stuck, +-1 slipping), a model per set of stuck joints (a stuck joint's
-slide is locked by an exact constraint, femslide.joints.holds.SlideLock) and its step system, the
+slide is locked by an exact constraint, femslide.joints.holds.SlideHold) and its step system, the
 event functions (slip velocity, static margin mu0 N - |lam|) and the events recorded.  :func:`_locate`
 finds an event inside a step (Illinois on the step size, each trial a step from the same state);
 :func:`_switch` and :func:`_settle` change modes (the stick test on the consistent start's lock
@@ -17,7 +17,7 @@ from femslide.analysis.events import root_up
 from femslide.analysis.generalized_alpha import NEWTON_TOL, State, _consistent_start, add_coo
 from femslide.errors import SolverFailure
 from femslide.joints.friction import FrictionJoint
-from femslide.joints.holds import SlideLock
+from femslide.joints.holds import SlideHold
 from femslide.model.linalg import solve_linear
 
 
@@ -51,7 +51,7 @@ class Friction:
             m.locks = []
             for i in stuck:
                 fj = self.joints[i]
-                lock = SlideLock(m.joint[fj.name], 0.0, f"lock {fj.name}")
+                lock = SlideHold(m.joint[fj.name], 0.0, f"lock {fj.name}")
                 m.add_constraint(lock)
                 m.locks.append(lock)
             m.finalize()

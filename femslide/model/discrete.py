@@ -474,13 +474,14 @@ class Model:
     def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
         """Residual and Jacobian of the equations at y.
 
-        ``control``: None (load ``lam`` given) or (dof, value): the dof is prescribed, lam is the
-        last unknown y[-1].  Returns (r, A, info) with A dense, banded or sparse CSC
-        (:func:`solve_linear` solves any of them; ``dense=True`` asks for a dense array whatever
-        the size), or None with ``jacobian=False`` (then info["noise"] is not estimated either).
+        ``control``: None (load ``lam`` given) or a femslide.joints.holds.DofHold: its dof is held at
+        its target and lam is the last unknown y[-1] (displacement control).  Returns (r, A, info)
+        with A dense, banded or sparse CSC (:func:`solve_linear` solves any of them; ``dense=True``
+        asks for a dense array whatever the size), or None with ``jacobian=False`` (then
+        info["noise"] is not estimated either).
 
-        One evaluation of all elements (:func:`femslide.elements.corotational.element_terms`), the terms and
-        joints in Python floats (few numbers each, where numpy's per-call cost would dominate), one
+        One evaluation of all elements (:func:`femslide.elements.corotational.element_terms`), the
+        terms and joints in Python floats (few numbers each, where numpy's per-call cost would dominate), one
         bincount for the residual and one for a dense Jacobian.
         """
         n_q, topo = self.n_q, self._topo
@@ -505,7 +506,7 @@ class Model:
         info.later("fl", lambda: np.bincount(topo.fbins, weights=np.concatenate([self._p_sel, fv]), minlength=n_q)
                    if topo.fbins.size else np.zeros(n_q))
         if control is not None:
-            dof, value = control
+            dof, value = control.dof, control.target
             rv.append(float(q[dof]) - value)
         parts.append(rv)
         r = np.bincount(topo.rbins if control is None else topo.rbins_control, weights=np.concatenate(parts),
@@ -518,7 +519,7 @@ class Model:
         if control is not None:
             jv.append(1.0)
             jv += info["fl"][self._load_dofs].tolist()
-        rows, cols, size, band, sparse, flat = self._pattern(None if control is None else control[0])
+        rows, cols, size, band, sparse, flat = self._pattern(None if control is None else control.dof)
         vals = np.concatenate([K.ravel(), jv]) if self.elements is not None else np.array(jv)
         if band is not None and not dense:
             A = band.assemble(vals)
