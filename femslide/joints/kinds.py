@@ -39,36 +39,47 @@ def kind_of(name, what: str | None = None) -> JointKind:
 
 def register(kind: JointKind) -> JointKind:
     """Add a kind to the registry (its ``name`` must be new) after checking that its declaration
-    hangs together; returns it.  TypeError / ValueError on a malformed kind (a programming error)."""
+    hangs together (:func:`problems`); returns it.  TypeError / ValueError on a malformed kind (a
+    programming error, not bad input)."""
     if not isinstance(kind, JointKind):
         raise TypeError(f"{kind!r} is not a JointKind instance")
-    name = kind.name
-    if not isinstance(name, str) or not name or name in KINDS:
-        raise ValueError(f"joint kind name {name!r}: give a new, non-empty name (registered: {', '.join(KINDS)})")
+    bad = problems(kind)
+    if bad:
+        raise ValueError(f"joint kind {kind.name!r}: " + "; ".join(bad))
+    KINDS[kind.name] = kind
+    return kind
+
+
+def problems(kind: JointKind) -> list[str]:
+    """What is wrong with a kind's declaration, against the registered kinds ([] when nothing is):
+    its name and code must be its own, its accepted fields known and consistent with its free
+    coordinate (a slide needs a guide; springs and friction act on the free coordinate; friction
+    needs the kind it becomes when stuck)."""
+    name, acc = kind.name, set(kind.accepts)
     bad = []
+    others = [k for k in KINDS.values() if k is not kind]
+    if not isinstance(name, str) or not name or any(k.name == name for k in others):
+        bad.append(f"name {name!r} (a new, non-empty name; registered: {', '.join(KINDS)})")
+    if not isinstance(kind.code, int) or (kind.code != -1 and any(k.code == kind.code for k in others)):
+        bad.append(f"code = {kind.code!r} (-1, or an integer no other kind has)")
     if not isinstance(kind.size, int) or kind.size < 1:
         bad.append(f"size = {kind.size!r} (a positive number of equations)")
-    if not set(kind.accepts) <= OPTIONAL_FIELDS:
-        bad.append(f"accepts {sorted(set(kind.accepts) - OPTIONAL_FIELDS)} (allowed: {sorted(OPTIONAL_FIELDS)})")
-    if not isinstance(kind.code, int) or (kind.code != -1 and any(k.code == kind.code for k in KINDS.values())):
-        bad.append(f"code = {kind.code!r} (-1, or an integer no other kind has)")
+    if not acc <= OPTIONAL_FIELDS:
+        bad.append(f"accepts {sorted(acc - OPTIONAL_FIELDS)} (allowed: {', '.join(sorted(OPTIONAL_FIELDS))})")
     if kind.free not in (None, "slide", "rotation"):
         bad.append(f"free = {kind.free!r} (None, 'slide' or 'rotation')")
-    if kind.free == "slide" and not kind.guide:
+    if kind.free == "slide" and "axis" not in acc:
         bad.append("a slide needs a guide: accept 'axis'")
-    if "c" in kind.accepts and kind.free != "rotation":
+    if "c" in acc and kind.free != "rotation":
         bad.append("a rotational spring c needs free = 'rotation'")
     for pair in (("k", "preload"), ("mu", "mu0")):
-        if any(f in kind.accepts for f in pair) and (kind.free != "slide" or not set(pair) <= kind.accepts):
+        if acc & set(pair) and (kind.free != "slide" or not set(pair) <= acc):
             bad.append(f"{' and '.join(pair)} go together and need free = 'slide'")
-    if "mu" in kind.accepts and not kind.stuck:
-        bad.append("friction needs the kind it becomes when stuck (stuck)")
-    if "bearing" in kind.accepts and "mu" not in kind.accepts:
+    if "mu" in acc and not kind.stuck:
+        bad.append("friction needs the name of the kind it becomes when stuck (stuck)")
+    if "bearing" in acc and "mu" not in acc:
         bad.append("a bearing is for friction: accept 'mu' and 'mu0'")
-    if bad:
-        raise ValueError(f"joint kind {name!r}: " + "; ".join(bad))
-    KINDS[name] = kind
-    return kind
+    return bad
 
 
 def unregister(name: str) -> None:
