@@ -38,13 +38,13 @@ flattened as ``rods_NAME_M_max``, ``joints_NAME_Fx``, ...; text arrays (UTF-8 by
 array, read with :func:`text`): ``units`` (the unit of every array), ``conventions``, ``rod_names``,
 ``body_names``, ``joint_names`` and ``joint_type_names`` (the joints' names and types, one a line,
 in declaration order); one row per joint: ``joint_type`` (0 pin, 1 weld, 2 slider, 3 roller, -1 any
-other registered kind: read the type from ``joint_type_names``), ``joint_ground`` (1: a support, b is the ground),
-``joint_position`` and ``joint_reference`` (x, y, 0) [m]: a's joint point now and in the reference
+other registered kind: read the type from ``joint_type_names``), ``joint_ground`` (1: a support, b is
+the ground), ``joint_position`` and ``joint_reference`` (x, y, 0) [m]: a's joint point now and in the reference
 state, ``joint_axis`` (unit guide direction now, carried by b; zero for kinds without a guide),
 ``joint_force`` (Fx [N], Fy [N], M [N m]: what b exerts on a, springs included; for a support the
 reaction of the ground), ``joint_inward`` (supports: unit vector from the ground into the structure:
-across the guide of a slider or roller, along a rod clamped to the ground (a weld), else +y (-y when the
-structure's centre lies clearly below the support: a hanging structure);
+across the guide of a slider or roller, along a rod clamped to the ground (a weld), else +y (-y when
+the structure's centre lies clearly below the support: a hanging structure);
 pictures draw the ground on the other side and call a reaction along -inward a lift-off).
 Series frames add their time ``time`` [s] and the run's global values at that time.
 """
