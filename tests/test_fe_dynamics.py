@@ -339,8 +339,9 @@ def test_bearing_normal_force_from_both_contact_forces():
     """N of a slider with bearings h apart: |Q/2 + M/h| + |Q/2 - M/h| (the moment dominates when
     |M| > |Q| h / 2); without bearings N = |Q|; dN/d(Q, M) the signs."""
     from femslide.joints.friction import FrictionJoint
+    from femslide.joints.kinds import kind_of
     fj = FrictionJoint.__new__(FrictionJoint)
-    fj.mu_idx, fj.slider = np.array([0, 1]), True
+    fj.mu_idx, fj.kind = np.array([0, 1]), kind_of("slider")
     fj.h = 0.5
     N, dN = fj.normal(np.array([2.0, 3.0]))
     assert N == pytest.approx(abs(1.0 + 6.0) + abs(1.0 - 6.0))

@@ -202,6 +202,7 @@ def test_static_vtu_field_data_units_conventions_joints(tmp_path):
     names = text(fd, "joint_names").split("\n")
     assert names == ["A1", "B1", "clamp"]
     assert fd["joint_type"].ravel().tolist() == [0, 0, 2] and fd["joint_ground"].ravel().tolist() == [1, 1, 0]
+    assert text(fd, "joint_type_names").split("\n") == ["pin", "pin", "slider"]
     side = json.loads((tmp_path / "beam-slider.json").read_text())["results_of_this_mesh"]
     F = fd["joint_force"]
     for i, n in enumerate(names):

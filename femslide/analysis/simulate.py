@@ -48,6 +48,7 @@ from femslide.analysis.excitation import Ground
 from femslide.analysis.excitation import parse as parse_ground
 from femslide.errors import BadInput, SolverFailure
 from femslide.joints.holds import BodyHold
+from femslide.joints.kinds import kind_of, listed
 from femslide.results.outcome import Frames, Loop, ModeShapes, Outcome, Table
 from femslide.results.history import _peak
 
@@ -170,8 +171,9 @@ def _held_start(fs, counts, L, F, y, alpha, ini):
     else:
         name = ini["joint"]
         j = next((j for j in fs.joints if j.name == name), None)
-        if j is None or j.type not in ("slider", "roller"):
-            raise BadInput(f"[simulate] initial.joint = {name!r}: not a slider or roller of the structure")
+        if j is None or kind_of(j.type).free != "slide":
+            raise BadInput(f"[simulate] initial.joint = {name!r}: not a "
+                           f"{listed(lambda k: k.free == 'slide', last='or')} of the structure")
         hold = SlideHold(m.joint[name], np.zeros(1), "initial slide", origin=m.slide0[name])
         target = [ini["slide"] / L]
     m.add_constraint(hold)
@@ -204,10 +206,11 @@ def _has_friction(j):
 
 
 def _stuck_statics(fs, exc):
-    """Static solution of the structure with its friction joints stuck (sliders as welds, rollers as
-    pins, at the same points); SolverFailure (the original reason) if that fails too."""
+    """Static solution of the structure with its friction joints stuck (each as its kind's ``stuck``
+    kind: sliders as welds, rollers as pins, at the same points); SolverFailure (the original reason)
+    if that fails too."""
     from femslide.analysis import static
-    joints = tuple(replace(j, type="weld" if j.type == "slider" else "pin", axis=None, k=0.0, preload=0.0,
+    joints = tuple(replace(j, type=kind_of(j.type).stuck, axis=None, k=0.0, preload=0.0,
                            mu=None, mu0=None, bearing=None) if j.mu is not None else j for j in fs.joints)
     try:
         return static.solve(replace(fs, joints=joints, derived={}))
@@ -347,7 +350,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         return fx, fy, m
 
     reac = [j.name for j in fs.joints if j.b == "ground"]
-    slides = [j.name for j in fs.joints if j.type in ("slider", "roller")]
+    slides = [j.name for j in fs.joints if kind_of(j.type).free == "slide"]
     rods = [r.name for r in fs.rods]
     bodies = [b.name for b in fs.bodies]
     cols = ["t"] + [f"reactions.{n}.{k}" for n in reac for k in ("Fx", "Fy", "M")] \

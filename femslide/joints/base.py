@@ -5,19 +5,23 @@ displacement and rotation) or a rigid body (the displacement of its centroid and
 ground is a frame without dofs.  A point fixed to a frame at reference offset r from the frame's
 origin X sits at X + (u, v) + R(theta) r.  A joint connects a point of part a to a point of part b
 (both at the joint point ``at`` in the reference configuration); with w = p_a - p_b and the guide
-direction e = R(theta_b) e0 carried by b, n = e turned by +90 degrees:
+direction e = R(theta_b) e0 carried by b, n = e turned by +90 degrees, the built-in kinds
+(:mod:`femslide.joints.kinds`; one module each) are:
 
 - ``pin``:    w = 0                                   (2 equations)
 - ``weld``:   w = 0, theta_a - theta_b = 0            (3)
 - ``slider``: w . n = 0, theta_a - theta_b = 0        (2; the slide s = w . e is free)
 - ``roller``: w . n = 0                               (1)
 
-Each constraint returns its values g (m,), gradient G (m, k) and Hessians over its k <= 6 dofs (a's
-then b's), or, given the multipliers mu, the weighted Hessian sum_i mu_i H_i that the Newton tangent
-needs.  The kinematics are scalar ``math``: a joint has a handful of numbers, and numpy's per-call
-cost would dominate.  Sign of the multipliers: the equations are stationarity of
-U + V + mu . g, so the generalised force of the joint on a is -G_a^T mu: a pin's force on a is -mu,
-a slider's transverse force on a is -mu_1 n and its moment -mu_2.
+A :class:`Link` is one joint of a model: its carriers, its dofs and the kinematics (w with its
+derivatives, the guide, the slide, the relative rotation) that its kind's equations
+(:meth:`femslide.joints.kind.JointKind.equations`) are written with.  Each constraint returns its
+values g (m,), gradient G (m, k) and Hessians over its k <= 6 dofs (a's then b's), or, given the
+multipliers mu, the weighted Hessian sum_i mu_i H_i that the Newton tangent needs.  The kinematics
+are scalar ``math``: a joint has a handful of numbers, and numpy's per-call cost would dominate.
+Sign of the multipliers: the equations are stationarity of U + V + mu . g, so the generalised force
+of the joint on a is -G_a^T mu: a pin's force on a is -mu, a slider's transverse force on a is
+-mu_1 n and its moment -mu_2.
 """
 from __future__ import annotations
 
@@ -26,7 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-SIZES = {"pin": 2, "weld": 3, "slider": 2, "roller": 1}
+from femslide.joints.kind import JointKind
+from femslide.joints.kinds import kind_of
 
 
 @dataclass(frozen=True)
@@ -57,11 +62,14 @@ def _point(z, i, c: Carrier):
 
 
 class Link:
-    """A joint between carriers a and b (see the module docstring)."""
+    """A joint between carriers a and b (see the module docstring): ``kind`` a registered type name
+    or a :class:`JointKind`; ``axis`` the guide direction e0 (unit, reference configuration) of a
+    kind with a guide.  ``link.kind`` is the type name, ``link.joint_kind`` the kind."""
 
-    def __init__(self, name: str, kind: str, a: Carrier, b: Carrier, axis=None):
-        self.name, self.kind, self.a, self.b = name, kind, a, b
-        self.size = SIZES[kind]
+    def __init__(self, name: str, kind: str | JointKind, a: Carrier, b: Carrier, axis=None):
+        jk = kind if isinstance(kind, JointKind) else kind_of(kind, f"joint {name}")
+        self.name, self.kind, self.joint_kind, self.a, self.b = name, jk.name, jk, a, b
+        self.size = jk.size
         self.ia = 0 if a.dof0 is not None else None
         self.ib = (3 if a.dof0 is not None else 0) if b.dof0 is not None else None
         self.dofs = np.array([c.dof0 + i for c in (a, b) if c.dof0 is not None for i in range(3)], np.intp)
@@ -71,14 +79,15 @@ class Link:
         self.lever_b = b.dof0 is not None and b.r != (0.0, 0.0)
         self.e0 = tuple(axis) if axis is not None else (0.0, 1.0)
         self.n0 = (-self.e0[1], self.e0[0])
-        # a pin or weld between rod nodes and the ground is linear: constant gradient, no Hessian
-        self.linear = kind in ("pin", "weld") and not self.lever_a and not self.lever_b
+        # e.g. a pin or weld between rod nodes and the ground: constant gradient, no Hessian
+        self.linear = jk.linear and not self.lever_a and not self.lever_b
         self._lin = None
 
     # -- kinematics ----------------------------------------------------------------------------------
-    def _w(self, z):
-        """w = p_a - p_b, its gradient [(dof, dwx, dwy)], second derivatives [(dof, d2wx, d2wy)]
-        (only theta-theta of a body carrier), b's rotation and a's rotation."""
+    def w(self, z):
+        """(wx, wy, dw, d2w, theta_a, theta_b) at the joint's dofs ``z`` (a list): w = p_a - p_b,
+        its gradient dw = [(dof, dwx, dwy)], its second derivatives d2w = [(dof, d2wx, d2wy)] (only
+        theta-theta of a carrier with a lever) and the two rotations (0 for the ground)."""
         ia, ib = self.ia, self.ib
         ax, ay, Rax, Ray, tha = _point(z, ia, self.a)
         bx, by, Rbx, Rby, thb = _point(z, ib, self.b)
@@ -95,51 +104,17 @@ class Link:
                 d2w.append((ib + 2, Rbx, Rby))
         return ax - bx, ay - by, dw, d2w, tha, thb
 
-    def _frame(self, thb):
-        """Guide direction e and normal n carried by b (constant for the ground)."""
+    def guide(self, thb):
+        """(ex, ey, nx, ny): the guide direction e and its normal n carried by b at b's rotation
+        ``thb`` (constant for the ground)."""
         co, si = math.cos(thb), math.sin(thb)
         ex, ey = self.e0
         nx, ny = self.n0
         return co * ex - si * ey, si * ex + co * ey, co * nx - si * ny, si * nx + co * ny
 
     def _parts(self, z):
-        k, ia, ib = self.k, self.ia, self.ib
-        wx, wy, dw, d2w, tha, thb = self._w(z)
-        g, G, hess = [], [], []
-        if self.kind in ("pin", "weld"):
-            gx, gy = [0.0] * k, [0.0] * k
-            for i, dx, dy in dw:
-                gx[i] += dx
-                gy[i] += dy
-            g += [wx, wy]
-            G += [gx, gy]
-            for i, hx, hy in d2w:
-                hess += [(0, i, i, hx), (1, i, i, hy)]
-        else:
-            ex, ey, nx, ny = self._frame(thb)
-            row = [0.0] * k
-            for i, dx, dy in dw:
-                row[i] += dx * nx + dy * ny
-            for i, hx, hy in d2w:
-                hess.append((0, i, i, hx * nx + hy * ny))
-            if ib is not None:
-                j = ib + 2
-                row[j] -= wx * ex + wy * ey           # w . dn/dthb, dn/dthb = -e
-                for i, dx, dy in dw:                  # 2 sym(dw . dn/dthb) (x) delta_b
-                    v = -(dx * ex + dy * ey)
-                    hess += [(0, i, j, v), (0, j, i, v)]
-                hess.append((0, j, j, -(wx * nx + wy * ny)))  # w . d2n/dthb2, d2n = -n
-            g.append(wx * nx + wy * ny)
-            G.append(row)
-        if self.kind in ("weld", "slider"):
-            row = [0.0] * k
-            if ia is not None:
-                row[ia + 2] = 1.0
-            if ib is not None:
-                row[ib + 2] = -1.0
-            g.append(tha - thb)
-            G.append(row)
-        return g, G, hess
+        """(g, G, hess) of the joint's kind at ``z`` (a list; :meth:`JointKind.equations`)."""
+        return self.joint_kind.equations(self, z)
 
     def _linear(self):
         """The constant parts of a linear joint (g = G z + g(0), no Hessian) as Python floats, built
@@ -190,7 +165,7 @@ class Link:
             if jv is not None:
                 jv += const
             return
-        g, G, hess = self._parts(z)
+        g, G, hess = self.joint_kind.equations(self, z)
         f = [0.0] * k
         for mi, row in zip(mu, G):
             for j in range(k):
@@ -209,7 +184,7 @@ class Link:
 
     # -- joint quantities ------------------------------------------------------------------------------
     def slide(self, z):
-        """Slide s = w . e (model units), its gradient and Hessian over the joint dofs (slider, roller).
+        """Slide s = w . e (model units), its gradient and Hessian over the joint dofs (kinds with a guide).
         The reference slide (0 when a starts at ``at``) is subtracted by the caller."""
         s, ds, H = self._slide(z.tolist())
         return s, np.array(ds), np.array(H).reshape(self.k, self.k)
@@ -217,8 +192,8 @@ class Link:
     def _slide(self, z):
         """:meth:`slide` as Python floats: s, ds (k), H (k x k, row-major); ``z`` a list."""
         k, ib = self.k, self.ib
-        wx, wy, dw, d2w, _, thb = self._w(z)
-        ex, ey, nx, ny = self._frame(thb)
+        wx, wy, dw, d2w, _, thb = self.w(z)
+        ex, ey, nx, ny = self.guide(thb)
         ds = [0.0] * k
         H = [0.0] * (k * k)
         for i, dx, dy in dw:

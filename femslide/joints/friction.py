@@ -3,10 +3,11 @@
 A joint with ``mu`` (kinetic) and ``mu0`` >= mu (static) resists its slide s (the displacement of a's
 point along the guide carried by b; femslide/joints/base.py) by a friction force along the guide:
 
-- normal force N from the joint's own multipliers: a slider carries its transverse force Q (first
-  multiplier) and its moment M (second); with ``bearing = h`` the guide's two bearings h apart take
-  the contact forces Q/2 + M/h and Q/2 - M/h and N = |Q/2 + M/h| + |Q/2 - M/h|; without a bearing
-  (and for a roller) N = |Q|.  N is evaluated implicitly, at the end of every step, with the
+- normal force N from the joint's own multipliers, by its kind
+  (:meth:`femslide.joints.kind.JointKind.normal_force`): a slider carries its transverse force Q
+  (first multiplier) and its moment M (second); with ``bearing = h`` the guide's two bearings h
+  apart take the contact forces Q/2 + M/h and Q/2 - M/h and N = |Q/2 + M/h| + |Q/2 - M/h|; without a
+  bearing (and for a roller) N = |Q|.  N is evaluated implicitly, at the end of every step, with the
   multipliers of that step;
 - stuck: the slide is locked exactly by an extra constraint s(q) = s_stick (velocity exactly zero,
   no drift, no chattering); its multiplier lam is the friction force that holds it (the force along
@@ -35,8 +36,6 @@ Energy: friction dissipates mu N |s'| (integrated with the others in femslide/an
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from femslide.joints.base import at_joint_point
@@ -55,7 +54,7 @@ class FrictionJoint:
         self.mu_idx = np.arange(o, o + self.link.size, dtype=np.intp)
         self.mu, self.mu0 = float(joint.mu), float(joint.mu0)
         self.h = joint.bearing / model.Lref if joint.bearing else None
-        self.slider = joint.type == "slider"
+        self.kind = self.link.joint_kind
         # COO pattern of the slip force: (dofs x dofs) and (dofs x joint multipliers)
         d, m = self.dofs, self.mu_idx
         self.rows = np.concatenate([np.repeat(d, d.size), np.repeat(d, m.size)])
@@ -63,16 +62,8 @@ class FrictionJoint:
 
     def normal(self, y):
         """N (model units) and dN / d(joint multipliers)."""
-        m = y[self.mu_idx]
-        Q = float(m[0])
-        if self.slider and self.h:
-            M = float(m[1])
-            c1, c2 = 0.5 * Q + M / self.h, 0.5 * Q - M / self.h
-            s1, s2 = math.copysign(1.0, c1), math.copysign(1.0, c2)
-            return abs(c1) + abs(c2), np.array([0.5 * (s1 + s2), (s1 - s2) / self.h])
-        dN = np.zeros(self.mu_idx.size)
-        dN[0] = math.copysign(1.0, Q)
-        return abs(Q), dN
+        N, dN = self.kind.normal_force(y[self.mu_idx].tolist(), self.h)
+        return N, np.array(dN)
 
     def slide_rate(self, q, v):
         """(s, s') of the joint (s from its absolute value along the guide, model units)."""

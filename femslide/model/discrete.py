@@ -22,6 +22,7 @@ import numpy as np
 from femslide.elements import corotational
 from femslide.elements.loads import PointForce, distributed_nodal_loads
 from femslide.joints.base import Carrier, Link, RotationalSpring, SlideSpring
+from femslide.joints.kinds import kind_of
 from femslide.model.frozen import Frozen
 from femslide.model.linalg import Banded, _unique
 from femslide.model.parts import Table
@@ -172,7 +173,7 @@ class _Mesh:
 
 
 class _JointPlan:
-    __slots__ = ("name", "kind", "ra", "rb", "at", "axis", "k", "preload", "c")
+    __slots__ = ("name", "kind", "ra", "rb", "at", "axis", "k", "preload", "c")   # kind: a JointKind
 
 
 class _Plan:
@@ -229,7 +230,7 @@ class _Plan:
         self.joints = []
         for j in fs.joints:
             jp = _JointPlan()
-            jp.name, jp.kind, jp.axis = j.name, j.type, j.axis
+            jp.name, jp.kind, jp.axis = j.name, kind_of(j.type), j.axis
             jp.ra, jp.rb = fs.refs[j.name]
             jp.at = (j.at[0] / L, j.at[1] / L)
             jp.k, jp.preload, jp.c = j.k * L / F, j.preload / F, j.c / (F * L)
@@ -243,11 +244,11 @@ class _Plan:
 
 
 def body_origin(fs: Frozen, body) -> tuple:
-    """Reference point [m] of a body's frame: the point of its first pin to the ground (the body then
-    turns about its frame origin and that pin is a linear constraint), else its centroid."""
+    """Reference point [m] of a body's frame: the point of its first pivot to the ground (a pin: the
+    body then turns about its frame origin and that joint is a linear constraint), else its centroid."""
     for j in fs.joints:
         ra, rb = fs.refs[j.name]
-        if j.type == "pin" and rb.kind == "ground" and ra.kind == "body" and ra.name == body.name:
+        if rb.kind == "ground" and ra.kind == "body" and ra.name == body.name and kind_of(j.type).pivot:
             return tuple(j.at)
     return tuple(body.centroid)
 
@@ -317,13 +318,13 @@ class Model:
         for jp in plan.joints:
             link = Link(jp.name, jp.kind, self._carrier(jp.ra, jp.at), self._carrier(jp.rb, jp.at), jp.axis)
             self.joint[jp.name] = self.add_constraint(link)
-            if jp.kind in ("slider", "roller"):
+            if jp.kind.free == "slide":
                 # reference slide: a's point (a rod end may sit anywhere on the line) past ``at``
                 pa = (link.a.X[0] + link.a.r[0] - jp.at[0], link.a.X[1] + link.a.r[1] - jp.at[1])
                 self.slide0[jp.name] = s0 = pa[0] * jp.axis[0] + pa[1] * jp.axis[1]
                 if jp.k or jp.preload:
                     self.spring[jp.name] = self.add_term(SlideSpring(link, jp.k, jp.preload, s0, jp.name))
-            elif jp.c:
+            elif jp.c:   # a kind with a free rotation (Frozen checks that it takes c)
                 self.spring[jp.name] = self.add_term(RotationalSpring(link, jp.c, jp.name))
         for body, r, Fv, M, name in plan.point_forces:
             d = self.body_dof(body)

@@ -12,10 +12,10 @@ import math
 from dataclasses import dataclass, field, replace
 
 from femslide.errors import BadInput
+from femslide.joints.kinds import kind_of, listed
 from femslide.model.parts import (
     EA_PER_EI,
     GROUND,
-    JOINT_TYPES,
     LOAD_TYPES,
     MAX_ELEMENTS,
     Body,
@@ -164,10 +164,10 @@ class Frozen:
         refs = {}
         # bodies without a centroid sit at their first joint point
         joints_in = list(s.joints.values())
+        kinds = {}
         for j in joints_in:
             w = f"joint {j.name}"
-            if j.type not in JOINT_TYPES:
-                raise BadInput(f"{w}: type {j.type!r}; allowed: {', '.join(JOINT_TYPES)}")
+            kinds[j.name] = kind_of(j.type, w)
             ra = resolve(f"{w}: a", j.a, allow_ground=False)
             rb = resolve(f"{w}: b", j.b, allow_ground=True)
             if ra == rb or (ra.kind == rb.kind == "body" and ra.name == rb.name):
@@ -193,10 +193,16 @@ class Frozen:
                 return frozen_b[ref.name].centroid
             return None
 
+        def accepting(what):
+            return listed(lambda k: what in k.accepts, plural=True)
+
+        # the optional fields each kind takes (a kind with a guide needs its axis; a rod end a may
+        # start anywhere on the guide line, every other rod end sits at the joint point)
         joints = []
         for j in joints_in:
             w = f"joint {j.name}"
             ra, rb = refs[j.name]
+            kind = kinds[j.name]
             if j.at is not None:
                 at = _vec(f"{w}: at", j.at)
             elif ra.kind == "rod_end":
@@ -208,11 +214,11 @@ class Frozen:
             scale = max(1.0, max(abs(v) for v in at))
             for ref, side in ((ra, "a"), (rb, "b")):
                 if ref.kind == "rod_end" and math.dist(pos(ref), at) > 1e-9 * scale \
-                        and (side == "b" or j.type in ("pin", "weld")):
+                        and (side == "b" or not kind.guide):
                     raise BadInput(f"{w}: at = {list(at)} is not the position of the rod end {side} = "
                                    f"{getattr(j, side)!r} {list(pos(ref))}")
             axis = None
-            if j.type in ("slider", "roller"):
+            if kind.guide:
                 if j.axis is None:
                     raise BadInput(f"{w}: a {j.type} needs its guide direction `axis`")
                 axis = _vec(f"{w}: axis", j.axis, nonzero=True)
@@ -225,25 +231,25 @@ class Frozen:
                         raise BadInput(f"{w}: the rod end {j.a} is {off:g} m off the guide line through at "
                                        f"along axis; it must start on the line")
             elif j.axis is not None:
-                raise BadInput(f"{w}: axis is for sliders and rollers, not a {j.type}")
+                raise BadInput(f"{w}: axis is for {accepting('axis')}, not a {j.type}")
             c = _num(f"{w}: c", j.c, 0.0)
-            if c and j.type != "pin":
-                raise BadInput(f"{w}: a rotational spring c is for pins, not a {j.type}")
+            if c and "c" not in kind.accepts:
+                raise BadInput(f"{w}: a rotational spring c is for {accepting('c')}, not a {j.type}")
             k = _num(f"{w}: k", j.k, 0.0)
             pre = _num(f"{w}: preload", j.preload)
-            if (k or pre) and j.type not in ("slider", "roller"):
-                raise BadInput(f"{w}: k and preload are for sliders and rollers, not a {j.type}")
+            if (k or pre) and "k" not in kind.accepts:
+                raise BadInput(f"{w}: k and preload are for {accepting('k')}, not a {j.type}")
             mu = mu0 = bearing = None
             if j.mu is not None or j.mu0 is not None:
-                if j.type not in ("slider", "roller"):
-                    raise BadInput(f"{w}: friction (mu, mu0) is for sliders and rollers, not a {j.type}")
+                if "mu" not in kind.accepts:
+                    raise BadInput(f"{w}: friction (mu, mu0) is for {accepting('mu')}, not a {j.type}")
                 mu = _num(f"{w}: mu", 0.0 if j.mu is None else j.mu, 0.0)
                 mu0 = mu if j.mu0 is None else _num(f"{w}: mu0", j.mu0, 0.0)
                 if mu0 < mu:
                     raise BadInput(f"{w}: mu0 = {mu0:g} < mu = {mu:g}; allowed: mu0 >= mu (static >= kinetic)")
             if j.bearing is not None:
-                if j.type != "slider":
-                    raise BadInput(f"{w}: bearing is for sliders")
+                if "bearing" not in kind.accepts:
+                    raise BadInput(f"{w}: bearing is for {accepting('bearing')}")
                 bearing = _num(f"{w}: bearing", j.bearing, 0.0, lo_open=True)
             joints.append(Joint(j.name, j.type, j.a, j.b, at, axis, c, k, pre, mu, mu0, bearing))
 

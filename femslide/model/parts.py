@@ -21,7 +21,6 @@ if TYPE_CHECKING:
 
 
 GROUND = "ground"
-JOINT_TYPES = ("pin", "weld", "slider", "roller")
 LOAD_TYPES = ("force", "distributed")
 EA_PER_EI = 1e6  # m^-2: default EA/EI, a nearly inextensible rod (SPEC section 3)
 MAX_ELEMENTS = 16384  # per rod: beyond it round-off of the stiff axial terms outgrows the discretisation error
@@ -93,6 +92,10 @@ class Body:
 
 @dataclass(frozen=True)
 class Joint:
+    """A joint as declared: ``type`` names a registered kind (:mod:`femslide.joints.kinds`), which
+    says what it holds and which of the optional fields (axis, c, k, preload, mu, mu0, bearing) it
+    takes."""
+
     name: str
     type: str
     a: str

@@ -144,7 +144,8 @@ class Structure:
         name : str
             Its name.
         type : str
-            ``"pin"``, ``"weld"``, ``"slider"`` or ``"roller"``.
+            A registered joint kind: ``"pin"``, ``"weld"``, ``"slider"``, ``"roller"`` or one added
+            with :func:`femslide.joints.kinds.register`; it decides which options apply.
         a : str
             Part a: a rod end (``"ROD.start"``, ``"ROD.end"``) or a body.
         b : str

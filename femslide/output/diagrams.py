@@ -26,16 +26,20 @@ end; at a cut the part beyond exerts on the part before the force N t - V n and 
 One scale k for all rods: by default the largest |value| is drawn at 15 % of the structure's size;
 ``scale`` gives k in m per unit of the diagram (m per N m for M, m per N for V and N).
 
-Supports (joints whose part b is the ground) are drawn on the side of the ground: a pin as a
-triangle on a hatched line, a roller as a triangle on a line parallel to its guide, a weld as a
-hatched wall, a slider as a sleeve along its guide.  Pins, rollers and sliders on the ground are
-taken as resting on it: a reaction that pulls the structure towards the ground (its component along
-the direction from the ground into the structure is negative: a real support resting on the ground
-would lift off) is reported by a :class:`LiftOffWarning` and a red note on the figure.  Welds are
-taken as anchored.  When all supports stand on level ground, a structure that reaches more than 5 %
-of its size below their level (the paper's structure falling over at a tiny EI; not a beam sagging
-between its supports) is reported by a :class:`BelowGroundWarning` and a note: the model has no
-contact with the ground.
+Joints are drawn by the ``symbol`` of their kind (:mod:`femslide.joints.kind`), not by their type
+name, so that a new kind of joint needs no drawing code: supports (joints whose part b is the
+ground) are drawn on the side of the ground - "hinge" (a pin) as a triangle on a hatched line,
+"roller" as a triangle on a line parallel to its guide, "clamp" (a weld) as a hatched wall,
+"sleeve" (a slider) as a sleeve along its guide; between parts a hinge is a small circle, a roller
+a disc on its guide, a sleeve a sleeve along it and a clamp nothing; any other symbol (or a type
+this process does not know, read from a file) is a plain diamond marker.  Hinges, rollers and
+sleeves on the ground are taken as resting on it: a reaction that pulls the structure towards the
+ground (its component along the direction from the ground into the structure is negative: a real
+support resting on the ground would lift off) is reported by a :class:`LiftOffWarning` and a red
+note on the figure.  Clamps are taken as anchored, other symbols are not checked.  When all
+supports stand on level ground, a structure that reaches more than 5 % of its size below their
+level (the paper's structure falling over at a tiny EI; not a beam sagging between its supports) is
+reported by a :class:`BelowGroundWarning` and a note: the model has no contact with the ground.
 """
 from __future__ import annotations
 
@@ -46,7 +50,7 @@ import warnings
 # numpy and matplotlib are imported inside the functions: `import femslide` (which exports plot) stays
 # light for the command line's fast paths
 from femslide.errors import BadInput
-from femslide.model.parts import JOINT_TYPES
+from femslide.joints.kinds import KINDS, name_of_code
 
 DIAGRAMS = {"M": ("bending_moment", "N m", "bending moment M"),
             "V": ("shear_force", "N", "shear force V"),
@@ -57,6 +61,7 @@ SCALE_FRACTION = 0.15      # auto scale: the largest |value| is drawn this fract
 SYMBOL_FRACTION = 0.035    # supports: symbol size as a fraction of the structure's size
 LIFT_OFF_RTOL = 1e-6       # a pull below this fraction of the largest reaction is round-off
 BELOW_GROUND_FRACTION = 0.05   # a structure this far (fraction of its size) below its supports' level: a note
+RESTING = ("hinge", "roller", "sleeve")   # the symbols of supports that rest on the ground (lift-off checked)
 
 
 class LiftOffWarning(UserWarning):
@@ -173,9 +178,14 @@ def _from_mesh(points, cells, point_data, cell_data, fd, magnify, name, where=No
         ax = np.asarray(fd["joint_axis"], float).reshape(-1, 3)[:, :2]
         fo = np.asarray(fd["joint_force"], float).reshape(-1, 3)
         inw = np.asarray(fd["joint_inward"], float).reshape(-1, 3)[:, :2]
+        tn = _text(fd, "joint_type_names")
+        tn = tn.split("\n") if tn is not None else []   # files written before the type names: the codes
         for i in range(len(jt)):
-            joints.append({"name": jn[i] if i < len(jn) else f"joint {i}", "type": JOINT_TYPES[jt[i]],
-                           "ground": bool(gr[i]), "X": ref[i] + magnify * (pos[i] - ref[i]), "X0": ref[i],
+            typ = tn[i] if i < len(tn) else (name_of_code(int(jt[i])) or f"type {jt[i]}")
+            kind = KINDS.get(typ)
+            joints.append({"name": jn[i] if i < len(jn) else f"joint {i}", "type": typ,
+                           "symbol": kind.symbol if kind is not None else None, "ground": bool(gr[i]),
+                           "X": ref[i] + magnify * (pos[i] - ref[i]), "X0": ref[i],
                            "axis": ax[i], "force": fo[i], "inward": inw[i]})
     values = {}
     for k, v in fd.items():
@@ -319,24 +329,25 @@ def shapes(fr, h=None):
     for j in fr["joints"]:
         p = np.asarray(j["X"], float)
         ax = np.asarray(j["axis"], float)
+        sym = j.get("symbol")
         if j["ground"]:
             up = np.asarray(j["inward"], float)
             if not np.any(up):
                 up = np.array([0.0, 1.0])
             side = np.array([up[1], -up[0]])
-            if j["type"] in ("pin", "roller"):
+            if sym in ("hinge", "roller"):
                 base = p - 1.2 * h * up
                 tri = np.array([p, base + 0.7 * h * side, base - 0.7 * h * side])
                 out.append(("poly", tri, "support"))
-                g = base - (0.35 * h * up if j["type"] == "roller" else 0.0)
-                if j["type"] == "roller":
+                g = base - (0.35 * h * up if sym == "roller" else 0.0)
+                if sym == "roller":
                     out.append(("line", np.array([base + 0.9 * h * side, base - 0.9 * h * side]), "support"))
                 out += _hatched(g, side, -up, 1.1 * h)
                 resting.append((j, g))
-            elif j["type"] == "weld":
+            elif sym == "clamp":
                 out += _hatched(p, side, -up, 1.4 * h, thick=True)
                 resting.append((j, p))
-            else:   # slider on the ground: a sleeve along the guide, hatched on the ground side
+            elif sym == "sleeve":   # on the ground: along the guide, hatched on the ground side
                 e = ax / (np.hypot(*ax) or 1.0)
                 for s_ in (1.0, -1.0):
                     out.append(("line", np.array([p - 1.6 * h * e + 0.45 * h * s_ * up,
@@ -345,19 +356,23 @@ def shapes(fr, h=None):
                 g = p - 0.45 * h * up
                 out += _hatched(g, e, -up, 1.6 * h)[1:]
                 resting.append((j, g))
-        elif j["type"] == "slider":   # the guide carried by part b: a sleeve along its axis
+            else:   # a symbol without a drawing: a plain marker (not resting on the ground)
+                out.append(("poly", _diamond(p, 0.4 * h), "support"))
+        elif sym == "sleeve":   # the guide carried by part b: a sleeve along its axis
             e = ax / (np.hypot(*ax) or 1.0)
             w = np.array([-e[1], e[0]])
             for s_ in (1.0, -1.0):
                 out.append(("line", np.array([p - 1.5 * h * e + 0.35 * h * s_ * w,
                                               p + 1.5 * h * e + 0.35 * h * s_ * w]), "guide"))
             out.append(("dash", np.array([p - 3.0 * h * e, p + 3.0 * h * e]), "guide"))
-        elif j["type"] == "roller":
+        elif sym == "roller":
             e = ax / (np.hypot(*ax) or 1.0)
             out.append(("dash", np.array([p - 3.0 * h * e, p + 3.0 * h * e]), "guide"))
             out.append(("poly", _circle(p, 0.3 * h), "support"))
-        elif j["type"] == "pin":
+        elif sym == "hinge":
             out.append(("line", _circle(p, 0.25 * h, closed=True), "support"))
+        elif sym != "clamp":
+            out.append(("poly", _diamond(p, 0.3 * h), "support"))
     # the ground line: through the supports resting on the ground with the ground below (inward +y)
     low = [g[1] for j, g in resting if j["inward"][1] > 0.99]
     level = [j["X0"][1] for j, g in resting if j["inward"][1] > 0.99]
@@ -381,6 +396,12 @@ def _hatched(c, along, away, half, thick=False):
     return out
 
 
+def _diamond(c, r):
+    """The plain marker of a joint whose symbol has no drawing: a diamond of half-diagonal r."""
+    import numpy as np
+    return np.array([[c[0] + r, c[1]], [c[0], c[1] + r], [c[0] - r, c[1]], [c[0], c[1] - r]])
+
+
 def _circle(c, r, closed=False, n=16):
     import numpy as np
     t = np.linspace(0, 2 * np.pi, n + 1 if closed else n, endpoint=closed)
@@ -388,14 +409,14 @@ def _circle(c, r, closed=False, n=16):
 
 
 def lift_off(fr):
-    """[(support name, reaction component along the inward direction [N])] of the pins, rollers and
-    sliders on the ground that pull the structure towards the ground."""
+    """[(support name, reaction component along the inward direction [N])] of the supports resting on
+    the ground (symbols RESTING: pins, rollers, sliders) that pull the structure towards the ground."""
     import numpy as np
     sup = [j for j in fr["joints"] if j["ground"]]
     big = max((float(np.hypot(*j["force"][:2])) for j in sup if np.all(np.isfinite(j["force"]))), default=0.0)
     out = []
     for j in sup:
-        if j["type"] == "weld" or not np.all(np.isfinite(j["force"])):
+        if j.get("symbol") not in RESTING or not np.all(np.isfinite(j["force"])):
             continue
         r = float(np.asarray(j["force"][:2]) @ np.asarray(j["inward"]))
         if r < -LIFT_OFF_RTOL * big:

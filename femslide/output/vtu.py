@@ -36,14 +36,15 @@ of its deformed chord), which pictures use to draw the diagram exactly.
 Field data (and the sidecar ``<name>.json``): the named results of this mesh (no extrapolation),
 flattened as ``rods_NAME_M_max``, ``joints_NAME_Fx``, ...; text arrays (UTF-8 bytes in a UInt8
 array, read with :func:`text`): ``units`` (the unit of every array), ``conventions``, ``rod_names``,
-``body_names``, ``joint_names`` (one name a line, in declaration order); one row per joint:
-``joint_type`` (0 pin, 1 weld, 2 slider, 3 roller), ``joint_ground`` (1: a support, b is the ground),
-``joint_position`` and ``joint_reference`` (x, y, 0) [m]: a's joint point now and in the reference
-state, ``joint_axis`` (unit guide direction now, carried by b; zero for pins and welds),
+``body_names``, ``joint_names`` and ``joint_type_names`` (the joints' names and types, one a line,
+in declaration order); one row per joint: ``joint_type`` (0 pin, 1 weld, 2 slider, 3 roller, -1 any
+other registered kind: read the type from ``joint_type_names``), ``joint_ground`` (1: a support, b is
+the ground), ``joint_position`` and ``joint_reference`` (x, y, 0) [m]: a's joint point now and in the reference
+state, ``joint_axis`` (unit guide direction now, carried by b; zero for kinds without a guide),
 ``joint_force`` (Fx [N], Fy [N], M [N m]: what b exerts on a, springs included; for a support the
 reaction of the ground), ``joint_inward`` (supports: unit vector from the ground into the structure:
-across the guide of a slider or roller, along a rod welded to the ground, else +y (-y when the
-structure's centre lies clearly below the support: a hanging structure);
+across the guide of a slider or roller, along a rod clamped to the ground (a weld), else +y (-y when
+the structure's centre lies clearly below the support: a hanging structure);
 pictures draw the ground on the other side and call a reaction along -inward a lift-off).
 Series frames add their time ``time`` [s] and the run's global values at that time.
 """
@@ -58,7 +59,7 @@ import xml.sax.saxutils as _sx
 import numpy as np
 
 from femslide.errors import BadInput
-from femslide.model.parts import JOINT_TYPES
+from femslide.joints.kinds import kind_of
 
 PART_ROD, PART_BODY, PART_RIGID = 0, 1, 2
 POINT_FIELDS = ("displacement", "rotation", "bending_moment", "axial_force", "shear_force")
@@ -191,7 +192,7 @@ def _off_outline_points(fs, body):
         scale = max(1.0, float(np.abs(P).max()))
         if np.hypot(*(P - at).T).min() <= 1e-9 * scale or (len(P) >= 3 and _inside(P, at)):
             continue
-        guide = (j.type in ("slider", "roller") and rb.kind == "body" and rb.name == body.name
+        guide = (kind_of(j.type).guide and rb.kind == "body" and rb.name == body.name
                  and ra.kind == "rod_end")
         if guide:
             out.append((at, j.name))
@@ -219,7 +220,7 @@ def joint_data(model, y) -> dict:
         z = q[link.dofs]
         pos[i, :2] = link.point_a(z)[0] * L
         ref[i, :2] = link.point_a(np.zeros_like(z))[0] * L
-        types[i] = JOINT_TYPES.index(j.type)
+        types[i] = link.joint_kind.code
         try:
             fx, fy, m = joint_forces(model, y, j.name)
             force[i] = (fx * F, fy * F, m * F * L)
@@ -240,13 +241,14 @@ def joint_data(model, y) -> dict:
                 w = np.array([-j.axis[1], j.axis[0]])
                 sgn = np.sign(w @ d) or (np.sign(w[1]) or np.sign(w[0]))
                 inward[i, :2] = sgn * w
-            elif ra.kind == "rod_end" and j.type == "weld":
+            elif ra.kind == "rod_end" and link.joint_kind.symbol == "clamp":   # drawn across the rod
                 r = fs.rod(ra.name)
                 t = np.subtract(r.end, r.start) / r.length
                 inward[i, :2] = t if ra.end == 0 else -t
             else:   # the ground below the structure (above it when the structure hangs from the support)
                 inward[i, 1] = -1.0 if d[1] < -0.1 * abs(d[0]) else 1.0
-    return {"joint_names": "\n".join(j.name for j in fs.joints), "joint_type": types, "joint_ground": ground,
+    return {"joint_names": "\n".join(j.name for j in fs.joints),
+            "joint_type_names": "\n".join(j.type for j in fs.joints), "joint_type": types, "joint_ground": ground,
             "joint_position": pos, "joint_reference": ref, "joint_axis": axis, "joint_force": force,
             "joint_inward": inward}
 

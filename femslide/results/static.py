@@ -195,9 +195,10 @@ def extract(model, y, alpha, arrays=None) -> dict:
         fx, fy, m = joint_forces(model, y, j.name)
         out = {"Fx": fx * F, "Fy": fy * F, "M": m * F * L}
         link = model.joint[j.name]
-        if j.type in ("slider", "roller"):
+        free = link.joint_kind.free   # the joint's free coordinate, if its kind reports one
+        if free == "slide":
             out["slide"] = (float(link.slide(q[link.dofs])[0]) - model.slide0[j.name]) * L
-        if j.type == "pin":
+        elif free == "rotation":
             out["rotation"] = float(link.rotation(q[link.dofs])[0])
         joints[j.name] = out
         if j.b == "ground":
