@@ -35,11 +35,11 @@ def template_files():
 
 
 def test_version_has_one_source():
-    """pyproject.toml takes the version from femslide.__version__ (no second copy to drift: it once said
-    0.1.0 while the package said 0.2.0)."""
+    """pyproject.toml takes the version from femslide/version.py, which femslide.__version__ is (no
+    second copy to drift: it once said 0.1.0 while the package said 0.2.0)."""
     project = pyproject()["project"]
     assert "version" not in project and "version" in project["dynamic"]
-    assert pyproject()["tool"]["setuptools"]["dynamic"]["version"] == {"attr": "femslide.__version__"}
+    assert pyproject()["tool"]["setuptools"]["dynamic"]["version"] == {"attr": "femslide.version.__version__"}
     assert femslide.__version__ == "0.2.0"
 
 

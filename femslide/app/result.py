@@ -16,6 +16,8 @@ from femslide.errors import BadInput
 if TYPE_CHECKING:
     import pandas
 
+    from femslide.analysis.static import Solution
+
 
 ROD_COLUMNS = ("s", "x", "y", "u", "v", "theta", "N", "V", "M")
 UNITS = {"s": "m", "x": "m", "y": "m", "u": "m", "v": "m", "theta": "rad", "N": "N", "V": "N", "M": "N m"}
@@ -60,7 +62,7 @@ class Result(dict):
         return res
 
     @property
-    def solution(self):
+    def solution(self) -> Solution | None:
         return self._outcome.solution if self._outcome is not None else None
 
     # -- FE statics: values by name --------------------------------------------------------------
