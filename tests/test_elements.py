@@ -24,6 +24,8 @@ from femslide.elements.loads import PointForce
 from femslide.joints.base import Carrier, Link, RotationalSpring, SlideSpring
 from femslide.joints.kinds import BUILTIN
 from femslide.model.discrete import Model
+from femslide.joints.holds import DofHold
+from femslide.model.state import ElementState
 from femslide.model.structure import Structure
 from femslide.scenes import paper
 from femslide.scenes.catalog import SCENES
@@ -252,11 +254,11 @@ def test_assembled_jacobian(scene, control):
     m = Model(_frame(), {"c1": 3, "c2": 2, "beam": 3}, 4.0, 10.0) if scene == "frame" else _scene_model(scene)
     y = RNG.normal(0, 0.02, m.n)
     y[m.n_q:] = RNG.normal(0, 1.0, m.n_c)
-    alpha_ref = np.zeros(m.elements.size)
+    alpha_ref = ElementState.zero(m.elements.size)
     ctl = None
     if control:
         y = np.concatenate([y, [0.8]])
-        ctl = (m.body_dof("deck") + 2, -0.01)
+        ctl = DofHold(m.body_dof("deck") + 2, -0.01)
     r, A, _ = m.system(y, alpha_ref, 0.8, ctl)
     A = _dense(A)
     h = 1e-6

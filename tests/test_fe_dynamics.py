@@ -15,7 +15,7 @@ BETA_L = np.array([1.8751040687119611, 4.694091132974175, 7.854757438237613])  #
 
 def _solved(s):
     sol = static.solve(s.freeze())
-    return sol.level.model, sol.level.y, sol.level.alpha
+    return sol.level.model, sol.level.y, sol.level.elements
 
 
 def _cantilever(n, rhoA=2.0, L=1.5, EI=2.0, tip=None, gravity=(0.0, 0.0)):

@@ -29,7 +29,8 @@ def _model(scene, n, EI=1e4):
 @pytest.mark.parametrize("phi", [0.01, 0.3, 1.0])
 def test_state_is_a_strain_free_mechanism(scene, phi):
     m, _ = _model(scene, 8)
-    y, alpha = mechanism_state(m, -phi)
+    y, elements = mechanism_state(m, -phi)
+    alpha = elements.committed
     q = y[:m.n_q]
     assert q[m.body_dof("deck") + 2] == pytest.approx(-phi, abs=1e-15)
     _, _, u_bar, a2, _, _ = corotational.basic_deformations(m.elements, m.nodal(q), alpha)
@@ -55,9 +56,9 @@ def test_controlled_newton_from_the_prediction_is_short(scene):
     th = m.body_dof("deck") + 2
     path = paper.path(scene, v)
     y_eq, _, _ = static.solve_level(m, path)
-    y, alpha = mechanism_state(m, y_eq[th])
+    y, elements = mechanism_state(m, y_eq[th])
     z = np.concatenate([y, [1.0]])
-    _, info = newton(m, z, alpha, control=DofHold(th, y_eq[th]))
+    _, info = newton(m, z, elements, control=DofHold(th, y_eq[th]))
     assert info.converged and info.iterations <= 6, info
 
 

@@ -69,7 +69,7 @@ def per_iteration(n, repeats=5):
     measured at its converged state (reached by climbing from coarse meshes, as solve_scene does)."""
     v = SCENES["cantilever-load"].resolve({"n_elements": n})
     lv = solve_scene("cantilever-load", v).level
-    m, y, alpha = lv.model, lv.y, lv.alpha
+    m, y, alpha = lv.model, lv.y, lv.elements
     best = np.inf
     for _ in range(repeats):
         t0 = time.perf_counter()
@@ -84,7 +84,7 @@ def system_call(n=8, calls=200, repeats=5):
     elements at its converged state (EI = 1e6 N m^2), best of ``repeats`` batches of ``calls``."""
     v = SCENES["beam-slider"].resolve({"EI": 1e6, "n_elements": n})
     lv = solve_scene("beam-slider", v).level
-    m, y, alpha = lv.model, lv.y, lv.alpha
+    m, y, alpha = lv.model, lv.y, lv.elements
     out = []
     for jac in (True, False):
         best = np.inf

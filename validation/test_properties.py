@@ -53,16 +53,16 @@ def _solved(gm):
                             "n_elements": gm["n"]})
     fs = paper.declare(scene, v).freeze()
     m = Model(fs, {r.name: gm["n"] for r in fs.rods}, *paper.units(scene, v))
-    y, alpha, _ = static.solve_level(m, paper.path(scene, v))
-    return v, m, y, alpha
+    y, elements, _ = static.solve_level(m, paper.path(scene, v))
+    return v, m, y, elements
 
 
 @SET
 @given(geometry)
 def test_global_equilibrium(gm):
     """Forces and the moment about A1 of the reactions and the weight vanish (1e-9 P, 1e-9 P a)."""
-    v, m, y, alpha = _solved(gm)
-    res = extract(m, y, alpha)
+    v, m, y, elements = _solved(gm)
+    res = extract(m, y, elements.committed)
     P, a = v["m"] * v["g"], v["a"]
     R = res["reactions"]
     xG = res["bodies"]["deck"]["x"]
@@ -79,9 +79,9 @@ def test_global_equilibrium(gm):
 def test_clamp_multipliers_equal_rod_end_forces(gm):
     """The clamp's force and moment on the rod = force and moment of the top element at node S, from its
     basic forces (1e-9 P, 1e-9 P a - model units are P and a - plus the round-off bound)."""
-    v, m, y, alpha = _solved(gm)
+    v, m, y, elements = _solved(gm)
     q = y[:m.n_q]
-    qb, _ = m.element_forces(q, alpha)
+    qb, _ = m.element_forces(q, elements.committed)
     Fx, Fy, Mj = joint_forces(m, y, "clamp")
     mu = m.multipliers(y, m.joint["clamp"])
     # the top element of the sliding rod ends at the clamped node
@@ -93,7 +93,7 @@ def test_clamp_multipliers_equal_rod_end_forces(gm):
     t = D / Ln
     N, M1, M2 = qb[e]
     f2 = N * t + (M1 + M2) / Ln * np.array([t[1], -t[0]])
-    _, _, info = m.system(y, alpha)
+    _, _, info = m.system(y, elements)
     tol = 1e-9 * max(1.0, abs(mu[0]), abs(mu[1])) + info["noise"]
     assert np.abs(f2 - (Fx, Fy)).max() <= tol, (f2, (Fx, Fy), tol)
     assert abs(M2 - Mj) <= tol, (M2, Mj, tol)

@@ -23,6 +23,7 @@ import numpy as np
 
 from femslide.analysis.newton import newton
 from femslide.joints.holds import DofHold
+from femslide.model.state import ElementState
 from femslide.errors import SolverFailure
 from femslide.model.linalg import solve_linear
 
@@ -30,12 +31,12 @@ from femslide.model.linalg import solve_linear
 @dataclass
 class Branch:
     y: np.ndarray
-    alpha: np.ndarray
+    elements: ElementState   # committed at y
     iterations: int
     history: list
 
 
-def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, alpha0=None,
+def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, elements0=None,
                      phi_max=math.pi, tol=1e-11):
     """Principal equilibrium at lam = 1 by control of one dof: its value is ``sign * phi`` and phi
     grows from 0 (for the paper's structures the body rotation, sign = -1: phi = -Theta).
@@ -44,7 +45,7 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, alpha
     point: the path of ramped loads ends there, and SolverFailure says so and at which load factor.
 
     ``phi_guess`` (magnitude) is a first estimate (e.g. the equivalent spring-hinge model); ``y0``,
-    ``alpha0`` a state to start from (the deformed spring-hinge mechanism at phi_guess, or the
+    ``elements0`` a state to start from (the deformed spring-hinge mechanism at phi_guess, or the
     interpolated solution of a coarser mesh), used only if the load factor that holds its rotation
     is between 0.25 and 2 and the path from it succeeds: otherwise the path starts from the
     undeformed state.
@@ -53,27 +54,32 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, alpha
     total_it = 0
     hist_all = []
 
-    def controlled(phi, z0, a0, maxit=40):
+    def controlled(phi, z0, es, maxit=40):
+        """The state with phi prescribed, from z0 (committed into ``es``), or None."""
         nonlocal total_it
-        z, info = newton(model, z0, a0, control=DofHold(theta_dof, sign * phi), tol=tol, maxit=maxit)
+        z, info = newton(model, z0, es, control=DofHold(theta_dof, sign * phi), tol=tol, maxit=maxit)
         total_it += info.iterations
         hist_all.extend(info.history)
         if not info.converged:
+            es.revert()
             return None
-        return z, info.alpha
+        es.commit()
+        return z
 
-    def tangent(z, a):
+    def tangent(z, es):
         """d z / d phi along the controlled path (its last entry is d lam / d phi)."""
-        _, A, _ = model.system(z, a, control=DofHold(theta_dof, 0.0))
+        _, A, _ = model.system(z, es, control=DofHold(theta_dof, 0.0))
+        es.revert()
         rhs = np.zeros(z.size)
         rhs[-1] = sign
         return solve_linear(A, rhs)
 
-    def follow(y, a, phi, lam, trial):
-        """The path from the state (y, a) with phi prescribed; ``trial``: give up early (raise) if
-        the load factor holding that state's rotation is far from 1."""
+    def follow(y, elements, phi, lam, trial):
+        """The path from the state (y, elements) with phi prescribed; ``trial``: give up early
+        (raise) if the load factor holding that state's rotation is far from 1."""
         nonlocal total_it
-        z_c, a_c = np.concatenate([y, [lam]]), a.copy()
+        es = elements.copy()
+        z_c = np.concatenate([y, [lam]])
         pred = z_c.copy()
         # start with the body already at the prescribed rotation: at the undeformed state the load
         # factor can be undetermined (a + d = 0: the weight has no moment about A1, a singular Jacobian)
@@ -81,10 +87,10 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, alpha
         phi_lo, phi_hi = 0.0, None
         for _ in range(200):
             # a good start converges in a few iterations: do not spend long on a poor one
-            out = controlled(phi, pred, a_c, maxit=12 if trial else 40)
+            out = controlled(phi, pred, es, maxit=12 if trial else 40)
             if trial:
                 trial = False
-                if out is None or not 0.25 <= out[0][-1] <= 2.0:
+                if out is None or not 0.25 <= out[-1] <= 2.0:
                     raise SolverFailure("poor start: load factor far from 1", hist_all)
             if out is None:
                 if phi - phi_lo <= 1e-12 * max(phi, 1e-300):
@@ -92,19 +98,19 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, alpha
                 phi = phi_lo + 0.5 * (phi - phi_lo)
                 pred = z_c
                 continue
-            z, a = out
+            z = z_c = out
             lam = z[-1]
-            z_c, a_c = z, a
             if abs(lam - 1.0) <= 1e-13:
                 break
             if abs(lam - 1.0) <= 1e-2:
                 # close to full load: release phi; keep the result only if it stays on this branch
-                y_f, info_f = newton(model, z[:model.n], a, lam=1.0, tol=tol)
+                y_f, info_f = newton(model, z[:model.n], es, lam=1.0, tol=tol)
                 total_it += info_f.iterations
                 if info_f.converged and abs(abs(y_f[theta_dof]) - phi) <= 0.05 * phi \
                         and np.sign(y_f[theta_dof]) == sign:
-                    return Branch(y_f, info_f.alpha, total_it, info_f.history)
-            dz = tangent(z, a)
+                    return Branch(y_f, es.commit(), total_it, info_f.history)
+                es.revert()
+            dz = tangent(z, es)
             slope = dz[-1]
             if lam > 1.0:
                 phi_hi = phi
@@ -135,15 +141,15 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, alpha
             phi = new
         else:
             raise SolverFailure("path following did not reach the full load in 200 steps", hist_all)
-        y, info = newton(model, z_c[:model.n], a_c, lam=1.0, tol=tol)
+        y, info = newton(model, z_c[:model.n], es, lam=1.0, tol=tol)
         total_it += info.iterations
         if not info.converged:
             raise SolverFailure(f"final Newton solve at full load: {info.reason}", info.history)
-        return Branch(y, info.alpha, total_it, info.history)
+        return Branch(y, es.commit(), total_it, info.history)
 
     if y0 is not None:
         try:
-            return follow(y0, alpha0, abs(y0[theta_dof]) or phi_guess or 0.01, 1.0, trial=True)
+            return follow(y0, elements0, abs(y0[theta_dof]) or phi_guess or 0.01, 1.0, trial=True)
         except SolverFailure:
             pass  # a poor or failing start: the march from the undeformed state decides
     y, a = model.zero_state()

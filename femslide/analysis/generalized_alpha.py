@@ -17,6 +17,7 @@ import scipy.sparse as sp
 from femslide.analysis.newton import newton
 from femslide.errors import SolverFailure
 from femslide.model.linalg import BandMatrix, solve_linear
+from femslide.model.state import ElementState
 
 EPS = float(np.finfo(float).eps)
 RHO_INF = 0.9          # spectral radius at infinite frequency (a little numerical damping of the
@@ -63,14 +64,20 @@ def add_coo(A, *parts):
 @dataclass
 class State:
     """The integrator's state at t: y = [q, mu], velocities v, accelerations acc (q''), the
-    acceleration-like variable a, chord rotations alpha (the corotational reference)."""
+    acceleration-like variable a, and the elements' history (femslide.model.state.ElementState,
+    committed at this state: the reference of the steps tried from it)."""
 
     t: float
     y: np.ndarray
     v: np.ndarray
     acc: np.ndarray
     a: np.ndarray
-    alpha: np.ndarray
+    elements: ElementState
+
+    @property
+    def alpha(self) -> np.ndarray:
+        """The committed chord rotations [rad]."""
+        return self.elements.committed
 
 
 class StepSystem:
@@ -122,8 +129,8 @@ class StepSystem:
         y[:self.n_q] = self.base + h * h * beta * a1
         return y
 
-    def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
-        r, A, info = self.model.system(y, alpha_ref, 1.0, None, jacobian)
+    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False):
+        r, A, info = self.model.system(y, elements, 1.0, None, jacobian)
         q = y[:self.n_q]
         _, v1, acc1 = self.kinematics(q)
         f, coo = self.masses.inertia(q, v1, acc1, self.c_acc, self.c_vel, self.ag_vec)
@@ -171,19 +178,20 @@ def _consistent_start(sysm, s: State, h_s: float) -> State:
     # from a = q'' = 0: a dof held by a constraint then gets q'' = 0 and its multiplier the force
     # that holds it (the stick test needs that), the free massive dofs get the q'' the equations give
     z = np.zeros_like(s.v)
-    s = State(s.t, s.y, s.v, z, z.copy(), s.alpha)
+    s = State(s.t, s.y, s.v, z, z.copy(), s.elements)
     for _ in range(8):
         sysm.prepare(s, h_s)
         sysm.roundoff_floor = False
         try:
-            y, info = newton(sysm, sysm.predictor(), s.alpha, tol=NEWTON_TOL, maxit=20)
+            y, info = newton(sysm, sysm.predictor(), s.elements, tol=NEWTON_TOL, maxit=20)
         finally:
             sysm.roundoff_floor = True
+            s.elements.revert()   # (the positions stay: only the accelerations and multipliers are taken)
         if info.converged:
             _, _, acc = sysm.kinematics(y[:sysm.n_q])
             y0 = s.y.copy()
             y0[sysm.n_q:] = y[sysm.n_q:]
-            return State(s.t, y0, s.v, acc.copy(), acc.copy(), s.alpha)
+            return State(s.t, y0, s.v, acc.copy(), acc.copy(), s.elements)
         h_s *= 4.0
     raise SolverFailure("simulate: no consistent initial acceleration (Newton failed on the start step)",
                         info.history)

@@ -42,25 +42,27 @@ def to_sparse(model, A):
     return sp.csc_matrix(A)
 
 
-def tangent(model, y, alpha):
-    """(K, G) of the static state: sparse stiffness (n_q, n_q) and joint gradient (n_c, n_q)."""
-    _, A, _ = model.system(y, alpha, 1.0)
+def tangent(model, y, elements):
+    """(K, G) of the static state (y, elements): sparse stiffness (n_q, n_q) and joint gradient
+    (n_c, n_q)."""
+    _, A, _ = model.system(y, elements, 1.0)
+    elements.revert()
     S = to_sparse(model, A)
     n_q = model.n_q
     K = S[:n_q, :n_q]
     return (0.5 * (K + K.T)).tocsc(), S[n_q:, :n_q].tocsc(), S
 
 
-def modes(model, y, alpha, masses, count=6):
+def modes(model, y, elements, masses, count=6):
     """(frequencies_hz (k,), shapes (k, n_q)): the ``count`` lowest natural frequencies of the
-    structure about the static state (y, alpha).  Raises SolverFailure when the state is unstable
+    structure about the static state (y, elements).  Raises SolverFailure when the state is unstable
     (the reduced stiffness is not positive definite) or nothing has mass."""
     n_q = model.n_q
     Mr, Mc, Mv = masses.matrix(y[:n_q])
     M = sp.csc_matrix((Mv, (Mr, Mc)), shape=(n_q, n_q))
     if M.nnz == 0 or not np.any(Mv):
         raise SolverFailure("no natural frequencies: nothing in the structure has mass")
-    K, G, S = tangent(model, y, alpha)
+    K, G, S = tangent(model, y, elements)
     if n_q <= DENSE_LIMIT:
         from scipy.linalg import eigh, null_space
         Gd = G.toarray()

@@ -1,8 +1,11 @@
 """Newton's method on a model: the one nonlinear solver of the statics and of every time step.
 
-``newton(model, y, alpha_ref, ...)`` iterates on any object with the model's interface (``n_q``,
-``rotation_dofs()``, ``system(y, alpha_ref, lam, control, jacobian)``): the discrete model itself
+``newton(model, y, elements, ...)`` iterates on any object with the model's interface (``n_q``,
+``rotation_dofs()``, ``system(y, elements, lam, control, jacobian)``): the discrete model itself
 (statics, load or displacement control) or a time step's system (femslide.analysis.generalized_alpha).
+Its evaluations are trials of the elements' history (femslide.model.state.ElementState): on return
+the trial rotations are those of the returned state, and the caller commits them (a converged
+state it keeps) or reverts them.
 
 Convergence: force residual below ``tol`` (1 + largest internal nodal force) and constraint residual
 below ``tol`` (model units are nondimensional: lengths by a, forces by P).  A stiff model (EA/P up to
@@ -29,10 +32,9 @@ class NewtonInfo:
     iterations: int
     history: list = field(default_factory=list)
     reason: str = ""
-    alpha: np.ndarray = None  # chord rotations at the returned state (the next reference)
 
 
-def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_rot=0.5):
+def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_rot=0.5):
     """Newton iterations from y (modified copy returned).  Never raises: check ``info.converged``.
 
     Steps whose largest rotation increment exceeds ``max_rot`` [rad] are scaled down (a trust
@@ -49,7 +51,7 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
     for it in range(1, maxit + 1):
         # after a step from a residual <= 1e-7, quadratic convergence predicts a converged state:
         # check the residual alone first, and assemble the Jacobian only if it is needed after all
-        r, A, info = model.system(y, alpha_ref, lam, control, jacobian=not prev <= 1e-7)
+        r, A, info = model.system(y, elements, lam, control, jacobian=not prev <= 1e-7)
         # relative to the internal forces, floored at the round-off level of the element forces
         # (estimated with the Jacobian; a residual-only evaluation keeps the last estimate)
         ar = np.abs(r)
@@ -66,10 +68,9 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
         # converged: below tol, or below the (worst-case) round-off bound, under which the residual
         # no longer measures the error, both before and after a Newton step
         if res_g <= tol and (res_f <= tol or (floor_step and res_f <= _floor(finfo))):
-            return y, NewtonInfo(True, it - 1, hist, "" if res_f <= tol else "at round-off level",
-                                 alpha=info["alpha"])
+            return y, NewtonInfo(True, it - 1, hist, "" if res_f <= tol else "at round-off level")
         if A is None:
-            r, A, info = model.system(y, alpha_ref, lam, control)
+            r, A, info = model.system(y, elements, lam, control)
             finfo = info
             if control is None and isinstance(A, np.ndarray):
                 model.last_tangent = A
@@ -79,7 +80,7 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
         stalled = stalled + 1 if res > 0.5 * best else 0
         best = min(best, res)
         if stalled >= 4 and best <= 1e-7:
-            return y, NewtonInfo(True, it - 1, hist, "stagnated at round-off level", alpha=info["alpha"])
+            return y, NewtonInfo(True, it - 1, hist, "stagnated at round-off level")
         try:
             dy = -solve_linear(A, r)
         except (np.linalg.LinAlgError, RuntimeError, ValueError) as exc:
@@ -94,15 +95,15 @@ def newton(model, y, alpha_ref, lam=1.0, control=None, tol=1e-11, maxit=40, max_
         y += dy
         floor_step = at_floor
         if floor_its >= 4:
-            r, _, info = model.system(y, alpha_ref, lam, control, jacobian=False)
+            r, _, info = model.system(y, elements, lam, control, jacobian=False)
             hist.append(float(np.abs(r[:n_q]).max()) / (1.0 + info["fmax"]))
-            return y, NewtonInfo(True, it, hist, "at round-off level", alpha=info["alpha"])
+            return y, NewtonInfo(True, it, hist, "at round-off level")
         # round-off floor: a step at the level of machine precision cannot improve further
         if res <= 1e3 * tol and res >= 0.5 * prev and \
                 ady[:n_q].max() <= 1e-14 * (1.0 + np.abs(y[:n_q]).max()):
-            r, _, info = model.system(y, alpha_ref, lam, control, jacobian=False)
+            r, _, info = model.system(y, elements, lam, control, jacobian=False)
             hist.append(float(np.abs(r).max()))
-            return y, NewtonInfo(True, it, hist, alpha=info["alpha"])
+            return y, NewtonInfo(True, it, hist)
         prev = res
     return y, NewtonInfo(False, maxit, hist, f"no convergence in {maxit} iterations")
 

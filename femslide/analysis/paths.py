@@ -101,13 +101,13 @@ def _null_space(G):
 def _initial_stress(model: Model, lam=1.0):
     """The undeformed state with the multipliers that hold the loads there (least squares): the
     state whose tangent carries the loads' initial stresses."""
-    y, alpha = model.zero_state()
+    y, elements = model.zero_state()
     if model.n_c:
-        r, A, info = model.system(y, alpha, lam, dense=True)
+        r, A, info = model.system(y, elements, lam, dense=True)
         G = A[model.n_q:, :model.n_q]
         mu, *_ = np.linalg.lstsq(G.T, -r[:model.n_q], rcond=None)
         y[model.n_q:] = mu
-    return y, alpha
+    return y, elements
 
 
 def _mode_part(model: Model, v):
@@ -139,8 +139,8 @@ def choose_path(model: Model) -> Path:
     n_q = model.n_q
     if model.n > DENSE_CHECK or n_q == 0:
         return Path("load")
-    y0, a0 = model.zero_state()
-    _, A0, _ = model.system(y0, a0, 0.0, dense=True)
+    y0, e0 = model.zero_state()
+    _, A0, _ = model.system(y0, e0, 0.0, dense=True)
     Z, w0, V0 = _reduced(A0, n_q)
     if w0.size == 0:
         return Path("load")  # fully fixed by the joints
@@ -148,8 +148,8 @@ def choose_path(model: Model) -> Path:
     null = w0 <= tol0
     if not null.any():
         return _load_path(model)
-    y, alpha = _initial_stress(model)
-    r, A1, info = model.system(y, alpha, 1.0, dense=True)
+    y, elements = _initial_stress(model)
+    r, A1, info = model.system(y, elements, 1.0, dense=True)
     Kg = A1[:n_q, :n_q] - A0[:n_q, :n_q]
     Vn = Z @ V0[:, null]
     wg, Vg = np.linalg.eigh(0.5 * (Vn.T @ (Kg + Kg.T) @ Vn))
@@ -186,8 +186,8 @@ def choose_path(model: Model) -> Path:
 
 def _load_path(model: Model) -> Path:
     """Load stepping: as many steps as the linear response's rotations need (0.8 rad a step)."""
-    y, alpha = _initial_stress(model)
-    r, A, _ = model.system(y, alpha, 1.0, dense=True)
+    y, elements = _initial_stress(model)
+    r, A, _ = model.system(y, elements, 1.0, dense=True)
     try:
         dy = solve_linear(A, -r)
         rot = float(np.abs(dy[model.rotation_dofs()]).max()) if model.rotation_dofs().size else 0.0
@@ -197,7 +197,7 @@ def _load_path(model: Model) -> Path:
     return Path("load", load_steps=min(steps, 64))
 
 
-def check_stable(model: Model, y, alpha):
+def check_stable(model: Model, y, elements):
     """Raise SolverFailure if the equilibrium (coarse mesh) has a negative reduced-tangent eigenvalue.
 
     With m independent joint equations, det [[K, G^T], [G, 0]] has the sign (-1)^m exactly when the
@@ -208,7 +208,8 @@ def check_stable(model: Model, y, alpha):
     # the last tangent Newton assembled (one step, at most 1e-7, before the solution) will do
     A = getattr(model, "last_tangent", None)
     if A is None or A.shape[0] != model.n:
-        _, A, _ = model.system(y, alpha, 1.0, dense=True)
+        _, A, _ = model.system(y, elements, 1.0, dense=True)
+        elements.revert()
     n_q = model.n_q
     sign, _ = np.linalg.slogdet(A)
     if sign == (-1.0) ** model.n_c:
@@ -233,15 +234,16 @@ def _load_steps(model: Model, path: Path, start=None):
     if start is not None:
         y, info = newton(model, start[0], start[1], lam=1.0)
         if info.converged:
-            return y, info.alpha, info.iterations
+            return y, start[1].commit(), info.iterations
+        start[1].revert()
     dense = model.n <= DENSE_CHECK
     # the undeformed state with the multipliers that hold the loads there: a structure held only by
     # its loads' initial stresses (a hanging pendulum) has a singular tangent without them
-    y, alpha = _initial_stress(model, 1.0 / path.load_steps) if dense else model.zero_state()
+    y, es = _initial_stress(model, 1.0 / path.load_steps) if dense else model.zero_state()
     step0 = 1.0 / path.load_steps
     lam, step, its = 0.0, step0, 0
     stable = (-1.0) ** model.n_c
-    tangent, _, fl = _load_tangent(model, model.zero_state()[0], alpha, 0.0)
+    tangent, _, fl = _load_tangent(model, model.zero_state()[0], es.copy(), 0.0)
     if tangent is None:
         tangent = np.zeros(model.n_q)
     compliance0 = -float(fl @ tangent)   # work rate of the loads per load factor: 1 / stiffness
@@ -260,7 +262,7 @@ def _load_steps(model: Model, path: Path, start=None):
             raise SolverFailure(f"load stepping stalled at load factor {lam:.6g}: a limit point or a "
                                 f"bifurcation of the loaded structure ({why})", hist)
         target = lam + dlam
-        y_new, info = newton(model, y, alpha, lam=target)
+        y_new, info = newton(model, y, es, lam=target)
         its += info.iterations
         ok, reason, hist = info.converged, info.reason, info.history
         if ok:
@@ -269,14 +271,16 @@ def _load_steps(model: Model, path: Path, start=None):
             size = float(np.abs(pred).max())
             if float(np.abs(y_new[:model.n_q] - y[:model.n_q] - pred).max()) > max(size, 1e-12):
                 ok, reason = False, "the step left the tangent's neighbourhood: it jumped past a limit point"
+        es_new = es.committed_trial() if ok else None   # (es keeps the last accepted state)
+        es.revert()
         if ok and target < 1.0:   # (the stability at full load is checked on the solution)
-            new_tangent, sign, fl = _load_tangent(model, y_new, info.alpha, target)
+            new_tangent, sign, fl = _load_tangent(model, y_new, es_new, target)
             if sign is not None and sign != stable:
                 ok, reason = False, "the equilibrium lost its stability"
         if not ok:
             step = 0.5 * dlam
             continue
-        alpha = info.alpha
+        es = es_new.revert()
         y, lam = y_new, target
         step = min(step0, 2.0 * step)
         if lam < 1.0:
@@ -289,13 +293,13 @@ def _load_steps(model: Model, path: Path, start=None):
                                     f"loaded structure (its stiffness against the loads fell to "
                                     f"{compliance0 / compliance if math.isfinite(compliance) else 0.0:.2g} of "
                                     f"the initial)", hist)
-    return y, alpha, its
+    return y, es, its
 
 
-def _load_tangent(model: Model, y, alpha, lam):
+def _load_tangent(model: Model, y, elements, lam):
     """(d q / d lam, the sign of the tangent's determinant (dense models, else None), d r / d lam) at
     a converged state: the first-order response to the loads, from one assembly."""
-    r, A, info = model.system(y, alpha, lam, dense=model.n <= DENSE_CHECK)
+    r, A, info = model.system(y, elements, lam, dense=model.n <= DENSE_CHECK)
     sign = float(np.linalg.slogdet(A)[0]) if isinstance(A, np.ndarray) else None
     rhs = np.zeros(model.n)
     rhs[:model.n_q] = -info["fl"]
@@ -312,20 +316,22 @@ def _controlled(model: Model, path: Path, start=None, within=0.1, maxit=40):
     of its start value)."""
     dof = path.control.dof(model)
     its = 0
-    y0 = alpha0 = None
+    y0 = e0 = None
     if start is not None:
-        y0, alpha0 = start
-        y, info = newton(model, y0, alpha0, lam=1.0, maxit=maxit)
+        y0, e0 = start
+        y, info = newton(model, y0, e0, lam=1.0, maxit=maxit)
         if info.converged and y[dof] * y0[dof] > 0 and abs(y[dof] - y0[dof]) <= within * abs(y0[dof]):
-            return y, info.alpha, info.iterations
+            return y, e0.commit(), info.iterations
+        e0.revert()
         its = info.iterations
-    br = principal_branch(model, dof, path.sign, path.guess, y0, alpha0, phi_max=path.phi_max)
-    return br.y, br.alpha, its + br.iterations
+    br = principal_branch(model, dof, path.sign, path.guess, y0, e0, phi_max=path.phi_max)
+    return br.y, br.elements, its + br.iterations
 
 
 def solve_level(model: Model, path: Path, start=None):
-    """(y, alpha, iterations) on one mesh.  ``start``: the interpolated coarser solution, or None
-    (then the path's own start state, if it has one)."""
+    """(y, elements, iterations) on one mesh: the equilibrium and its elements' history
+    (femslide.model.state.ElementState, committed there).  ``start``: (y, elements) of the
+    interpolated coarser solution, or None (then the path's own start state, if it has one)."""
     if path.kind == "load":
         return _load_steps(model, path, start)
     within, maxit = 0.1, 40

@@ -14,6 +14,7 @@ import numpy as np
 
 from femslide.elements import corotational
 from femslide.model.discrete import Model
+from femslide.model.state import ElementState
 from femslide.model.linalg import solve_linear
 from femslide.results.static import end_moments, extract, flatten, largest_moment, rod_arrays
 
@@ -47,14 +48,16 @@ def _prolongation_plan(mc: Model, mf: Model):
     return out
 
 
-def prolong(mc: Model, y, alpha, mf: Model):
+def prolong(mc: Model, y, elements, mf: Model):
     """Interpolate a converged state onto a finer mesh of the same structure (a Newton start).
 
     Node positions are cubic Hermite in the arc length, with the nodal tangents, so that the
     interpolated elements are stretched only by O(h^4) (linear interpolation would shorten them by
     O(h^2) and, with EA/EI ~ 1e6, start Newton from enormous axial forces); rotations are linear.
-    Body dofs and joint multipliers carry over (same bodies and joints).
+    Body dofs and joint multipliers carry over (same bodies and joints).  Returns (y, elements) on
+    the finer mesh (its chord rotations continued from the coarse elements' committed ones).
     """
+    alpha = elements.committed
     yf = np.zeros(mf.n)
     Uc = mc.nodal(y[:mc.n_q])
     Uf = mf.nodal(yf[:mf.n_q])
@@ -74,16 +77,21 @@ def prolong(mc: Model, y, alpha, mf: Model):
     yf[: 3 * mf.n_nodes] = Uf.ravel()
     yf[3 * mf.n_nodes:mf.n_q] = y[3 * mc.n_nodes:mc.n_q]
     yf[mf.n_q:] = y[mc.n_q:]
-    return yf, af
+    return yf, ElementState(af)
 
 
 class Level:
-    """The converged state on one mesh; its named results (``res``) and rod arrays are computed
-    when first asked for."""
+    """The converged state on one mesh: ``y`` and its ``elements`` (committed); its named results
+    (``res``) and rod arrays are computed when first asked for."""
 
-    def __init__(self, n, model, y, alpha):
-        self.n, self.model, self.y, self.alpha = n, model, y, alpha
+    def __init__(self, n, model, y, elements):
+        self.n, self.model, self.y, self.elements = n, model, y, elements
         self._arrays = self._res = self._watched = self._noise = self._scatter = self._cuts = None
+
+    @property
+    def alpha(self):
+        """The committed chord rotations of the elements [rad]."""
+        return self.elements.committed
 
     @property
     def cuts(self):
@@ -172,9 +180,10 @@ def _scatter(lv: Level) -> float:
     q = y[:m.n_q]
     sign = np.where(np.arange(m.n_q) % 2 == 0, 1.0, -1.0)
     q += 1e-13 * sign * np.maximum(np.abs(q), 1e-6 * np.abs(q).max())
+    es = lv.elements.copy()
     try:
         for _ in range(2):
-            r, A, _ = m.system(y, lv.alpha, 1.0)
+            r, A, _ = m.system(y, es, 1.0)
             y -= solve_linear(A, r)
     except (np.linalg.LinAlgError, RuntimeError, ValueError):
         return 0.0

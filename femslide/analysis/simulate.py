@@ -142,8 +142,9 @@ def parse_elements(table, where="[simulate]"):
     return int(n)
 
 
-def _held_start(fs, counts, L, F, y, alpha, ini):
-    """The static state held at the ``initial`` values (model units), walked there in small steps."""
+def _held_start(fs, counts, L, F, y, elements, ini):
+    """The static state (y, elements) held at the ``initial`` values (model units), walked there in
+    small steps."""
     from femslide.analysis.newton import newton
     from femslide.joints.holds import SlideHold
     from femslide.model.discrete import Model
@@ -182,22 +183,24 @@ def _held_start(fs, counts, L, F, y, alpha, ini):
     z = np.concatenate([y, np.zeros(hold.size)])
     start = hold.value(z[hold.dofs])
     steps = max(1, int(math.ceil(float(np.abs(target - start).max()) / 0.02)))
-    a = alpha
+    es = elements.copy()
     k = 0
     frac = 0.0
     dfrac = 1.0 / steps
     while frac < 1.0:
         f1 = min(1.0, frac + dfrac)
         hold.target = start + f1 * (target - start)
-        z1, info = newton(m, z, a)
+        z1, info = newton(m, z, es)
         if not info.converged:
+            es.revert()
             dfrac *= 0.5
             k += 1
             if k > 30:
                 raise SolverFailure(f"the initial state (held at {ini}) could not be reached: {info.reason}")
             continue
-        z, a, frac = z1, info.alpha, f1
-    return z[:-hold.size], a
+        es.commit()
+        z, frac = z1, f1
+    return z[:-hold.size], es
 
 
 def _has_friction(j):
@@ -231,7 +234,7 @@ def _fixed_mesh(fs, n):
     return replace(fs, rods=rods, derived={})
 
 
-def _stuck_top(fr, y_s, a_s):
+def _stuck_top(fr, y_s, e_s):
     """Highest of the MODES lowest natural frequencies [Hz] with every friction joint stuck (0 when
     they cannot be computed); about the frictionless static state, where the locks carry no force."""
     from femslide.analysis.modes import modes
@@ -239,7 +242,7 @@ def _stuck_top(fr, y_s, a_s):
     m = fr.stuck_model()
     y = np.concatenate([y_s, np.zeros(m.n - y_s.size)])
     try:
-        freq, _ = modes(m, y, a_s, Masses(m), MODES)
+        freq, _ = modes(m, y, e_s, Masses(m), MODES)
     except SolverFailure:
         return 0.0
     return float(freq[-1]) if len(freq) else 0.0
@@ -286,7 +289,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     frequencies_of = "frictionless structure"
     try:
         sol = static.solve(fs)
-        model, y_s, a_s = sol.level.model, sol.level.y, sol.level.alpha
+        model, y_s, e_s = sol.level.model, sol.level.y, sol.level.elements
     except SolverFailure as exc:
         if not any(j.mu is not None for j in fs.joints):
             raise
@@ -298,7 +301,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         model = _model_like(fs, sol.level.model)
         y_s = np.zeros(model.n)
         y_s[:model.n_q] = sol.level.y[:model.n_q]
-        a_s = sol.level.alpha
+        e_s = sol.level.elements
         frequencies_of = ("structure with its friction joints stuck" if any(_has_friction(j) for j in fs.joints)
                           else "structure with its sliders and rollers held (frictionless it has no equilibrium)")
     L, F = model.Lref, model.Fref
@@ -306,19 +309,19 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     if masses.massive_dofs().size == 0:
         raise BadInput("simulate: nothing in the structure has mass (give a body a mass or a rod a rhoA)")
     try:
-        freq, _ = modes(model, y_s, a_s, masses, MODES)
+        freq, _ = modes(model, y_s, e_s, masses, MODES)
     except SolverFailure:
         if frequencies_of == "frictionless structure":
             raise
         m_stuck = sol.level.model
         try:
-            freq, _ = modes(m_stuck, sol.level.y, sol.level.alpha, Masses(m_stuck), MODES)
+            freq, _ = modes(m_stuck, sol.level.y, sol.level.elements, Masses(m_stuck), MODES)
         except SolverFailure:   # stuck, nothing can move: no frequencies
             freq = np.zeros(0)
     C = None
     if spec.alpha or spec.beta:
         from femslide.analysis.modes import tangent
-        K0, _, _ = tangent(model, y_s, a_s)
+        K0, _, _ = tangent(model, y_s, e_s)
         r, c, v = masses.matrix(y_s[:model.n_q])
         M0 = sp.coo_matrix((v, (r, c)), shape=(model.n_q, model.n_q))
         C = (spec.alpha * M0 + spec.beta * K0).tocoo()
@@ -336,9 +339,9 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         if frequencies_of == "frictionless structure":
             # stuck phases may be much stiffer (a massless rod clamped in its guide must stretch):
             # the run-time step allowance follows the highest frequency of either
-            f_ref[1] = max(f_ref[1], _stuck_top(fr, y_s, a_s))
+            f_ref[1] = max(f_ref[1], _stuck_top(fr, y_s, e_s))
     max_steps = check_work(spec, f_ref[0], model.n_q, f_ref[1])
-    y0, a0 = (y_s, a_s) if spec.initial is None else _held_start(fs, counts, L, F, y_s, a_s, spec.initial)
+    y0, e0 = (y_s, e_s) if spec.initial is None else _held_start(fs, counts, L, F, y_s, e_s, spec.initial)
     fric_names = {j.name for j in fric_joints}
 
     def forces(y, n):
@@ -396,7 +399,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         if spec.ground.harmonic:
             h_max = min(h_max, 0.05 / spec.ground.frequency)
     t_int = time.perf_counter()
-    run = integrate(model, masses, y0, a0, spec.t_end, spec.tolerance, C=C, ground=spec.ground,
+    run = integrate(model, masses, y0, e0, spec.t_end, spec.tolerance, C=C, ground=spec.ground,
                     observe=observe, h0=h0, h_max=h_max, max_steps=max_steps,
                     wall_limit=WALL_LIMIT_S, progress=progress, q_ref=y_s, friction=fr,
                     period=1.0 / f_ref[0])
@@ -445,13 +448,13 @@ def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
     t0 = time.perf_counter()
     fs = _fixed_mesh(fs, elements)
     sol = static.solve(fs)
-    model, y, alpha = sol.level.model, sol.level.y, sol.level.alpha
+    model, y, elements = sol.level.model, sol.level.y, sol.level.elements
     masses = Masses(model)
     if masses.massive_dofs().size == 0:
         raise BadInput("modes: nothing in the structure has mass (give a body a mass or a rod a rhoA)")
-    freq, shapes = modes(model, y, alpha, masses, count)
+    freq, shapes = modes(model, y, elements, masses, count)
     res = {"converged": True, "frequencies_hz": [float(f) for f in freq],
            "periods_s": [float(1.0 / f) for f in freq], "elements": {r.name: r.elements for r in fs.rods}}
 
     res["wall_time_s"] = time.perf_counter() - t0
-    return Outcome(res, name, modes=ModeShapes(model, y, alpha, list(freq), shapes))
+    return Outcome(res, name, modes=ModeShapes(model, y, elements.committed, list(freq), shapes))

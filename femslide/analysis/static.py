@@ -117,7 +117,8 @@ class Solution:
     finest meshes when the mesh was refined (``coarse`` is then the second finest level; None when the
     finest mesh's raw values are reported); ``watched``: the watched values, likewise;
     ``error_estimate``: relative, of the largest rod moment (None for a single fixed element);
-    ``level``: the finest mesh (``model``, ``y``, ``alpha``, ``arrays``: its raw per-rod arrays);
+    ``level``: the finest mesh (``model``, ``y``, ``elements`` (``alpha`` their committed chord
+    rotations), ``arrays``: its raw per-rod arrays);
     ``path``: how the equilibrium was reached."""
 
     error_estimate: float | None
@@ -183,18 +184,18 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
         c = level((n + 1) // 2) if adaptive and n > 1 and (n > N_DIRECT or (n + 1) // 2 in cache_lv) else None
         model = Model(fs, counts(n), Lref, Fref, cache)
         if c is not None:
-            start = prolong(c.model, c.y, c.alpha, model)
+            start = prolong(c.model, c.y, c.elements, model)
         if state["path"] is None:
             # on the coarsest mesh: the mechanisms and the loads' work on them do not depend on the
             # mesh, and a fine mesh of a stiff rod (EA L^2/EI ~ 1e9, 64 elements) spreads the
             # tangent's eigenvalues beyond what the round-off test for a null space can separate
             cn = {r.name: min(int(c), N_START) for r, c in zip(rods, counts(n).values())}
             state["path"] = choose_path(model if cn == counts(n) else Model(fs, cn, Lref, Fref, cache))
-        y, a, k = solve_level(model, state["path"], start)
+        y, es, k = solve_level(model, state["path"], start)
         if not cache_lv:
-            check_stable(model, y, a)
+            check_stable(model, y, es)
         its[0] += k
-        cache_lv[n] = lv = Level(n, model, y, a)
+        cache_lv[n] = lv = Level(n, model, y, es)
         # meshes coarser than the next coarser one are used up (started this one): drop them, so that
         # a fine solve holds two levels, not the whole hierarchy
         for k in [k for k in cache_lv if k < (n + 1) // 2]:
@@ -222,9 +223,9 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
         half = {r.name: fixed[r.name] // 2 for r in rods}
         if rods and all(h >= 1 for h in half.values()):
             mh = Model(fs, half, Lref, Fref, cache)
-            y, a, k = solve_level(mh, state["path"], None)
+            y, es, k = solve_level(mh, state["path"], None)
             its[0] += k
-            f1, _ = values(Level(0, mh, y, a))
+            f1, _ = values(Level(0, mh, y, es))
             f2, _ = values(fine)
             r0 = rods[0].name
             ratio = (fixed[r0] / half[r0]) ** 2

@@ -167,11 +167,12 @@ class _Light:
     (:func:`_independent_rows` on the constraint gradients, which are O(1) in model units), so the
     system solved is regular (LU) whatever the rod's stiffness."""
 
-    def __init__(self, sysm, y, alpha, v, heavy):
+    def __init__(self, sysm, y, elements, v, heavy):
         self.sysm, self.model, self.v = sysm, sysm.model, v
+        self.elements = elements.copy()   # the trials of this solve
         n_q = self.model.n_q
         light = np.setdiff1d(np.arange(n_q), heavy).astype(np.intp)
-        self.first = self.full(y, alpha)
+        self.first = self.full(y)
         A = self.first[1]
         G = A[n_q:, light]
         rows = np.nonzero(np.abs(G).max(axis=1) > 0.0)[0] if light.size else np.zeros(0, np.intp)
@@ -179,10 +180,10 @@ class _Light:
         self.cols = np.concatenate([light, n_q + rows]).astype(np.intp)
         self.heavy, self.n_q = heavy, light.size
 
-    def full(self, y, alpha_ref, jacobian=True):
+    def full(self, y, jacobian=True):
         """The whole model's residual (static, slip and damping forces) and its dense Jacobian."""
         m, sysm = self.model, self.sysm
-        r, A, info = m.system(y, alpha_ref, 1.0, None, jacobian, dense=True)
+        r, A, info = m.system(y, self.elements, 1.0, None, jacobian, dense=True)
         for ex in sysm.extra:
             fe, coo = ex(y, None, 0.0)
             r[:m.n_q] += fe
@@ -192,9 +193,9 @@ class _Light:
             r[:m.n_q] += sysm.Csr @ self.v
         return r, A, info
 
-    def solve(self, y, alpha, maxit=30):
-        """Newton on the light unknowns from y: (y, alpha, residual history); SolverFailure when it
-        does not converge."""
+    def solve(self, y, maxit=30):
+        """Newton on the light unknowns from y: (y, its elements' history, residual history);
+        SolverFailure when it does not converge."""
         c, n_q = self.cols, self.n_q
         y = y.copy()
         hist = []
@@ -207,12 +208,12 @@ class _Light:
             hist.append(max(res_f, res_g))
             if res_g <= NEWTON_TOL and (res_f <= NEWTON_TOL or (len(hist) > 1 and res_f <= floor)):
                 self.first = (r, A, info)
-                return y, info["alpha"], hist
+                return y, self.elements.committed_trial(), hist
             if len(hist) > 4 and hist[-1] <= 1e-7 and hist[-1] > 0.5 * min(hist[-4:-1]):
                 self.first = (r, A, info)
-                return y, info["alpha"], hist   # stagnated at the round-off level (as newton.newton)
+                return y, self.elements.committed_trial(), hist   # stagnated at round-off (as newton)
             y[c] -= solve_linear(np.ascontiguousarray(A[np.ix_(c, c)]), rc)
-            r, A, info = self.full(y, alpha)
+            r, A, info = self.full(y)
         raise SolverFailure("simulate: the massless parts find no equilibrium in the new friction modes", hist)
 
     def rates(self, v_heavy):
@@ -253,13 +254,13 @@ def _requilibrate(sysm, s: State):
     heavy = sysm.masses.massive_dofs()
     if heavy.size == sysm.n_q:
         return s, 0.0
-    light = _Light(sysm, s.y, s.alpha, s.v, heavy)
-    y, alpha, _ = light.solve(s.y, s.alpha)
-    released = sysm.model.potential(s.y, s.alpha) - sysm.model.potential(y, alpha)
+    light = _Light(sysm, s.y, s.elements, s.v, heavy)
+    y, elements, _ = light.solve(s.y)
+    released = sysm.model.potential(s.y, s.alpha) - sysm.model.potential(y, elements.committed)
     rate = light.rates(s.v[heavy])
     v = s.v.copy()
     v[light.cols[:light.n_q]] = rate[:light.n_q]
-    return State(s.t, y, v, s.acc, s.a, alpha), released
+    return State(s.t, y, v, s.acc, s.a, elements), released
 
 
 def _restart(fr, s: State, old_stuck, h_s):
@@ -267,7 +268,7 @@ def _restart(fr, s: State, old_stuck, h_s):
     layout (lock multipliers kept, new ones 0), its massless parts re-solved
     (:func:`_requilibrate`) and its accelerations made consistent: (state, step system, energy
     released by jumps of massless parts)."""
-    s = State(s.t, fr.convert(s.y, old_stuck, fr.stuck()), s.v, s.acc, s.a, s.alpha)
+    s = State(s.t, fr.convert(s.y, old_stuck, fr.stuck()), s.v, s.acc, s.a, s.elements)
     sysm = fr.system()
     s, released = _requilibrate(sysm, s)
     return _consistent_start(sysm, s, h_s), sysm, released
@@ -302,7 +303,7 @@ def _settle(fr, s: State, h_s, pending, old_stuck):
         fr.stick_at[i] = float(sl)
         rate = float(ds @ v[fj.dofs])
         v[fj.dofs] -= ds * rate / float(ds @ ds)     # exactly at rest along the guide
-    s, sysm, released = _restart(fr, State(s.t, s.y, v, s.acc, s.a, s.alpha), old_stuck, h_s)
+    s, sysm, released = _restart(fr, State(s.t, s.y, v, s.acc, s.a, s.elements), old_stuck, h_s)
     slip = []
     for i in pending:
         lam = fr.lock_multiplier(s.y, i)

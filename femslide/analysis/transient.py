@@ -61,6 +61,7 @@ from femslide.analysis.generalized_alpha import (
     error_constant,
 )
 from femslide.analysis.newton import newton
+from femslide.model.state import ElementState
 from femslide.analysis.stickslip import _locate, _settle, _switch
 from femslide.errors import BadInput, SolverFailure
 
@@ -80,10 +81,11 @@ class Integration:
     energy: dict = field(default_factory=dict)
 
 
-def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, observe=None,
+def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=None, observe=None,
               h0=None, h_max=None, max_steps=MAX_STEPS, wall_limit=None, progress=None, q_ref=None,
               friction=None, period=None):
-    """Integrate from rest at the state (y0, alpha0) (model units) to ``t_end`` [s].
+    """Integrate from rest at the state (y0, elements0) (model units; the elements' history
+    committed there) to ``t_end`` [s].
 
     ``C``: Rayleigh damping matrix (scipy COO, model units) or None; ``ground``: a
     :class:`femslide.analysis.excitation.Ground` or None; ``observe(t, y, alpha, v)`` -> a row recorded at every
@@ -100,7 +102,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
     if heavy.size == 0:
         raise BadInput("simulate: nothing in the structure has mass (give bodies a mass or rods a rhoA)")
     zero = np.zeros(n_q)
-    s = State(0.0, y0.copy(), zero.copy(), zero.copy(), zero.copy(), alpha0.copy())
+    s = State(0.0, y0.copy(), zero.copy(), zero.copy(), zero.copy(), elements0.copy())
     q_static = (y0[:n_q] if q_ref is None else q_ref[:n_q]).copy()
     amp = max(1e-6, float(np.abs(y0[heavy] - q_static[heavy]).max()))
     amp_all = amp
@@ -111,7 +113,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
     if ground is not None and ground.times is not None:
         stops = ground.times[(ground.times > 0.0) & (ground.times < t_end)]
     out = Integration()
-    V0 = model.potential(y0, alpha0)
+    V0 = model.potential(y0, elements0.committed)
     T0 = masses.kinetic(y0[:n_q], s.v)
     D = W = 0.0
     J = 0.0            # of D: the energy released by jumps of massless parts at friction events
@@ -134,12 +136,14 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
 
     def attempt(sysm, s, h):
         sysm.prepare(s, h)
-        y, info = newton(sysm, sysm.predictor(), s.alpha, tol=newton_tol, maxit=12)
+        y, info = newton(sysm, sysm.predictor(), s.elements, tol=newton_tol, maxit=12)
+        alpha1 = s.elements.trial
+        s.elements.revert()   # (every trial starts from the state's committed history)
         out.newton_iterations += info.iterations
         if not info.converged:
             return None, info
         a1, v1, acc1 = sysm.kinematics(y[:n_q])
-        return (y, info.alpha, a1, v1, acc1), info
+        return (y, alpha1, a1, v1, acc1), info
 
     h_s = START_STEP * h
     if fr is None:
@@ -236,7 +240,7 @@ def integrate(model, masses, y0, alpha0, t_end, tolerance, C=None, ground=None, 
             dW, dD = _step_work(s, y, v1, h, ground_power, loss_power, n_q)
             W += dW
             D += dD
-        s = State(t1, y, v1, acc1, a1, alpha1)
+        s = State(t1, y, v1, acc1, a1, ElementState(alpha1))
         if fr is not None and event is None:
             ph, ph_of = phi1, s   # (evaluated at this state's (y, v1) above)
         out.steps += 1

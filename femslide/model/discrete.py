@@ -25,6 +25,7 @@ from femslide.joints.base import Carrier, Link, RotationalSpring, SlideSpring
 from femslide.joints.kinds import kind_of
 from femslide.model.frozen import Frozen
 from femslide.model.linalg import Banded, _unique
+from femslide.model.state import ElementState
 from femslide.model.parts import Table
 from femslide.model.patterns import PatternCache
 
@@ -422,8 +423,9 @@ class Model:
         return y[self.n_q + self.c_off[i]:self.n_q + self.c_off[i + 1]]
 
     def zero_state(self):
+        """The undeformed state: y = 0 and the elements' undeformed history."""
         ne = self.elements.size if self.elements is not None else 0
-        return np.zeros(self.n), np.zeros(ne)
+        return np.zeros(self.n), ElementState.zero(ne)
 
     # -- evaluation ---------------------------------------------------------------------------------
     def nodal(self, q):
@@ -472,8 +474,11 @@ class Model:
             ev(z[a:b], mu[ma:mb], rv, jv)
         return rv, fv
 
-    def system(self, y, alpha_ref, lam=1.0, control=None, jacobian=True, dense=False):
+    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False):
         """Residual and Jacobian of the equations at y.
+
+        ``elements``: the elements' history (femslide.model.state.ElementState): the chord rotations
+        are continued from its committed ones, and the rotations at y become its trial ones.
 
         ``control``: None (load ``lam`` given) or a femslide.joints.holds.DofHold: its dof is held at
         its target and lam is the last unknown y[-1] (displacement control).  Returns (r, A, info)
@@ -493,6 +498,7 @@ class Model:
         jv = [] if jacobian else None
         rv, fv = self._joint_terms(y, lam, jv)
         fmax = 0.0
+        alpha_ref = elements.committed
         alpha = alpha_ref
         parts = []
         info = _Info(lam=lam)
@@ -512,7 +518,8 @@ class Model:
         parts.append(rv)
         r = np.bincount(topo.rbins if control is None else topo.rbins_control, weights=np.concatenate(parts),
                         minlength=size)
-        info.update(fmax=fmax, alpha=alpha)
+        info["fmax"] = fmax
+        elements.trial = alpha
         if not jacobian or self.elements is None:
             info["noise"] = 0.0
         if not jacobian:
@@ -535,7 +542,7 @@ class Model:
 
 class _Info(dict):
     """The info of :meth:`Model.system`: "fmax" (largest element force), "noise" (round-off level of
-    the element forces, with the Jacobian), "fl" (d r / d lam over the frame dofs), "lam", "alpha";
+    the element forces, with the Jacobian), "fl" (d r / d lam over the frame dofs), "lam";
     "noise" and "fl" are computed when first read (from copies of the evaluated state)."""
 
     def later(self, key, compute):

@@ -65,7 +65,8 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np
 
 from femslide.errors import BadInput, SolverFailure
-from femslide.joints.holds import SlideLock
+from femslide.joints.holds import SlideHold as SlideLock
+from femslide.model.state import ElementState
 from femslide.model.linalg import lu_factor, lu_solve
 from femslide.scenes.params import floor_g
 
@@ -238,7 +239,8 @@ class Structure:
         self.L = (v.get("L") or v["l"]) / a
         self.rhoG = np.array([1.0 + v["d"] / a, v["l"] / a + v["b"] / a])  # G - A1 in the body frame [a]
         self.M_body = self.JG + v["m"] * a * a * float(self.rhoG @ self.rhoG)
-        self.y, self.alpha = m.zero_state()
+        self.y, _e = m.zero_state()
+        self.alpha = _e.committed
         self.alpha_ref = self.alpha.copy()
         self.n_solves = 0
         self.n_newton = 0
@@ -252,7 +254,9 @@ class Structure:
 
     # -- statics ----------------------------------------------------------------------------------
     def _system(self, y, alpha):
-        r, A, info = self.model.system(y, alpha, 1.0, dense=True)
+        es = ElementState(alpha)
+        r, A, info = self.model.system(y, es, 1.0, dense=True)
+        info["alpha"] = es.trial
         if self.slock is not None and self.mode != "stuck":
             i = self.row_s
             jN = self.row_clamp

@@ -64,8 +64,9 @@ def _bent_top(weld_point, line_point, e, base, L, beta0, th):
 
 
 def mechanism_state(model, theta):
-    """(y, alpha): a start state of a paper structure's model at deck rotation ``theta`` [rad,
-    counter-clockwise], or None if the geometry admits none (guide line out of reach)."""
+    """(y, elements): a start state of a paper structure's model at deck rotation ``theta`` [rad,
+    counter-clockwise] (its chord rotations committed), or None if the geometry admits none (guide
+    line out of reach)."""
     fs = model.structure
     th = float(theta)
     ct, st = math.cos(th), math.sin(th)
@@ -127,7 +128,8 @@ def mechanism_state(model, theta):
             if not math.isfinite(f1):
                 return None
             Ud = deck_at(weld_top(p1))
-    y, alpha = model.zero_state()
+    y, elements = model.zero_state()
+    alpha = elements.committed
     Uq = model.nodal(y[:model.n_q])
     A_new = Xd + Ud + R @ (A0 - Xd)
     B_new = Xd + Ud + R @ (B0 - Xd)
@@ -161,4 +163,4 @@ def mechanism_state(model, theta):
             top = model.node("right", -1)
             U = model.X0[top] + Uq[top, :2] + R @ (Xb - model.X0[top]) - Xb
         y[d:d + 2], y[d + 2] = U, th
-    return y, alpha
+    return y, elements
