@@ -63,16 +63,7 @@ class FrictionJoint:
 
     def normal(self, y):
         """N (model units) and dN / d(joint multipliers)."""
-        m = y[self.mu_idx]
-        Q = float(m[0])
-        if self.slider and self.h:
-            M = float(m[1])
-            c1, c2 = 0.5 * Q + M / self.h, 0.5 * Q - M / self.h
-            s1, s2 = math.copysign(1.0, c1), math.copysign(1.0, c2)
-            return abs(c1) + abs(c2), np.array([0.5 * (s1 + s2), (s1 - s2) / self.h])
-        dN = np.zeros(self.mu_idx.size)
-        dN[0] = math.copysign(1.0, Q)
-        return abs(Q), dN
+        return normal_force(y[self.mu_idx], self.h, self.slider)
 
     def slide_rate(self, q, v):
         """(s, s') of the joint (s from its absolute value along the guide, model units)."""
@@ -92,6 +83,21 @@ class FrictionJoint:
             vals = np.concatenate([(c * N * Hs).ravel(), (c * np.outer(ds, dN)).ravel()])
             return f, (self.rows, self.cols, vals)
         return term
+
+
+def normal_force(m, h=None, slider=True):
+    """The normal force N (model units) of a slider or roller and dN/dm from its multipliers m: N = |Q|
+    (Q = m[0], the transverse force), or for a slider with bearings h apart (model units) the sum of
+    the contact forces' magnitudes |Q/2 + M/h| + |Q/2 - M/h| (M = m[1], the moment)."""
+    Q = float(m[0])
+    if slider and h:
+        M = float(m[1])
+        c1, c2 = 0.5 * Q + M / h, 0.5 * Q - M / h
+        s1, s2 = math.copysign(1.0, c1), math.copysign(1.0, c2)
+        return abs(c1) + abs(c2), np.array([0.5 * (s1 + s2), (s1 - s2) / h])
+    dN = np.zeros(len(m))
+    dN[0] = math.copysign(1.0, Q)
+    return abs(Q), dN
 
 
 def joint_friction_force(link, c, q):
