@@ -49,8 +49,10 @@ Checks (TOL = 1e-6 relative unless stated):
   measured 9.7e-6, 3.7e-4); beam-friction also Coulomb's law while stuck (``stuck_force_ratio_max``
   <= 1 + 1e-6) and, for t_end <= 3 s and mu0 <= 1, the independent model
   validation/friction_reference.py (extensible elastica by shooting, scipy events): turning points
-  within 1e-5 rad and 2e-4 s at tolerance 1e-6 (measured <= 3.1e-6 rad, 7.6e-5 s on the scene's
-  defaults and the issue 12 cases; 1e-6 rad and 1e-5 s at tolerance 1e-8).
+  within max(1e-6, 0.1 tolerance^(2/3)) rad and max(1e-5, 2 tolerance^(2/3)) s (1e-5 rad and 2e-4 s at
+  tolerance 1e-6: measured <= 3.1e-6 rad, 7.6e-5 s on the scene's defaults and the issue 12 cases;
+  at 1e-8 1.5e-7 rad, 3.9e-6 s; at 1e-3 2.5e-4 rad, 3.4e-3 s).  A run whose energy balance is worse than
+  0.1 fails (exit 1; beam_dynamics.ENERGY_LIMIT): mu = mu0 = 5 jams the massless slide.
 * FE dynamics of the shipped structure files (simulate FILE.toml with --set overrides: tolerance
   1e-9 .. 1e-3, stiff and soft rods, massive rods, Rayleigh damping, friction from a trace to
   locking, bearings, fine meshes, recorded ground motion in any direction): the energy balance
@@ -589,8 +591,8 @@ def friction_reference_check(v, r):
         return False, f"{len(got)} turning points (|phi| > 1e-4), independent model {len(big)}"
     ew = max((abs(a[1] - b[1]) for a, b in zip(got, big)), default=0.0)
     et = max((abs(a[0] - b[0]) for a, b in zip(got, big)), default=0.0)
-    tight = float(v.get("tolerance", 1e-6)) <= 1e-8
-    return (ew <= (1e-6 if tight else 1e-5) and et <= (1e-5 if tight else 2e-4)), (
+    g = float(v.get("tolerance", 1e-6)) ** (2.0 / 3.0)   # the FE transient's global error
+    return (ew <= max(1e-6, 0.1 * g) and et <= max(1e-5, 2.0 * g)), (
         f"vs the independent model (elastica, scipy): {len(got)} turning points, |dphi| {ew:.1e} rad, "
         f"|dt| {et:.1e} s; its stuck time {fr.stuck_time(ref):.4g} s")
 
@@ -605,7 +607,7 @@ def check_beam_dynamics(row, v, r):
               f"stuck drift {drift:.1e} m; F2_max {r.get('F2_max')}")
     if "stuck_time" in r:
         detail += f"; stuck {r['stuck_time']:.3g} s of {r['t_end']:g}"
-    if scale < 1e-12 and drift <= 1e-12 and r["w_max"] <= 1e-6:
+    if scale < 1e-9 and drift <= 1e-12:   # as check_fe_dynamics: t_end = 1e-6 s moves nothing measurable
         return "solved (round-off level)", detail + f"; energies below {scale:.1e} J: nothing to balance"
     ok = bal is not None and bal <= min(FE_ENERGY_C * tol ** (2.0 / 3.0), 1e-2) and drift <= 1e-12
     plain = not any(k for k in row["set"] if k != "_out")
