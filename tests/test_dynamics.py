@@ -1,8 +1,12 @@
-"""Tests of the structure dynamics (femslide/scenes/beam_dynamics.py): beam-oscillation and beam-friction.
+"""Tests of the structure dynamics scenes beam-oscillation and beam-friction (femslide/scenes/beam_dynamics.py,
+on the FE transient femslide.analysis.simulate).
 
-References computed independently here: the linearised stiffness K_eff = dM/dphi of the static
-structure under a small dead moment on the body (femslide.analysis.newton on the plain beam-extra-mass model,
-no lock constraint, no sensitivities) and the rotary inertia M(0) from rigid-body kinematics.
+References: the reduced one-degree-of-freedom model's values (validation/reduced_dynamics.py, kept in
+validation/dynamic_references.py: an independent formulation), the structure files
+meshes/structures/beam-oscillation.toml and beam-friction.toml (the same declarations), the linearised
+stiffness K_eff = dM/dphi of the static structure under a small dead moment on the deck
+(femslide.analysis.static, no dynamics) with the rotary inertia from rigid-body kinematics, and
+closed forms (a cosine for the turning-point locator, the damped oscillator's decrement for c_v).
 """
 from __future__ import annotations
 
@@ -20,16 +24,29 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 if ROOT not in sys.path:
     sys.path.insert(0, ROOT)
 
+import femslide  # noqa: E402
 from femslide.scenes.catalog import get  # noqa: E402
 
-KEYS = {"converged", "turning_points", "stop", "w_max", "steady_amplitude", "steps", "F2_max",
-        "energy_balance", "wall_time_s"}
+# the contract of SPEC section 7 (simulate --json of a structure scene) and what the FE transient adds
+KEYS = {"converged", "turning_points", "stop", "w_max", "steady_amplitude", "steps", "F2_max", "wall_time_s",
+        "energy_balance", "frequencies_hz", "peaks", "omega"}
+OSCILLATION_F2 = 88.92548492288407   # the reduced model's peak |F2| (validation/dynamic_references.py)
 
 
 def cli(*args, timeout=120):
     env = dict(os.environ, PYTHONPATH=ROOT)
     return subprocess.run([sys.executable, "-m", "femslide", *args], capture_output=True, text=True,
                           cwd=ROOT, env=env, timeout=timeout)
+
+
+def inertia_A1(v, m1=True):
+    """Rotary inertia [kg m^2] about A1 at phi = 0: the deck (m at G, J_G of the 2a x 2b rectangle) and
+    the piece (m1, l2) translating horizontally with speed (L + l2/2) phi' and turning with the deck."""
+    a, b, d, l, m = v["a"], v["b"], v["d"], v["l"], v["m"]
+    J = m * ((2 * a) ** 2 + (2 * b) ** 2) / 12 + m * ((a + d) ** 2 + (l + b) ** 2)
+    if m1:
+        J += v["m1"] * ((v["L"] + v["l2"] / 2) ** 2 + v["l2"] ** 2 / 12)
+    return J
 
 
 @pytest.fixture(scope="module")
@@ -40,25 +57,50 @@ def oscillation(tmp_path_factory):
     return json.loads(r.stdout), out
 
 
-def test_oscillation_json_keys(oscillation):
+def test_oscillation_contract(oscillation):
+    """Every SPEC section 7 key; F2_max is simulate's refined peak of |Fx| at B1 and, at the default
+    tolerance 1e-6, within 1e-4 of the reduced model's 88.92548492 N (measured 9.7e-6); w_max is phi0
+    to 1e-5 (the FE turning points overshoot by 4e-6 relative at 1e-6)."""
     res, _ = oscillation
     assert KEYS <= set(res)
     assert res["converged"] is True and res["stop"] is None and res["steady_amplitude"] is None
-    assert res["F2_max"] > 0 and res["w_max"] == pytest.approx(0.01, rel=1e-9)
+    assert res["F2_max"] == res["peaks"]["reactions"]["B1"]["Fx"]
+    assert res["F2_max"] == pytest.approx(OSCILLATION_F2, rel=1e-4)
+    assert res["w_max"] == pytest.approx(0.01, rel=1e-5)
+    assert res["omega"] == pytest.approx(2 * math.pi * res["frequencies_hz"][0], rel=1e-15)
     assert all(set(tp) == {"t", "w"} for tp in res["turning_points"])
-    assert len(res["turning_points"]) >= 2
+    assert len(res["turning_points"]) == 2
+    assert res["energy_balance"] < 1e-4   # what generalized-alpha delivers at 1e-6 (measured 3.9e-5)
 
 
-def test_frictionless_energy_balance(oscillation):
-    """Kinetic + potential (strain + weights + spring of the static state) is conserved to 1e-8."""
-    res, _ = oscillation
-    assert res["energy_balance"] <= 1e-8
-    assert res["energy_balance_turning_points"] <= 1e-8
-    # d'Alembert check: with the inertia loads the rotation lock carries no moment
-    assert res["dalembert_residual"] <= 1e-8
+def test_turning_points_are_located_between_the_steps(oscillation):
+    """Each turning point lies strictly between two accepted steps whose phi' differ in sign, at the
+    extreme of phi: |w| >= |phi| of both neighbouring steps."""
+    res, out = oscillation
+    H = np.loadtxt(out / "history.csv", delimiter=",", skiprows=1)
+    t, phi, w = H[:, 0], H[:, 1], H[:, 2]
+    for tp in res["turning_points"]:
+        k = int(np.searchsorted(t, tp["t"])) - 1
+        assert t[k] < tp["t"] < t[k + 1] and w[k] * w[k + 1] < 0
+        assert abs(tp["w"]) >= max(abs(phi[k]), abs(phi[k + 1]))
 
 
-def test_out_writes_pvd_series_readable_by_pyvista(oscillation):
+def test_turning_point_locator_on_an_exact_cosine():
+    """phi = A cos(omega t) sampled at irregular steps (omega h up to 0.12) with its exact phi' and
+    phi'': the located turning points are k pi / omega within 1e-9 s and (-1)^k A within 1e-10 A."""
+    from femslide.scenes.beam_dynamics import turning_points
+    A, omega = 0.01, 5.0
+    rng = np.random.default_rng(1)
+    t = np.concatenate([[0.0], np.cumsum(rng.uniform(0.005, 0.024, 400))])
+    tp = turning_points(t, A * np.cos(omega * t), -A * omega * np.sin(omega * t),
+                        -A * omega ** 2 * np.cos(omega * t))
+    k = np.arange(1, len(tp) + 1)
+    assert len(tp) == int(t[-1] * omega / math.pi)
+    assert np.abs(np.array([p[0] for p in tp]) - k * math.pi / omega).max() < 1e-9
+    assert np.abs(np.array([p[1] for p in tp]) - A * (-1.0) ** k).max() < 1e-10 * A
+
+
+def test_out_writes_history_csv_and_a_pvd_series_readable_by_pyvista(oscillation):
     import pyvista as pv
     _, out = oscillation
     vtus = sorted(f for f in os.listdir(out) if f.startswith("beam-oscillation_") and f.endswith(".vtu"))
@@ -71,6 +113,23 @@ def test_out_writes_pvd_series_readable_by_pyvista(oscillation):
     assert rows[0][:6] == ["t [s]", "phi [rad]", "phi_dot [rad/s]", "F2 [N]", "slide [m]",
                            "stuck (1 stuck; 0 sliding or free)"]
     assert len(rows) > 20
+
+
+def test_scenes_are_the_structure_files():
+    """The scenes declare what meshes/structures/beam-oscillation.toml and beam-friction.toml declare:
+    the same peaks and frequencies (the friction file's ground frequency 0.8102405940549279 Hz is the
+    reduced model's omega, the scene's theta comes from the FE modes: 1.7e-9 apart, so 1e-7 there; the
+    file starts from its static equilibrium, the scene from the deck held at phi0 = 0, 4.8e-6 rad from
+    it with the extensible rod: the file is held there too)."""
+    for name, rel, start in (("beam-oscillation", 1e-12, {}), ("beam-friction", 1e-7, {"rotation": 0.0})):
+        scene = femslide.simulate(name, t_end=0.7)
+        file = femslide.simulate(f"meshes/structures/{name}.toml", t_end=0.7,
+                                 **({"initial": {"body": "deck", **start}} if start else {}))
+        assert scene["frequencies_hz"] == pytest.approx(file["frequencies_hz"], rel=1e-12)
+        for j in ("A1", "B1"):
+            for k in ("Fx", "Fy"):
+                assert scene["peaks"]["reactions"][j][k] == pytest.approx(file["peaks"]["reactions"][j][k], rel=rel)
+        assert scene["peaks"]["joints"]["clamp"] == pytest.approx(file["peaks"]["joints"]["clamp"], rel=rel)
 
 
 def static_stiffness(v, n, h=1e-4):
@@ -90,23 +149,44 @@ def static_stiffness(v, n, h=1e-4):
 
 
 def test_small_amplitude_period_matches_linearised_frequency():
-    """Period from the turning points at phi0 = 1e-4 vs 2 pi sqrt(M/K_eff); K_eff from the statics,
-    M = J_A1 + m1 ((L + l2/2)^2 + l2^2/12) (at phi = 0 the top of the vertical inextensible rod moves
-    horizontally, so the piece translates horizontally with speed (L + l2/2) phi').  The quartic
-    hardening shifts the frequency by ~ c (a/L)^2 phi0^2 / K ~ 3e-5 here: tolerance 2e-4."""
-    from femslide.scenes import beam_dynamics as dynamics
-    v = get("beam-oscillation").resolve({"phi0": 1e-4, "t_end": 1.4})
-    res = dynamics.run_oscillation(v)
+    """Period from the turning points at phi0 = 1e-4 vs 2 pi sqrt(J/K_eff), K_eff from the statics, J
+    from rigid-body kinematics (:func:`inertia_A1`).  The quartic hardening shifts the frequency by
+    ~3e-5 and generalized-alpha's period error at tolerance 1e-7 is ~1e-5: tolerance 2e-4.  The FE
+    modes' lowest frequency is sqrt(K_eff/J) within 1e-5."""
+    v = get("beam-oscillation").resolve({"phi0": 1e-4, "t_end": 1.4, "tolerance": 1e-7})
+    res = femslide.simulate("beam-oscillation", phi0=1e-4, t_end=1.4, tolerance=1e-7)
     K = static_stiffness(v, v["n_elements"])
-    a, b, d, l, m = v["a"], v["b"], v["d"], v["l"], v["m"]
-    J = m * ((2 * a) ** 2 + (2 * b) ** 2) / 12 + m * ((a + d) ** 2 + (l + b) ** 2)
-    J += v["m1"] * ((v["L"] + v["l2"] / 2) ** 2 + v["l2"] ** 2 / 12)
+    J = inertia_A1(v)
     T_ref = 2 * math.pi * math.sqrt(J / K)
     tp = res["turning_points"]
     T = 2 * (tp[1]["t"] - tp[0]["t"])
     assert abs(T - T_ref) / T_ref < 2e-4
-    assert res["K_eff"] == pytest.approx(K, rel=1e-5)
-    assert res["energy_balance"] <= 1e-7  # tiny amplitude: the round-off floor of the statics shows
+    assert res["frequencies_hz"][0] == pytest.approx(math.sqrt(K / J) / (2 * math.pi), rel=1e-5)
+
+
+def test_viscous_damping_on_phi_decays_by_the_logarithmic_decrement():
+    """c_v [N m s/rad] is a rotational dashpot on the deck: J phi'' + c_v phi' + K phi = 0, zeta =
+    c_v / (2 sqrt(K J)), successive turning points in the ratio exp(-pi zeta / sqrt(1 - zeta^2)).
+    With zeta = 0.02 (J from :func:`inertia_A1`, K = J omega^2 from the reported omega), phi0 = 1e-4
+    (the rod's quartic hardening raises the frequency by ~3e-5 there and so shortens the half-swings'
+    decay: 2e-6 of the ratio; 1.8e-4 at phi0 = 1e-3, as the reduced model gives too): the ratios
+    within 1e-5 (measured 3e-6); the energy dissipated is at least the potential energy lost by the
+    last turning point and closes the energy balance within 1e-4."""
+    v = get("beam-oscillation").resolve({})
+    J = inertia_A1(v)
+    plain = femslide.simulate("beam-oscillation", t_end=0.1)
+    K = J * plain["omega"] ** 2
+    zeta, phi0 = 0.02, 1e-4
+    res = femslide.simulate("beam-oscillation", phi0=phi0, t_end=2.0, c_v=2 * zeta * math.sqrt(K * J),
+                            tolerance=1e-7)
+    w = [tp["w"] for tp in res["turning_points"]]
+    assert len(w) == 3
+    ratio = math.exp(-math.pi * zeta / math.sqrt(1 - zeta ** 2))
+    for w0, w1 in zip([phi0] + w[:-1], w):
+        assert abs(-w1 / w0 - ratio) < 1e-5
+    # dissipated by t_end: at least the energy lost by the last turning point, less than all of it
+    assert 0.5 * K * (phi0 ** 2 - w[2] ** 2) * (1 - 1e-3) < res["energy"]["dissipated"] < 0.5 * K * phi0 ** 2
+    assert res["energy_balance"] < 1e-4
 
 
 @pytest.fixture(scope="module")
@@ -117,23 +197,56 @@ def friction(tmp_path_factory):
     return json.loads(r.stdout), out
 
 
+def test_friction_contract_and_frequency(friction):
+    """The contract keys and events; omega from the FE modes of the frictionless structure equals the
+    structure file's ground frequency 0.8102405940549279 Hz (the reduced model's) within 1e-8; the
+    forcing is at theta = omega; Coulomb's law holds while stuck; every end of slip (stick event) is a
+    turning point within 1e-8 s; the turning points agree with the reduced model's (its first, at
+    1.98e-4 s, the reversal of the release from phi = 0, 4.8e-6 rad off the extensible rod's
+    equilibrium) within 1e-4 s."""
+    res, _ = friction
+    assert KEYS | {"events", "theta"} <= set(res)
+    assert res["omega"] / (2 * math.pi) == pytest.approx(0.8102405940549279, rel=1e-8)
+    assert res["theta"] == res["omega"]
+    assert res["stuck_force_ratio_max"] <= 1.0
+    sticks = [e["t"] for e in res["events"]["clamp"] if e["kind"] == "stick" and e["t"] > 0]
+    tps = [tp["t"] for tp in res["turning_points"]]
+    assert len(sticks) == 2 and all(min(abs(t - s) for t in tps) < 1e-8 for s in sticks)
+    reduced = [0.0001981729881663019, 0.5980783557781205, 1.1999410820655922]
+    assert len(tps) == len(reduced) and np.abs(np.subtract(tps, reduced)).max() < 1e-4
+
+
 def test_friction_zero_drift_while_stuck(friction):
     res, out = friction
-    assert KEYS <= set(res)
     assert res["stick_slip_switches"] >= 2 and res["stuck_time"] > 0
-    # the lock is an exact constraint: the slide of stuck samples equals the stuck value to round-off
-    # of the slide's evaluation (~1e-17 m; a creeping penalty or regularised friction drifts by far more)
-    assert res["stuck_slide_drift"] <= 1e-15
+    # the lock is an exact constraint: the slide of stuck steps equals its value at the stick to the
+    # round-off of the slide's evaluation (~1e-16 m; a creeping penalty or regularised friction drifts by far more)
+    assert res["stuck_slide_drift"] <= 1e-14
     H = np.loadtxt(out / "history.csv", delimiter=",", skiprows=1)
     stuck = H[:, 5] == 1
     assert stuck.any()
-    # in each run of stuck samples the slide is constant to the last bit, except where a slip phase
-    # too short to hold a sample separates two stuck phases (at most one change per stick event)
     runs = np.split(np.arange(len(H)), np.flatnonzero(np.diff(stuck.astype(int))) + 1)
-    changes = sum(np.count_nonzero(np.diff(H[r, 4])) for r in runs if stuck[r[0]])
-    assert changes <= res["stick_slip_switches"] // 2
-    assert res["energy_balance"] <= 1e-7
-    assert res["friction_work"] > 0 and res["jump_loss"] >= 0
+    for r in runs:
+        if stuck[r[0]]:
+            assert np.abs(H[r, 4] - H[r[0], 4]).max() <= 1e-14
+    assert res["energy"]["dissipated"] > 0 and res["energy"]["jump_loss"] >= 0
+
+
+def test_record_and_harmonic_ground_add_up(tmp_path):
+    """beam-friction's ground motion is ag sin(theta t) plus the record: a record sampling 1.0 sin(theta t)
+    every 1 ms (linear between samples: 3e-6 off the sine) with ag = 0.5 is the harmonic ag = 1.5.
+    Tolerance: F2_max within 5e-4 and the turning points within 5e-5 s (the two runs step differently,
+    the record's at every sample: generalized-alpha's error at 1e-6, measured 6.7e-5 and 6.6e-6 s)."""
+    theta = femslide.simulate("beam-friction", t_end=0.05)["theta"]
+    t = np.arange(0.0, 0.8 + 1e-9, 1e-3)
+    path = tmp_path / "sine.csv"
+    np.savetxt(path, np.column_stack([t, np.sin(theta * t)]), delimiter=",", header="t,a", comments="")
+    both = femslide.simulate("beam-friction", t_end=0.8, ag=0.5, record=str(path))
+    harmonic = femslide.simulate("beam-friction", t_end=0.8, ag=1.5)
+    assert both["steady_amplitude"] is None and both["steady_reason"] == "record excitation is not periodic"
+    assert both["F2_max"] == pytest.approx(harmonic["F2_max"], rel=5e-4)
+    tb, th = [tp["t"] for tp in both["turning_points"]], [tp["t"] for tp in harmonic["turning_points"]]
+    assert len(tb) == len(th) >= 2 and np.abs(np.subtract(tb, th)).max() < 5e-5
 
 
 @pytest.mark.parametrize("scene, setting", [
@@ -143,6 +256,12 @@ def test_friction_zero_drift_while_stuck(friction):
     ("beam-oscillation", "t_end=-1"),
     ("beam-oscillation", "k=9"),           # k <= k_crit = 9.19 N/m
     ("beam-friction", "k=5"),
+    ("beam-oscillation", "tolerance=0.1"),
+    ("beam-friction", "tolerance=1e-13"),
+    ("beam-oscillation", "n_elements=600"),
+    ("beam-oscillation", "t_end=1e5"),     # beyond the work budget
+    ("beam-friction", "record=no-such-file.csv"),
+    ("beam-oscillation", "c_v=-1"),
 ])
 def test_bad_input_exits_2(scene, setting):
     r = cli("simulate", scene, "--set", setting)

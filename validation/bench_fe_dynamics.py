@@ -9,7 +9,7 @@ matplotlib is installed):
    with the local error held at the tolerance, like tolerance^(2/3));
 2. work-precision on the paper's section 5.2 structure (meshes/structures/beam-oscillation.toml,
    8 elements, 3 s): relative error of the peak |F2| against the reduced 1-DOF model
-   (femslide simulate beam-oscillation, 88.92548492 N; the OpenSees transient of table 4 agrees with
+   (validation/reduced_dynamics.py, 88.92548492 N; the OpenSees transient of table 4 agrees with
    it to 1e-8: its refined peak at dt = 1e-3), steps and run time; the reduced model's own run time
    measured in the same run;
 3. cost per step (the integration alone, without the static start and the modes) against the number
@@ -83,11 +83,14 @@ def section52_table(rows):
         print(f"{tol:10.0e} {r['steps']:7d} {F2:14.8f} {abs(F2 / F2_REF - 1):11.2e} {wall:9.3f}")
         rows.append({"case": "section 5.2", "tolerance": tol, "steps": r["steps"], "error": abs(F2 / F2_REF - 1),
                      "time_s": wall})
+    from reduced_dynamics import run_oscillation
+
+    from femslide.scenes.catalog import get
     t0 = time.perf_counter()
-    red = femslide.simulate("beam-oscillation")
+    red = run_oscillation(get("beam-oscillation").resolve({}))
     wall = time.perf_counter() - t0
     print(f"{'reduced':>10} {red['steps']:7d} {red['F2_max']:14.8f} {'(reference)':>11} {wall:9.3f}"
-          "   femslide simulate beam-oscillation, same run")
+          "   validation/reduced_dynamics.py, same run")
     rows.append({"case": "section 5.2 reduced model", "tolerance": "", "steps": red["steps"], "error": 0.0,
                  "time_s": wall})
 

@@ -1,9 +1,15 @@
-"""Reference values of the paper's structure in time, from femslide's reduced 1-degree-of-freedom model
-(femslide/scenes/beam_dynamics.py: the massless rod's statics at every body rotation, DOP853 at a tight tolerance,
-energy balance ~1e-11) - a formulation independent of the FE transient (femslide/analysis/transient.py) that the
-validation compares against them.  Regenerate with ``femslide simulate beam-oscillation --json`` and
-``femslide simulate beam-friction --json`` (default parameters); the OpenSees Newmark transient of
-validation/opensees_models.py agrees with OSCILLATION_F2 to 5e-9.
+"""Reference values of the paper's structure in time, from the reduced 1-degree-of-freedom model
+(validation/reduced_dynamics.py: the massless rod's statics at every body rotation, DOP853 at rtol 1e-11,
+energy balance ~1e-11) - a formulation independent of the FE transient (femslide/analysis/transient.py)
+on which the scenes beam-oscillation and beam-friction and the structure files run, and which the
+validation compares against them.  Regenerate with (default parameters, from the repository root)::
+
+    python -c "import sys; sys.path.insert(0, 'validation'); from reduced_dynamics import *; \
+    from femslide.scenes.catalog import get; print(run_friction(get('beam-friction').resolve({})))"
+
+(and run_oscillation for beam-oscillation); the OpenSees Newmark transient of
+validation/opensees_models.py agrees with OSCILLATION_F2 to 5e-9.  Both runs start at rest from
+phi = phi0 (0.01, 0) held, as the scenes do.
 """
 
 # beam-oscillation (section 5.2, released from phi = 0.01 rad): peak |F2| [N]

@@ -1,4 +1,5 @@
-"""Independent reference for beam-friction (femslide/scenes/beam_dynamics.py is NOT used here).
+"""Independent reference for beam-friction (neither femslide's FE transient nor the reduced model of
+validation/reduced_dynamics.py is used here).
 
 The structure of ``beam-friction`` (SPEC section 5, femslide's scene description): rigid body ABCD
 pinned at A1 = (0, 0) by its rigid left rod (length l), turning by phi (clockwise); a massless

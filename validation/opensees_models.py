@@ -76,7 +76,7 @@ OSCILLATION = {
     "k": 100.0, "preload": -5.886,        # slider spring [N/m] and its force on S at zero slide [N]
     "g": 9.81,
 }
-F2_REDUCED = OSCILLATION_F2   # N, max |F2| of femslide's reduced 1-DOF model (simulate beam-oscillation)
+F2_REDUCED = OSCILLATION_F2   # N, max |F2| of the reduced 1-DOF model (validation/reduced_dynamics.py)
 
 
 def _peak3(t, y):

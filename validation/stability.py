@@ -40,11 +40,19 @@ Checks (TOL = 1e-6 relative unless stated):
   independent solve_ivp event-switching integrator (sdof_reference.ivp_simulate,
   DOP853, rtol 1e-12) - turning points within 1e-7 m (1e-6 relative for the resonant growth) - and
   at theta = omega the exact growth per cycle (pi P0 - 4 mu N)/k (1e-6 relative).
-* beam-oscillation, beam-friction: energy balance (<= 1e-6; the run's own ``energy_balance``) and
-  zero drift while stuck (``stuck_slide_drift`` <= 1e-12 m); beam-friction also Coulomb's law while
-  stuck (``stuck_force_ratio_max`` <= 1 + 1e-6) and, for t_end <= 3 s and mu0 <= 1, the independent
-  model validation/friction_reference.py (extensible elastica by shooting, scipy events): turning
-  points within 1e-6 rad and 1e-6 s.
+* beam-oscillation, beam-friction (on the FE transient since issue 21; the reduced 1-DOF model,
+  validation/reduced_dynamics.py, met an energy balance of 1e-11 where the FE transient delivers
+  ~1e-4 at its default tolerance 1e-6): energy balance within FE_ENERGY_C tolerance^(2/3) as for the
+  structure files below (3e-3 at 1e-6; measured 3.9e-5 and 1.1e-4 at the defaults) and zero drift
+  while stuck (``stuck_slide_drift`` <= 1e-12 m); at the defaults peak |F2| against the reduced
+  model's (validation/dynamic_references.py: 1e-4 for beam-oscillation, 1e-3 for beam-friction;
+  measured 9.7e-6, 3.7e-4); beam-friction also Coulomb's law while stuck (``stuck_force_ratio_max``
+  <= 1 + 1e-6) and, for t_end <= 3 s and mu0 <= 1, the independent model
+  validation/friction_reference.py (extensible elastica by shooting, scipy events): turning points
+  within max(1e-6, 0.1 tolerance^(2/3)) rad and max(1e-5, 2 tolerance^(2/3)) s (1e-5 rad and 2e-4 s at
+  tolerance 1e-6: measured <= 3.1e-6 rad, 7.6e-5 s on the scene's defaults and the issue 12 cases;
+  at 1e-8 1.5e-7 rad, 3.9e-6 s; at 1e-3 2.5e-4 rad, 3.4e-3 s).  A run whose energy balance is worse than
+  0.1 fails (exit 1; beam_dynamics.ENERGY_LIMIT): mu = mu0 = 5 jams the massless slide.
 * FE dynamics of the shipped structure files (simulate FILE.toml with --set overrides: tolerance
   1e-9 .. 1e-3, stiff and soft rods, massive rods, Rayleigh damping, friction from a trace to
   locking, bearings, fine meshes, recorded ground motion in any direction): the energy balance
@@ -124,6 +132,13 @@ def cases():
         add("end time t_end", "simulate", scene, t_end=tl)
     _issue12_cases(add)
     _fe_dynamics_cases(add)
+    g = "FE dynamics (scenes)"   # beam-oscillation, beam-friction on the FE transient (issue 21)
+    for scene in ("beam-oscillation", "beam-friction"):
+        add(g, "simulate", scene)
+        add(g, "simulate", scene, tolerance=1e-8)
+        add(g, "simulate", scene, tolerance=1e-3)
+    add(g, "simulate", "beam-oscillation", c_v=5.0, phi0=0.1)
+    add(g, "simulate", "beam-friction", c_v=5.0, ag=3.0)
     # out-of-range input must exit 2 with the parameter named
     add("bad input", "solve", "beam-slider", EI=0.0)
     add("bad input", "solve", "beam-slider", n_elements=0)
@@ -562,7 +577,7 @@ def friction_reference_check(v, r):
     import friction_reference as fr
     keys = ("mu", "mu0", "ag", "theta_ratio", "t_end")
     sets = {k: v[k] for k in keys if k in v}
-    if set(v) - set(keys) or v.get("t_end", 3.0) > 3.0 or sets.get("mu0", sets.get("mu", 0.24)) > 1.0:
+    if set(v) - set(keys) - {"tolerance"} or v.get("t_end", 3.0) > 3.0 or sets.get("mu0", sets.get("mu", 0.24)) > 1.0:
         return None
     if "mu" in sets and "mu0" not in sets:
         sets["mu0"] = sets["mu"]
@@ -576,42 +591,40 @@ def friction_reference_check(v, r):
         return False, f"{len(got)} turning points (|phi| > 1e-4), independent model {len(big)}"
     ew = max((abs(a[1] - b[1]) for a, b in zip(got, big)), default=0.0)
     et = max((abs(a[0] - b[0]) for a, b in zip(got, big)), default=0.0)
-    return (ew <= 1e-6 and et <= 1e-6), (f"vs the independent model (elastica, scipy): {len(got)} turning "
-                                         f"points, |dphi| {ew:.1e} rad, |dt| {et:.1e} s; its stuck time "
-                                         f"{fr.stuck_time(ref):.4g} s")
-
-
-def coulomb_ok(row, r):
-    ratio, excess = r.get("stuck_force_ratio_max"), r.get("stuck_force_excess_max")
-    return ratio is None or ratio <= 1 + 1e-6 or (excess is not None and excess <= 1e-9 * P)
+    g = float(v.get("tolerance", 1e-6)) ** (2.0 / 3.0)   # the FE transient's global error
+    return (ew <= max(1e-6, 0.1 * g) and et <= max(1e-5, 2.0 * g)), (
+        f"vs the independent model (elastica, scipy): {len(got)} turning points, |dphi| {ew:.1e} rad, "
+        f"|dt| {et:.1e} s; its stuck time {fr.stuck_time(ref):.4g} s")
 
 
 def check_beam_dynamics(row, v, r):
+    """beam-oscillation, beam-friction on the FE transient (see the module docstring)."""
+    tol = float(row["set"].get("tolerance", 1e-6))
     bal = r.get("energy_balance")
     drift = r.get("stuck_slide_drift", 0.0)
-    detail = (f"{len(r['turning_points'])} turning points; energy_balance {bal:.1e}; "
+    scale = max(abs(x) for x in r["energy"].values())
+    detail = (f"{len(r['turning_points'])} turning points; energy_balance {bal:.1e} at tolerance {tol:g}; "
               f"stuck drift {drift:.1e} m; F2_max {r.get('F2_max')}")
     if "stuck_time" in r:
         detail += f"; stuck {r['stuck_time']:.3g} s of {r['t_end']:g}"
-    ok = bal is not None and bal <= 1e-6 and drift <= 1e-12
+    if scale < 1e-9 and drift <= 1e-12:   # as check_fe_dynamics: t_end = 1e-6 s moves nothing measurable
+        return "solved (round-off level)", detail + f"; energies below {scale:.1e} J: nothing to balance"
+    ok = bal is not None and bal <= min(FE_ENERGY_C * tol ** (2.0 / 3.0), 1e-2) and drift <= 1e-12
+    plain = not any(k for k in row["set"] if k != "_out")
+    if plain:   # the scene's defaults: the reduced model's peak |F2| (validation/dynamic_references.py)
+        F2ref, lim = ((dref.OSCILLATION_F2, 1e-4) if row["scene"] == "beam-oscillation" else (dref.FRICTION_F2, 1e-3))
+        e = abs(r["F2_max"] / F2ref - 1.0)
+        ok = ok and e <= lim
+        detail += f"; F2_max {e:.1e} from the reduced model's"
     if row["scene"] == "beam-friction":
-        ratio, excess = r.get("stuck_force_ratio_max"), r.get("stuck_force_excess_max")
-        detail += (f"; max |F_ax|/(mu0 N) stuck {ratio:.6g}, excess {excess:.1e} N" if ratio is not None
-                   else "; never stuck")
-        # Coulomb to 1e-6 relative, or to the multipliers' round-off (1e-9 P) for tiny mu0
-        coulomb = ratio is None or ratio <= 1 + 1e-6 or excess <= 1e-9 * P
-        ok = ok and coulomb
+        ratio = r.get("stuck_force_ratio_max")
+        detail += f"; max |F_ax|/(mu0 N) stuck {ratio:.6g}" if ratio is not None else "; never stuck"
+        ok = ok and (ratio is None or ratio <= 1 + 1e-6)
         fr = friction_reference_check({**{"t_end": 3.0}, **row["set"]}, r)
-        if fr is not None and bal is not None and bal <= 1e-6:
-            ok = ok and fr[0]
-            detail += "; " + fr[1]
-            return ("solved" if ok else "WRONG"), detail
         if fr is not None:
-            detail += "; " + fr[1]
-    scale = max(abs(r.get("work_in", 0.0) or 0.0), abs(r.get("friction_work", 0.0) or 0.0))
-    if not ok and drift <= 1e-12 and coulomb_ok(row, r) and "work_in" in r and scale < 1e-12 and r["w_max"] < 1e-15:
-        return "solved (round-off level)", detail + f"; work_in {r['work_in']:.1e} J: below round-off"
-    return ("solved" if ok else "WRONG"), detail + " (no independent reference: energy balance, drift)"
+            ok = ok and fr[0]
+            return ("solved" if ok else "WRONG"), detail + "; " + fr[1]
+    return ("solved" if ok else "WRONG"), detail + ("" if plain else " (energy balance, drift)")
 
 
 FE_ENERGY_C = 30.0   # FE dynamics: energy_balance <= FE_ENERGY_C tolerance^(2/3), the second-order

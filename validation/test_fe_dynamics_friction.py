@@ -58,7 +58,7 @@ def test_example_3_base_excitation():
     assert res["energy_balance"] < 1e-5
 
 
-# femslide simulate beam-friction --json (the reduced 1-DOF model): validation/dynamic_references.py
+# the reduced 1-DOF model (validation/reduced_dynamics.py) at beam-friction's defaults: dynamic_references.py
 from dynamic_references import FRICTION_F2 as BEAM_FRICTION_F2  # noqa: E402
 from dynamic_references import FRICTION_JUMP as BEAM_FRICTION_JUMP  # noqa: E402
 from dynamic_references import FRICTION_OMEGA as BEAM_FRICTION_OMEGA  # noqa: E402

@@ -123,8 +123,8 @@ def test_beam_oscillation_transient_against_opensees_newmark():
       phase (a 4 % error in the deck's inertia about its centroid moves F2 by 1.4 N at t = 2.7 s).
       Measured 0.054 N = 6e-4: femslide's phase error at tolerance 1e-6 (0.012 N at 1e-7, 0.0023 N
       at 1e-8; OpenSees at dt = 5e-4 differs from dt = 2.5e-4 by 8e-4 N);
-    * the OpenSees model itself against femslide's reduced one-degree-of-freedom model of the same
-      structure (femslide simulate beam-oscillation: max |F2| = 88.92548492 N): within 1e-5 relative
+    * the OpenSees model itself against the reduced one-degree-of-freedom model of the same structure
+      (validation/reduced_dynamics.py: max |F2| = 88.92548492 N): within 1e-5 relative
       (measured 1.7e-7; bound: the sampling of the peak, 2 (omega dt / 2)^2 = 3e-6 at omega = 4.96 rad/s).
     """
     import numpy as np

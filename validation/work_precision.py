@@ -27,17 +27,14 @@ Dynamics:
   exact vs scipy solve_ivp event switching vs the paper's recurrence; errors against the exact
   decrement formula / femslide's validated exact solution), with its output directed to a temporary
   directory, and its rows are copied here.
-* beam-oscillation (FE section 5.2; default scene, t_end = 3 s): the scene exposes no tolerance
-  parameter, but femslide.scenes.beam_dynamics integrates with solve_ivp(DOP853, rtol = dynamics.RTOL = 1e-11).
-  This script sets that module constant in-process (no change to femslide) to 1e-4 .. 1e-12 and
-  compares the turning points (phi [rad], times [s]) with a run at rtol = 1e-13: err = largest
-  |dphi| over the turning points (a missed/extra turning point counts as the full amplitude).  There is
-  no independent reference of the FE oscillation better than ~2e-4 (the static (5.8), see
-  test_beam_oscillation.py), so this is a self-convergence study; the energy balance (exact for the
-  frictionless run) is reported beside it.  n_elements = 4, 8 (default), 16, 32, 64 at the default
-  rtol show the discretisation effect against the finest mesh that runs (n = 64 currently stops with
-  a clean SolverFailure - the statics inside the dynamics stall at the round-off level of EA/EI = 1e6
-  - and is listed in the notes; the reference is then n = 32).
+* beam-oscillation (FE section 5.2; default scene, t_end = 3 s): the scene runs on the FE transient
+  (generalized-alpha, femslide.analysis.transient) at its parameter ``tolerance``; this script runs it at
+  tolerance 1e-3 .. 1e-9 and compares the turning points (phi [rad], times [s]) and F2_max with the
+  reduced 1-DOF model (validation/reduced_dynamics.py: DOP853 at rtol 1e-11 on the massless rod's
+  statics, energy balance ~1e-11 - an independent formulation of the same structure on the same
+  8-element rod): err_state = largest |dphi| over the turning points (a missed/extra turning point
+  counts as the full amplitude), err_M = relative error of F2_max; the energy balance is reported
+  beside them.  The reduced model's own run is a row of its own (its time measured in the same run).
 """
 from __future__ import annotations
 
@@ -166,53 +163,32 @@ def _tp_error(got, ref_tp, amp):
 
 
 def oscillation_rows():
-    from femslide.scenes import beam_dynamics as dynamics
+    """beam-oscillation on the FE transient per tolerance against the reduced model (see the docstring)."""
+    from reduced_dynamics import run_oscillation
+
+    from femslide.scenes.catalog import get
     rows, notes = [], []
-    default = dynamics.RTOL
-
-    def sim(**kw):
+    t0 = time.perf_counter()
+    refr = run_oscillation(get("beam-oscillation").resolve({}))
+    rows.append(dict(part="dynamics", problem="beam-oscillation (default, t_end 3 s)",
+                     method="reduced 1-DOF DOP853", setting="rtol=1e-11 (reference)", n_elements=refr["n_elements"],
+                     value=refr["F2_max"], err_state=0.0, err_M=0.0, error_estimate="",
+                     iterations=refr["rhs_evaluations"], time_s=time.perf_counter() - t0,
+                     note=f"validation/reduced_dynamics.py; energy_balance {refr['energy_balance']:.1e}"))
+    amp = max(abs(p["w"]) for p in refr["turning_points"])
+    for tol in (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9):
         t0 = time.perf_counter()
-        r = femslide.simulate("beam-oscillation", **kw)
-        return time.perf_counter() - t0, r
-
-    try:
-        dynamics.RTOL = 1e-13
-        _, refr = sim()
-        dynamics.RTOL = default
-        amp = max(abs(p["w"]) for p in refr["turning_points"])
-        for rtol in (1e-4, 1e-6, 1e-8, 1e-10, default, 1e-12):
-            dynamics.RTOL = rtol
-            dt, r = sim()
-            e, te = _tp_error(r["turning_points"], refr["turning_points"], amp)
-            rows.append(dict(part="dynamics", problem="beam-oscillation (default, t_end 3 s)",
-                             method="femslide DOP853",
-                             setting=f"rtol={rtol:g}" + (" (default)" if rtol == default else ""),
-                             n_elements=r["n_elements"], value=r["F2_max"], err_state=e,
-                             err_M=abs(r["F2_max"] - refr["F2_max"]) / refr["F2_max"],
-                             error_estimate="", iterations=r["rhs_evaluations"], time_s=dt,
-                             note=f"vs rtol=1e-13; turning-time error {te:.1e} s; energy_balance "
-                                  f"{r['energy_balance']:.1e}; err_M: F2_max relative"))
-        dynamics.RTOL = default
-        by_n = {}
-        for n in (4, 8, 16, 32, 64):
-            try:
-                by_n[n] = sim(n_elements=n)
-            except femslide.SolverFailure as exc:
-                notes.append(f"beam-oscillation n_elements={n}: fails cleanly (SolverFailure: "
-                             f"{str(exc).split(' (last')[0]})")
-        nref = max(by_n)
-        _, rr = by_n[nref]
-        for n, (dt, r) in sorted(by_n.items()):
-            e, te = _tp_error(r["turning_points"], rr["turning_points"], amp)
-            rows.append(dict(part="dynamics", problem="beam-oscillation (default, t_end 3 s)",
-                             method="femslide DOP853", setting=f"n_elements={n}", n_elements=n,
-                             value=r["F2_max"], err_state=e,
-                             err_M=abs(r["F2_max"] - rr["F2_max"]) / rr["F2_max"],
-                             iterations=r["rhs_evaluations"], time_s=dt,
-                             note=f"vs n_elements={nref} (self-convergence); energy_balance "
-                                  f"{r['energy_balance']:.1e}"))
-    finally:
-        dynamics.RTOL = default
+        r = femslide.simulate("beam-oscillation", tolerance=tol)
+        dt = time.perf_counter() - t0
+        e, te = _tp_error(r["turning_points"], refr["turning_points"], amp)
+        rows.append(dict(part="dynamics", problem="beam-oscillation (default, t_end 3 s)",
+                         method="femslide FE generalized-alpha",
+                         setting=f"tolerance={tol:g}" + (" (default)" if tol == 1e-6 else ""),
+                         n_elements=r["n_elements"], value=r["F2_max"], err_state=e,
+                         err_M=abs(r["F2_max"] - refr["F2_max"]) / refr["F2_max"],
+                         error_estimate="", iterations=r["steps"], time_s=dt,
+                         note=f"vs the reduced model; turning-time error {te:.1e} s; energy_balance "
+                              f"{r['energy_balance']:.1e}; err_M: F2_max relative; iterations: steps"))
     return rows, notes
 
 
@@ -242,7 +218,7 @@ def write_md(rows, notes, path, t_total):
          "* References: cantilever - extensible elastica (Taylor shooting, EA = 1e6 EI); beam-slider - "
          "`references.solve_structure('slider', EI, EA_ratio=1e6)`; sdof - exact decrement formula "
          "(ex. 1, 2) / femslide's exact solution validated to 1e-13 m (ex. 3); beam-oscillation - "
-         "self-convergence (rtol = 1e-13 run; finest mesh).",
+         "the reduced 1-DOF model (validation/reduced_dynamics.py, DOP853 at rtol 1e-11).",
          ""]
     groups = []
     for r in rows:

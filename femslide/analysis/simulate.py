@@ -4,6 +4,7 @@
     t_end = 10.0                                   # s
     tolerance = 1e-6                               # local error tolerance (relative), 1e-12 .. 1e-2
     damping = {alpha = 0.0, beta = 0.0}            # Rayleigh: C = alpha M + beta K0 [1/s, s]
+    # (also rotation = {deck = 0.5}: a rotational dashpot c [N m s/rad] on a body's rotation)
     ground = {direction = [1.0, 0.0], amplitude = 1.0, frequency = 2.0}   # or {direction, record, scale}
     initial = {body = "deck", rotation = -0.01}    # or u = [dx, dy]; or {joint = "belt", slide = 0.07}
     elements = 8                                   # elements per rod without its own `elements`
@@ -18,6 +19,10 @@ integrated to ``t_end`` (femslide/analysis/transient.py: generalized-alpha, adap
 frequencies of the frictionless structure about the static equilibrium (femslide/analysis/modes.py) are
 reported as ``frequencies_hz``.
 
+Damping: Rayleigh C = alpha M0 + beta K0 (about the static state), plus rotational dashpots
+(``damping.rotation``, :attr:`Spec.rotation_damping`): a body's moment -c theta' [N m] with c in
+N m s/rad, i.e. c / (Fref Lref) [s] on the diagonal of C at the body's rotation dof (model units).
+
 Result (SI): ``converged``, ``steps``, ``t_end``, ``energy_balance`` (kinetic + potential +
 dissipated - work in, relative to the largest of them over the run), ``events`` (per friction joint:
 [{t, kind}], kind "stick", "slip+" or "slip-", the first at t = 0 the joint's mode at the start;
@@ -27,6 +32,12 @@ femslide/joints/friction.py),
 writes ``history.csv`` (every reported quantity at every accepted step; friction joints also their
 friction force on a along the axis), a PVD series of VTU frames (each frame's time and global values
 as field data) and, with matplotlib, ``hysteresis_JOINT.png`` (friction force against slide).
+History columns (SI): ``t``; ``reactions.NAME.Fx, Fy, M`` (forces of the ground on the structure);
+``rods.NAME.M_max``; per slider and roller ``joints.NAME.slide`` and ``joints.NAME.normal`` (N: |transverse
+force|, with a bearing the sum of its two contact forces' magnitudes, as friction takes it); per body
+``bodies.NAME.x, y`` (centroid), ``rotation``, ``rotation_rate`` [rad/s] and ``rotation_accel``
+[rad/s^2] (counter-clockwise positive, relative to the moving ground); per friction joint
+``joints.NAME.friction``.
 
 Work is bounded a priori: the number of steps is estimated from the lowest frequency and the
 tolerance (second-order local error control: about 2 pi (c3 / tolerance)^(1/3) steps per period)
@@ -71,6 +82,7 @@ class Spec:
     ground: Ground | None = None
     initial: dict | None = None
     elements: int = DEFAULT_ELEMENTS
+    rotation_damping: dict | None = None   # {body name: c [N m s/rad]}: rotational dashpots
 
 
 def _num(where, x, lo, hi, lo_open=False):
@@ -96,10 +108,16 @@ def parse_spec(table, base_dir=".", where="[simulate]") -> Spec:
     sp_.t_end = _num(f"{where} t_end", table.get("t_end", 1.0), 0.0, 1e7, lo_open=True)
     sp_.tolerance = _num(f"{where} tolerance", table.get("tolerance", 1e-6), 1e-12, 1e-2)
     damp = table.get("damping", {}) or {}
-    if not isinstance(damp, dict) or set(damp) - {"alpha", "beta"}:
-        raise BadInput(f"{where} damping: a table {{alpha = ..., beta = ...}} (Rayleigh, C = alpha M + beta K)")
+    if not isinstance(damp, dict) or set(damp) - {"alpha", "beta", "rotation"}:
+        raise BadInput(f"{where} damping: a table {{alpha = ..., beta = ...}} (Rayleigh, C = alpha M + beta K) "
+                       f"and/or rotation = {{BODY = c}} (rotational dashpots, N m s/rad)")
     sp_.alpha = _num(f"{where} damping.alpha", damp.get("alpha", 0.0), 0.0, 1e6)
     sp_.beta = _num(f"{where} damping.beta", damp.get("beta", 0.0), 0.0, 1e3)
+    rot = damp.get("rotation")
+    if rot is not None:
+        if not isinstance(rot, dict):
+            raise BadInput(f"{where} damping.rotation: a table {{BODY = c}} (c in N m s/rad)")
+        sp_.rotation_damping = {str(k): _num(f"{where} damping.rotation.{k}", c, 0.0, 1e12) for k, c in rot.items()}
     sp_.ground = parse_ground(table.get("ground"), base_dir, f"{where} ground")
     ini = table.get("initial")
     if ini is not None:
@@ -234,6 +252,22 @@ def _fixed_mesh(fs, n):
     return replace(fs, rods=rods, derived={})
 
 
+def rotation_dampers(model, dampers, C=None):
+    """C (scipy COO, model units, or None) plus a rotational dashpot on each named body's rotation dof:
+    ``dampers`` {body: c [N m s/rad]}, entered as c / (Fref Lref) [s] (a moment -c theta')."""
+    rows, vals = [], []
+    for name, c in dampers.items():
+        if name not in model.body_index:
+            raise BadInput(f"[simulate] damping.rotation.{name}: no such body; bodies: "
+                           f"{', '.join(model.body_index) or 'none'}")
+        rows.append(model.body_dof(name) + 2)
+        vals.append(float(c) / (model.Fref * model.Lref))
+    D = sp.coo_matrix((vals, (rows, rows)), shape=(model.n_q, model.n_q))
+    C = D if C is None else (C + D).tocoo()
+    C.sum_duplicates()
+    return C
+
+
 def _stuck_top(fr, y_s, e_s):
     """Highest of the MODES lowest natural frequencies [Hz] with every friction joint stuck (0 when
     they cannot be computed); about the frictionless static state, where the locks carry no force."""
@@ -326,6 +360,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         M0 = sp.coo_matrix((v, (r, c)), shape=(model.n_q, model.n_q))
         C = (spec.alpha * M0 + spec.beta * K0).tocoo()
         C.sum_duplicates()
+    if spec.rotation_damping and any(spec.rotation_damping.values()):
+        C = rotation_dampers(model, spec.rotation_damping, C)
     counts = {r.name: r.elements for r in fs.rods}
     f_ref = [float(freq[0]), float(freq[-1])] if len(freq) else [1.0 / spec.t_end] * 2
     # joints with mu0 = 0 have no friction at all (the stick/slip direction of a massless slide is
@@ -357,15 +393,16 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     rods = [r.name for r in fs.rods]
     bodies = [b.name for b in fs.bodies]
     cols = ["t"] + [f"reactions.{n}.{k}" for n in reac for k in ("Fx", "Fy", "M")] \
-        + [f"rods.{n}.M_max" for n in rods] + [f"joints.{n}.slide" for n in slides] \
-        + [f"bodies.{n}.{k}" for n in bodies for k in ("x", "y", "rotation")] \
+        + [f"rods.{n}.M_max" for n in rods] + [f"joints.{n}.{k}" for n in slides for k in ("slide", "normal")] \
+        + [f"bodies.{n}.{k}" for n in bodies for k in ("x", "y", "rotation", "rotation_rate", "rotation_accel")] \
         + [f"joints.{n}.friction" for n in sorted(fric_names)]
+    bearing = {j.name: (kind_of(j.type), j.bearing / L if j.bearing else None) for j in fs.joints}
     frames, frames_rows = [], []   # (t, row index, y, alpha) every t_end / FRAMES
     next_frame = [0.0]
 
     rod_elements = [np.nonzero(model.elem_rod == k)[0] for k in range(len(rods))] if rods else []
 
-    def observe(t, y, alpha, v):
+    def observe(t, y, alpha, v, acc):
         row = [t]
         for n in reac:
             fx, fy, m = forces(y, n)
@@ -379,9 +416,12 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         for n in slides:
             link = model.joint[n]
             row.append((float(link.slide(q[link.dofs])[0]) - model.slide0[n]) * L)
+            kind, h = bearing[n]
+            row.append(kind.normal_force(model.multipliers(y, link).tolist(), h)[0] * F)
         for n in bodies:
             x, yy = model.body_point(n, q, fs.body(n).centroid)
-            row += [float(x), float(yy), float(q[model.body_dof(n) + 2])]
+            d = model.body_dof(n) + 2
+            row += [float(x), float(yy), float(q[d]), float(v[d]), float(acc[d])]
         for n in sorted(fric_names):   # friction force on a along +axis [N]
             row.append(-fr.coefficient(n, y) * F)
         if t >= next_frame[0] or t >= spec.t_end * (1 - 1e-12):

@@ -153,7 +153,22 @@ def _locate(attempt, fr, phi0, cross, h, cand, max_iter=60):
             return None
         tried[x] = c
         return g(c)
-    x = root_up(trial, 0.0, h, -float(np.min(phi0[cross])), g(cand), xtol=1e-12, maxiter=max_iter)
+    lo, g_lo, hi, g_hi = 0.0, -float(np.min(phi0[cross])), h, g(cand)
+    # an event function that is zero at the step's start (a slip just begun from rest) gives no
+    # secant: halve the step until a trial has not crossed yet, so that the event is located inside
+    # the step, never at its start
+    for _ in range(max_iter):
+        if g_lo < 0.0:
+            break
+        x = 0.5 * (lo + hi)
+        gx = trial(x)
+        if gx is None:
+            break
+        if gx < 0.0:
+            lo, g_lo = x, gx
+        else:
+            hi, g_hi = x, gx
+    x = root_up(trial, lo, hi, min(g_lo, -1e-300), g_hi, xtol=1e-12, maxiter=max_iter)
     return x, tried[x]
 
 

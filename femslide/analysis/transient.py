@@ -33,12 +33,12 @@ h (0.9 / err)^(1/3) (between 0.2 h and 2 h).  Under a recorded ground motion the
 record's sample times, so that the input is linear within every step.
 
 Damping: Rayleigh, C = alpha M0 + beta K0 with M0 and K0 the mass matrix and the tangent at the
-static state (constant).  Energy balance: kinetic + potential (strain, springs, dead loads including
-gravity) + dissipated - work of the ground-motion inertia loads (integral of F_g . v); dissipated is
-the integral of the damping and friction power (v.C v + mu N |s'|) plus the energy released by the
-jumps of massless parts at friction events (``_requilibrate``); the integrals per step by 3-point
-Gauss on the cubic Hermite interpolant of the step (:func:`_step_work`); reported relative to the
-largest energy of the run.
+static state (constant; plus any rotational dashpots on bodies, simulate.py).  Energy balance:
+kinetic + potential (strain, springs, dead loads including gravity) + dissipated - work of the
+ground-motion inertia loads (integral of F_g . v); dissipated is the integral of the damping and
+friction power (v.C v + mu N |s'|) plus the energy released by the jumps of massless parts at
+friction events (``_requilibrate``); the integrals per step by 3-point Gauss on the cubic Hermite
+interpolant of the step (:func:`_step_work`); reported relative to the largest energy of the run.
 """
 from __future__ import annotations
 
@@ -87,9 +87,9 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     """Integrate from rest at the state (y0, elements0) (model units; the elements' history
     committed there) to ``t_end`` [s].
 
-    ``C``: Rayleigh damping matrix (scipy COO, model units) or None; ``ground``: a
-    :class:`femslide.analysis.excitation.Ground` or None; ``observe(t, y, alpha, v)`` -> a row recorded at every
-    accepted step (t = 0 included); ``h0``: first step [s]; ``h_max``: largest step; ``q_ref``: the
+    ``C``: damping matrix (scipy COO, model units) or None; ``ground``: a
+    :class:`femslide.analysis.excitation.Ground` or None; ``observe(t, y, alpha, v, acc)`` -> a row recorded at
+    every accepted step (t = 0 included; acc = q''); ``h0``: first step [s]; ``h_max``: largest step; ``q_ref``: the
     static equilibrium (default: the start), from which the displacements that scale the error are
     measured; ``friction``: a :class:`femslide.analysis.stickslip.Friction` (stick/slip modes and events) or
     None; ``period`` [s]: the time over which the error scale (the motion's amplitude) is
@@ -154,7 +154,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         D += released
         J += released
     if observe:
-        out.rows.append(observe(0.0, s.y, s.alpha, s.v))
+        out.rows.append(observe(0.0, s.y, s.alpha, s.v, s.acc))
     t0 = time.perf_counter()
     switches, t_switch = 0, None
     ph_of = None   # the state the event functions ph were evaluated at
@@ -253,7 +253,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         Emax = max(Emax, abs(T), abs(V), abs(D), abs(W))
         bal = max(bal, abs(T + V + D - W - T0))
         if observe:
-            out.rows.append(observe(t1, s.y, s.alpha, s.v))
+            out.rows.append(observe(t1, s.y, s.alpha, s.v, s.acc))
         if progress:
             progress(t1)
         h = h_next

@@ -176,7 +176,8 @@ class Result(dict):
         """The time history of a simulation as numpy arrays of equal length, or None (statics).
 
         Always ``t`` [s] first, then every reported quantity, sampled as the ``history.csv`` that
-        :meth:`write` writes (uniformly, 64 samples per shortest period, plus the events):
+        :meth:`write` writes (the exact oscillator: uniformly, 64 samples per shortest period, plus
+        the events; the FE dynamics: every accepted step of the integrator):
 
         - one-mass oscillator (``sdof-*``): ``w`` [m] (displacement relative to the base), ``v``
           [m/s], ``state`` (+1/-1 sliding direction, 0 stuck), ``F`` [N] (applied force), ``f`` [N]
@@ -185,7 +186,9 @@ class Result(dict):
         - structure scenes (``beam-oscillation``, ``beam-friction``): ``phi`` [rad] (> 0 leaning
           towards B1), ``phi_dot`` [rad/s], ``slide`` [m], ``stuck`` (1 stuck, 0 sliding or free),
           ``F_ax`` [N] (force along the guide), ``N`` [N] (magnitude of the transverse clamp force),
-          ``F1``, ``N1`` and ``F2``, ``N2`` [N] (forces of the ground at A1 and B1, global x and y).
+          ``F1``, ``N1`` and ``F2``, ``N2`` [N] (forces of the ground at A1 and B1, global x and y);
+        - structure files and declared structures: the columns of simulate's history
+          (femslide.analysis.simulate: ``reactions.NAME.Fx``, ..., ``bodies.NAME.rotation_rate``, ...).
 
         Computed from the stored solution when first asked for, then kept.
         """

@@ -25,7 +25,16 @@ def run_case(scene, values, out=None, quiet=False) -> Result:
     if prepare is not None:
         prepare()
     t0 = time.perf_counter()
-    outcome = scene.run({**values, "_quiet": True} if quiet else values)
+    bar = None
+    if getattr(scene, "kind", "") == "fe-dynamics":   # a bar over simulated time (a no-op unless a terminal)
+        from femslide.app.progress import TimeProgress
+        bar = TimeProgress(values["t_end"], f"simulate {scene.name}", quiet or bool(values.get("_quiet")))
+        values = {**values, "_progress": bar.at}
+    try:
+        outcome = scene.run({**values, "_quiet": True} if quiet else values)
+    finally:
+        if bar is not None:
+            bar.close()
     wall = time.perf_counter() - t0
     res = Result.of(outcome)
     res["wall_time_s"] = wall

@@ -1,1095 +1,265 @@
-"""Dynamics of the FE structure of section 5 (scenes beam-oscillation and beam-friction).
+"""The paper's section 5.2 structure in time: the scenes beam-oscillation and beam-friction on the FE
+transient (femslide.analysis.simulate).
 
-Model (SI units; the statics inside are nondimensional, lengths by a, forces by P = m g):
+The structure is ``beam-extra-mass`` (femslide.scenes.paper.declare) at dm = 0: the deck (mass m,
+pinned to the ground at A1 through the rigid left rod), the flexible right rod (n_elements
+corotational beams, massless, pinned at B1) in the sliding clamp ``clamp`` with the slider spring k
+preloaded by -m g (a + d)/(2a) (phi = 0 is the equilibrium of an inextensible rod), and - only in
+beam-oscillation - the rigid telescopic piece (m1, l2) welded to the rod's top.  beam-friction has
+m1 = 0 (no piece) and Coulomb friction mu, mu0 in the clamp (N = |transverse clamp force|,
+femslide.joints.friction).  The same declarations as meshes/structures/beam-oscillation.toml and
+beam-friction.toml.
 
-* The structure is that of ``beam-extra-mass`` (femslide/scenes/paper.py) at dm = 0: rigid left rod AA1
-  (part of the body, pinned at A1), flexible right rod of free length L (n_elements corotational
-  beams, pinned at B1) in the sliding clamp at B, the slider spring k preloaded with
-  F_el = P (a + d)/(2a) so that phi = 0 is the equilibrium, and the rigid telescopic piece (mass m1,
-  length l2) fixed to the rod's top node S, along the guide, its centre at S + (l2/2) e.
-* Mesh: a fixed n_elements (scene default 8; no adaptive refinement in the dynamics).  Chord
-  rotations are measured from the undeformed chords (valid while every chord turns < 2.5 rad).
-* The rods are massless (as in the paper): they carry elastic energy only.  The masses are the body
-  (m at G, rotary inertia of a uniform 2a x 2b rectangle about G, J_G = m ((2a)^2 + (2b)^2)/12) and
-  the piece (m1 at its centre, m1 l2^2/12 about it).
-* For every phi the massless rod takes its static configuration under gravity and the spring (the
-  "controlled statics": the body rotation is held at phi by a lock constraint whose multiplier is
-  the generalised force -dV/dphi).  The structure is then a one-degree-of-freedom system in phi:
-  every mass point is x = R(-phi) rho(s) with rho fixed in the body (the body is pinned at A1) and
-  the slide s = s(phi) of the statics, so with s' = ds/dphi, s'' = d2s/dphi2 from the first- and
-  second-order sensitivities of the statics (one extra back-substitution each, the second with a
-  finite-difference directional derivative of the Jacobian)
+The run (femslide.analysis.simulate.Spec): the static equilibrium, the deck held at rotation -phi0
+(phi > 0 is clockwise, leaning towards B1; the deck's rotation is counter-clockwise positive; phi0 = 0
+is held too: the vertical state, the equilibrium of an inextensible rod - beam-friction's extensible
+default rod, EA = 1e6 N, has its equilibrium at phi = 4.8e-6 rad, as the reduced model had), released
+at rest and integrated to t_end at ``tolerance``; a viscous damping c_v [N m s/rad] on phi is a
+rotational dashpot on the deck (Spec.rotation_damping); beam-friction's ground acceleration is
+ag sin(theta t) along x [m/s^2] (plus the CSV ``record``), theta = theta_ratio * omega with omega
+[rad/s] the lowest natural frequency of the frictionless structure (femslide.analysis.simulate.
+natural_modes: the same statics and modes simulate reports as ``frequencies_hz``).
 
-      T = M(phi) phi'^2 / 2,    M(phi) phi'' + M'(phi) phi'^2 / 2 = Q(phi) - c_v phi' + Q_g(t, phi),
-
-  Q = -dV/dphi, V = rod strain energy + weights + spring energy of the static state, Q_g the
-  generalised force of the ground-acceleration inertia -m_i a_g(t) e_x (beam-friction).  The
-  reduction is exact for massless rods except for one neglect, stated here: the piece's inertia
-  force along the guide is not fed back into the rod's static configuration (it would change s
-  through the rod's axial compliance, by ~ m1 a / (EA/L), and its bending shape by a
-  relative ~ N L^2/EI times the chord shortening).
-* Reactions at an instant are recovered by d'Alembert: the inertia forces -m a (a = phi'' dx/dphi
-  + phi'^2 d2x/dphi2, plus the ground acceleration) and moments are added as loads to the statics
-  at that phi, and the pin multipliers give (F, N) as in statics.extract.  The lock multiplier of
-  that solve must vanish (the equation of motion): its largest value relative to max |Q| is
-  reported as ``dalembert_residual``.
-
-beam-friction (m1 = 0: the rod and the piece are massless; see :func:`run_friction`):
-  Coulomb friction in the sliding clamp, normal force N = |transverse clamp force| (the clamp's
-  first multiplier; its moment is not counted), axial (guide) force F_ax = the multiplier of a lock
-  of the slide.  Stuck: s is held fixed (s' = 0 exactly), the system is 1-DOF in phi with the rod
-  clamped in the guide (stiff: the rod must stretch); breakaway when |F_ax| > mu0 N.  Slipping in
-  the direction sigma: the massless slide obeys F_ax = sigma mu N (an algebraic equation solved
-  together with the statics at each phi); slip ends when s' = (ds/dphi) phi' returns to zero, and the
-  slide sticks there only if static friction can hold it (see :func:`run_friction`).  With
-  mu0 > mu the massless slide jumps at breakaway (at fixed phi, phi') to the slip state; the elastic
-  energy released by the jump is dissipated (reported as ``jump_loss``).  The forcing is a
-  horizontal ground acceleration a_g(t) = ag sin(theta t) (+ an optional record), theta =
-  theta_ratio * omega with omega = sqrt(K/M) the small-oscillation frequency of the *frictionless*
-  structure (slide free, spring k) about the vertical state.
+The result keeps the scenes' contract (SPEC section 7) and adds simulate's: ``turning_points`` (every
+instant after t = 0 where phi' returns to zero: the roots of the derivative of the quintic Hermite
+interpolant of phi between accepted steps, from phi, phi' and phi'' at both ends, located to
+round-off; w = phi there), ``w_max`` (largest |phi|, phi0 included), ``steady_amplitude``,
+``F2_max`` (= ``peaks.reactions.B1.Fx``, refined between steps), ``energy_balance``,
+``frequencies_hz``, ``events``, ``peaks``, ``omega`` and (forced) ``theta``; a run whose energy
+balance is worse than ENERGY_LIMIT fails (SolverFailure, exit 1) unless its energies are all at the
+round-off level.  The history (SI):
+``t`` [s], ``phi`` [rad], ``phi_dot`` [rad/s], ``slide`` [m] (of the clamp, from the static state's
+reference), ``stuck`` (1 stuck, 0 sliding or free), ``F_ax`` [N] (the friction force along the guide
+that holds or resists the slide: the force on the deck along +axis, 0 without friction), ``N`` [N]
+(|transverse clamp force|), ``F1``, ``N1``, ``F2``, ``N2`` [N] (forces of the ground on the structure
+at A1 and B1, global x and y), one row per accepted step.
 """
 from __future__ import annotations
 
 import math
-import os
-import time
-from dataclasses import dataclass
-
-# The dynamics factorises small dense Jacobians (4 n + 10 unknowns) a thousand times per period of
-# the motion.  Multithreaded OpenBLAS is slower there, and on a busy 2-core machine up to 11 times
-# slower (n_elements = 64: 15 ms per LU instead of 1.4 ms), which the time bounds below cannot
-# absorb.  One BLAS thread, unless the user chose otherwise; effective when numpy is first imported
-# here (the command line imports no numpy before a scene runs).
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
 
+from femslide.analysis.excitation import Ground, Record, read_csv_record
+from femslide.analysis.simulate import Spec, natural_modes, simulate
 from femslide.errors import BadInput, SolverFailure
-from femslide.joints.holds import SlideHold as SlideLock
-from femslide.model.state import ElementState
-from femslide.model.linalg import lu_factor, lu_solve
-from femslide.scenes.params import floor_g
+from femslide.results.outcome import Frames, Outcome, Table
+from femslide.scenes import hinge
+from femslide.scenes.paper import declare
 
-N_DEFAULT = 8          # elements of the flexible rod when n_elements is not given
-N_MAX_DYN = 150        # dense Jacobians (size < 600)
-NEWTON_TOL = 1e-12
-
-# Bounded work (issue 12).  Every right-hand side of the reduced equation is a Newton solve of the
-# statics; DOP853 at RTOL needs about 1050 of them per period of the motion (beam-oscillation,
-# measured: 833 right-hand sides and 1050 solves for one linear period, any n_elements), and the
-# history 64 samples per period of 2-3 solves each: SOLVES_PER_PERIOD in all.  A solve costs
-# solve_seconds(n) (measured with one BLAS thread on the 2-core development machine under load:
-# 3.2 ms at n = 8, 4.2 ms at 32, 7.6 ms at 64, 36 ms at 150).  A run may take WORK_BUDGET_S by
-# this estimate (t_end is capped a priori, exit 2), and at most RUNTIME_FACTOR times that many
-# solves in fact (stuck phases of beam-friction are stiffer than the frictionless period the
-# estimate uses; exceeding the count is exit 1 with the reason).
-SOLVES_PER_PERIOD = 1300
-WORK_BUDGET_S = 60.0
-RUNTIME_FACTOR = 1.5
-WALL_LIMIT_S = 100.0   # last resort: wall time of a run (exit 1), for machines slower or busier
-                       # than the cost model's (the contract: every run ends within 2 minutes)
-ENERGY_TOL = 1e-6      # energy balance worse than this fails the run (exit 1)
-COULOMB_TOL = 1e-6     # relative: |F_ax| <= mu0 N (1 + tol) while stuck, else the run fails
+MAX_ELEMENTS = 512          # as a structure file's [simulate] elements
+STEADY_FACTOR = 10.0        # two forcing periods repeat when their extremes agree to this * tolerance
+ENERGY_LIMIT = 0.1          # a run whose energy balance is worse fails (exit 1): measured 2.3e-2 at the
+                            # loosest tolerance 1e-2; mu = mu0 = 5 jams the massless slide (forces of 1e5 N,
+                            # energy balance 1.0) where neither the FE transient nor the reduced model copes;
+ENERGY_FLOOR = 1e-9         # ... unless every energy is below this times m g a (a run so short that they
+                            # are at the round-off level of the potential energy, ~1e-12 m g a: t_end = 1e-6 s)
+COLUMNS = ("t", "phi", "phi_dot", "slide", "stuck", "F_ax", "N", "F1", "N1", "F2", "N2")
+CSV = (("t", "t [s]"), ("phi", "phi [rad]"), ("phi_dot", "phi_dot [rad/s]"), ("F2", "F2 [N]"),
+       ("slide", "slide [m]"), ("stuck", "stuck (1 stuck; 0 sliding or free)"),
+       ("F_ax", "F_ax [N] (friction force along the guide on the deck; 0 without friction)"),
+       ("N", "N [N] (|transverse clamp force|)"), ("F1", "F1 [N]"), ("N1", "N1 [N]"), ("N2", "N2 [N]"))
+FRAME_UNITS = ("phi: rad (deck rotation, > 0 leaning towards B1); phi_dot: rad/s; F1, N1 / F2, N2: N "
+               "(horizontal, vertical force of the ground at A1 / B1); slide: m; stuck: 1 stuck, 0 sliding "
+               "or free; F_ax: N (friction force along the guide); N: N (|transverse clamp force|)")
 
 
-def solve_seconds(n):
-    """Measured cost of one statics solve of the dynamics [s] with n elements (see above)."""
-    return 3.0e-3 + 1.5e-6 * n * n
+def structure(v: dict, friction: bool):
+    """The frozen declaration of the scene from validated parameters ``v`` (SI)."""
+    s = declare("beam-extra-mass", {**v, "dm": 0.0, **({"m1": 0.0, "l2": 1.0} if friction else {})})
+    if friction:
+        s.set("clamp.mu", v["mu"])
+        s.set("clamp.mu0", v["mu0"])
+    return s.freeze()
 
 
-def check_work(v, omega, n, scene, extra_solves=0):
-    """BadInput (naming t_end and its usable range) when the run would take more than
-    WORK_BUDGET_S by the measured cost model; returns the number of statics solves allowed.
-    ``extra_solves``: solves beyond the periodic estimate (e.g. 20 per record node: the integrator
-    restarts its step at every kink of the interpolated record)."""
-    T = 2 * math.pi / omega
-    per_period = SOLVES_PER_PERIOD * solve_seconds(n)
-    periods = v["t_end"] / T
-    if periods * per_period + extra_solves * solve_seconds(n) > WORK_BUDGET_S:
-        if extra_solves * solve_seconds(n) > 0.5 * WORK_BUDGET_S:
-            raise BadInput(f"parameter record: {extra_solves // 20} record nodes before t_end = {v['t_end']:g} s "
-                           f"cost about 20 statics solves each ({extra_solves * solve_seconds(n):.3g} s); "
-                           f"allowed: at most {int(0.5 * WORK_BUDGET_S / solve_seconds(n) / 20)} nodes before "
-                           f"t_end (resample the record or shorten t_end)")
-        t_max = (WORK_BUDGET_S - extra_solves * solve_seconds(n)) / per_period * T
-        raise BadInput(f"parameter t_end = {v['t_end']:g} s: {scene} with n_elements = {n} takes about "
-                       f"{per_period:.2g} s of computing per period of the motion ({T:.4g} s; "
-                       f"{SOLVES_PER_PERIOD} statics solves of ~{solve_seconds(n) * 1e3:.2g} ms), "
-                       f"so {periods:.3g} periods would take ~{periods * per_period:.3g} s; allowed: "
-                       f"t_end <= {floor_g(t_max, 4)} s ({WORK_BUDGET_S:g} s of work; fewer n_elements allow more)")
-    return int(RUNTIME_FACTOR * WORK_BUDGET_S / solve_seconds(n)) + 2000
-
-
-# -- extra constraints and loads ----------------------------------------------------------------------
-
-@dataclass
-class RotationLock:
-    """Body rotation held at ``value`` (Theta = -phi); multiplier = -dV/dTheta (a moment, P a)."""
-    dof: int
-    value: float = 0.0
-    name: str = "rotation lock"
-    size: int = 1
-
-    @property
-    def dofs(self):
-        return np.array([self.dof])
-
-    def eval(self, z, mu=None):
-        """g, G and the Hessians (or, given the multiplier, their weighted sum): joints.py protocol."""
-        return np.array([z[0] - self.value]), np.ones((1, 1)), np.zeros((1, 1) if mu is not None else (1, 1, 1))
-
-
-@dataclass
-class InertiaLoads:
-    """Dead forces FG (at the body's centroid, offset rG from its frame origin) and moment MB on the
-    body and FC on the piece's frame origin (its centroid): d'Alembert loads for the recovery of
-    reactions.  Zero during the run."""
-    body_dofs: np.ndarray
-    piece_dofs: np.ndarray | None
-    rG: tuple
-    FG: np.ndarray
-    MB: float = 0.0
-    FC: np.ndarray = None
-    name: str = "inertia"
-
-    @property
-    def dofs(self):
-        return self.body_dofs if self.piece_dofs is None else np.concatenate([self.body_dofs, self.piece_dofs])
-
-    def eval(self, z, lam=1.0):
-        t = float(z[2])
-        c, s = math.cos(t), math.sin(t)
-        rx, ry = self.rG
-        Rx, Ry = c * rx - s * ry, s * rx + c * ry
-        FG = self.FG
-        g = np.zeros(z.size)
-        H = np.zeros((z.size, z.size))
-        E = -(FG[0] * (z[0] + Rx - rx) + FG[1] * (z[1] + Ry - ry)) - self.MB * t
-        g[:2] = -FG
-        g[2] = -(FG[0] * -Ry + FG[1] * Rx) - self.MB
-        H[2, 2] = lam * (FG[0] * Rx + FG[1] * Ry)
-        if self.FC is not None and self.piece_dofs is not None:
-            g[3:5] = -self.FC
-            E -= float(self.FC @ z[3:5])
-        return lam * E, lam * g, H, g
-
-
-# -- the reduced structure ------------------------------------------------------------------------------
-
-@dataclass
-class Point:
-    """The statics at one phi: state, generalised force and slide derivatives (nondimensional)."""
-    phi: float
-    y: np.ndarray
-    alpha: np.ndarray
-    Q: float        # -dV/dphi [P a]
-    s: float        # slide [a]
-    s1: float       # ds/dphi
-    s2: float       # d2s/dphi2
-    lam_s: float = 0.0  # guide axial force (slide-lock multiplier) [P]
-    N: float = 0.0      # |transverse clamp force| [P]
-    dQ: float = 0.0     # dQ/dphi along the current mode's path
-    lam_s1: float = 0.0  # d lam_s / dphi along the current mode's path [P/rad]
-    Nc: float = 0.0      # transverse clamp force, signed (N = |Nc|) [P]
-    Nc1: float = 0.0     # d Nc / dphi [P/rad]
-
-
-class Structure:
-    """beam-extra-mass at dm = 0 with a rotation lock (and, with friction, a slide lock)."""
-
-    def __init__(self, v, friction=False):
-        from femslide.model.discrete import Model
-        from femslide.scenes.paper import declare
-        n = v.get("n_elements") or N_DEFAULT
-        if n > N_MAX_DYN:
-            raise BadInput(f"parameter n_elements = {n} is too large for the dynamic scenes; "
-                           f"allowed: 1 <= n_elements <= {N_MAX_DYN}")
-        self.n_el = n
-        vv = {**v, "dm": 0.0}
-        if friction:
-            vv["m1"] = 0.0
-            vv.setdefault("l2", 1.0)
-        self.v = vv
-        a = v["a"]
-        self.a, self.P = a, v["m"] * v["g"]
-        self.Pa = self.P * a
-        m = Model(declare("beam-extra-mass", vv).freeze(), {"right": n}, a, self.P, finalize=False)
-        self.model = m
-        self.clamp = clamp = m.joint["clamp"]
-        th_dof = m.body_dof("deck") + 2
-        self.th_dof = th_dof
-        self.rot = m.add_constraint(RotationLock(th_dof))
-        self.slock = m.add_constraint(SlideLock(clamp, name="slide lock")) if friction else None
-        self.h = 0.5 * vv["l2"] / a
-        piece = np.arange(m.body_dof("piece"), m.body_dof("piece") + 3) if "piece" in m.body_index else None
-        rG = np.array([v["a"] + v["d"], v["l"] + v["b"]]) / a - m.body_X0[m.body_index["deck"]]
-        self.inertia = m.add_term(InertiaLoads(np.arange(th_dof - 2, th_dof + 1), piece, tuple(rG), np.zeros(2)))
-        m.finalize()
-        idx = m.constraints.index(self.rot)
-        self.row_rot = m.n_q + int(m.c_off[idx])
-        self.row_clamp = m.n_q + int(m.c_off[m.constraints.index(clamp)])
-        self.row_A1 = m.n_q + int(m.c_off[m.constraints.index(m.joint["A1"])])
-        self.row_B1 = m.n_q + int(m.c_off[m.constraints.index(m.joint["B1"])])
-        self.row_s = (m.n_q + int(m.c_off[m.constraints.index(self.slock)])) if friction else None
-        self.cdofs = clamp.dofs
-        # masses (SI)
-        self.mass, self.m1 = v["m"], vv["m1"]
-        self.JG = v["m"] * ((2 * a) ** 2 + (2 * v["b"]) ** 2) / 12.0
-        self.Jc = self.m1 * vv["l2"] ** 2 / 12.0
-        self.L = (v.get("L") or v["l"]) / a
-        self.rhoG = np.array([1.0 + v["d"] / a, v["l"] / a + v["b"] / a])  # G - A1 in the body frame [a]
-        self.M_body = self.JG + v["m"] * a * a * float(self.rhoG @ self.rhoG)
-        self.y, _e = m.zero_state()
-        self.alpha = _e.committed
-        self.alpha_ref = self.alpha.copy()
-        self.n_solves = 0
-        self.n_newton = 0
-        self.max_solves = None   # work budget (check_work); None: unbounded
-        self.deadline = None     # wall-clock limit (perf_counter); None: unbounded
-        # mode: "free" (slide free; friction model only: slide-lock row replaced by lam_s = 0),
-        # "stuck" (slide locked at s_c), "slip" (lam_s = sigma mu N)
-        self.mode = "free"
-        self.sigma = 0.0
-        self.mu = 0.0
-
-    # -- statics ----------------------------------------------------------------------------------
-    def _system(self, y, alpha):
-        es = ElementState(alpha)
-        r, A, info = self.model.system(y, es, 1.0, dense=True)
-        info["alpha"] = es.trial
-        if self.slock is not None and self.mode != "stuck":
-            i = self.row_s
-            jN = self.row_clamp
-            muN = y[jN]
-            c = self.sigma * self.mu if self.mode == "slip" else 0.0
-            r[i] = y[i] - c * abs(muN)
-            A[i, :] = 0.0
-            A[i, i] = 1.0
-            A[i, jN] -= c * (1.0 if muN >= 0 else -1.0)
-        return r, A, info
-
-    def solve(self, phi, y0=None, alpha0=None, s_c=None, maxit=40):
-        """Newton solve of the statics at phi from (y0, alpha0) (default: the last state); returns
-        (y, alpha, lu of the Jacobian at the solution)."""
-        m = self.model
-        y = (self.y if y0 is None else y0).copy()
-        # chord rotations are measured from the fixed undeformed chords (alpha_ref = 0), not from
-        # the last state: the residual is then one smooth function of y to round-off (a moving
-        # reference changes the rounding of cos/sin(beta0 + alpha_ref) from solve to solve, which
-        # scatters Q by ~1e-8 relative with EI/(P a^2) = 1e5); valid while every chord turns by
-        # less than pi - checked below
-        alpha = self.alpha_ref
-        self.rot.value = -phi
-        if self.slock is not None and s_c is not None:
-            self.slock.target = s_c
-        n_q = m.n_q
-        hist = []
-        for it in range(maxit):
-            r, A, info = self._system(y, alpha)
-            res_f = float(np.abs(r[:n_q]).max()) / (1.0 + info["fmax"])
-            res_g = float(np.abs(r[n_q:]).max())
-            hist.append(max(res_f, res_g))
-            if not np.isfinite(hist[-1]):
-                break
-            try:
-                lu = lu_factor(A)
-            except (ValueError, np.linalg.LinAlgError) as exc:
-                raise SolverFailure(f"singular tangent at phi = {phi:.6g} rad ({exc})", hist)  # noqa: B904 (cause in the message)
-            dy = -lu_solve(lu, r)
-            res = max(res_f, res_g)
-            # converged at the tolerance, or at the round-off floor of the stiff rod (the nearly
-            # inextensible rod, EA/EI ~ 1e6 m^-2, floors the force residual near 1e-10 relative):
-            # no halving of the residual for 3 iterations while below 1e-8
-            floor = 10.0 * info["noise"] / (1.0 + info["fmax"])  # the model's round-off estimate
-            conv = res <= NEWTON_TOL or (it >= 3 and res <= max(1e-8, floor)
-                                         and min(hist[-4:-1]) <= 2.0 * res)
-            # the converged state takes one more (tiny) Newton step: the solution is then a smooth
-            # function of phi to round-off, which the high-order integrator needs
-            y += dy
-            alpha_now = info["alpha"]
-            self.n_newton += 1
-            if conv:
-                if alpha_now.size and float(np.abs(alpha_now).max()) > 2.5:
-                    raise SolverFailure(f"a rod chord turned by more than 2.5 rad at phi = {phi:.6g} rad "
-                                        f"(outside the dynamic model's fixed chord reference)", hist)
-                self.n_solves += 1
-                if self.deadline is not None and time.perf_counter() > self.deadline:
-                    raise SolverFailure(
-                        f"time limit: {WALL_LIMIT_S:g} s of wall time used before the run could finish "
-                        f"({self.n_solves} statics solves; the machine is slower or busier than the "
-                        f"cost model assumes, or stuck phases are stiff); shorten t_end")
-                if self.max_solves is not None and self.n_solves > self.max_solves:
-                    raise SolverFailure(
-                        f"work budget exhausted: {self.max_solves} statics solves (about "
-                        f"{RUNTIME_FACTOR * WORK_BUDGET_S:g} s) used before t_end (stiff stuck phases "
-                        f"need far more steps than the frictionless period suggests); shorten t_end, "
-                        f"or lower EA or n_elements")
-                self.y, self.alpha = y, alpha
-                return y, alpha, lu
-            big = np.abs(dy[:n_q]).max()
-            if big > 0.3:
-                y -= dy * (1.0 - 0.3 / big)
-        raise SolverFailure(f"statics at phi = {phi:.6g} rad did not converge ({self.mode})", hist)
-
-    def slide(self, y):
-        return float(self.clamp.slide(y[self.cdofs])[0])
-
-    def potential(self, y, alpha):
-        """Total potential energy of a state [P a]: strain energy + weights + spring (no inertia)."""
-        return self.model.potential(y, alpha, skip=self.inertia)
-
-    def point(self, phi, second=True, s_c=None):
-        """Statics at phi with sensitivities (see :class:`Point`)."""
-        y, alpha, lu = self.solve(phi, s_c=s_c)
-        m = self.model
-        e = np.zeros(y.size)
-        e[self.row_rot] = 1.0
-        y1 = -lu_solve(lu, e)        # dy/dphi
-        s, ds, Hs = self.clamp.slide(y[self.cdofs])
-        q1 = y1[self.cdofs]
-        s1 = float(ds @ q1)
-        s2 = 0.0
-        if second and self.m1 > 0:
-            # F_yy[y1, y1] by a central difference of the Jacobian along y1
-            nrm = float(np.abs(y1[:m.n_q]).max()) or 1.0
-            hh = 1e-4 / nrm
-            _, Ap, _ = self._system(y + hh * y1, alpha)
-            _, Am, _ = self._system(y - hh * y1, alpha)
-            Fyy = (Ap @ y1 - Am @ y1) / (2 * hh)
-            y2 = -lu_solve(lu, Fyy)
-            s2 = float(ds @ y2[self.cdofs] + q1 @ Hs @ q1)
-        Q = -float(y[self.row_rot])
-        dQ = -float(y1[self.row_rot])
-        p = Point(phi, y, alpha, Q, s, s1, s2, dQ=dQ)
-        p.Nc, p.Nc1 = float(y[self.row_clamp]), float(y1[self.row_clamp])
-        p.N = abs(p.Nc)
-        if self.row_s is not None:
-            p.lam_s, p.lam_s1 = float(y[self.row_s]), float(y1[self.row_s])
-        return p
-
-    # -- kinematics (SI) ------------------------------------------------------------------------------
-    def mass_terms(self, p: Point):
-        """M(phi) [kg m^2] and M'(phi)/2 at a statics point (the slide moves on the current path)."""
-        a = self.a
-        M = self.M_body
-        half = 0.0
-        if self.m1 > 0:
-            ry = self.L + p.s + self.h
-            M += self.m1 * a * a * (ry * ry + (p.s1 - 2.0) ** 2) + self.Jc
-            half = self.m1 * a * a * (ry * p.s1 + (p.s1 - 2.0) * p.s2)
-        return M, half
-
-    def dxdphi_x(self, phi, rho):
-        """x-component of d(position)/dphi [m/rad] of a body-fixed point rho [a] (s fixed)."""
-        vx, vy = rho[1], -rho[0]
-        return self.a * (math.cos(phi) * vx + math.sin(phi) * vy)
-
-    def Qg(self, phi, ag, p: Point):
-        """Generalised force [N m] of the ground-acceleration inertia -m_i ag e_x."""
-        Q = -self.mass * ag * self.dxdphi_x(phi, self.rhoG)
-        if self.m1 > 0:
-            ry = self.L + p.s + self.h
-            vx, vy = ry, p.s1 - 2.0
-            Q += -self.m1 * ag * self.a * (math.cos(phi) * vx + math.sin(phi) * vy)
-        return Q
-
-    def reactions(self, p: Point, w, acc, ag=0.0):
-        """d'Alembert solve at p with phi' = w, phi'' = acc and ground acceleration ag: returns
-        (F1, N1, F2, N2 [N], lock residual [N m], state y, alpha)."""
-        a, P = self.a, self.P
-        phi = p.phi
-        c, sn = math.cos(phi), math.sin(phi)
-
-        def glob(v):  # body frame -> global (R(Theta), Theta = -phi)
-            return np.array([c * v[0] + sn * v[1], -sn * v[0] + c * v[1]])
-
-        rho = self.rhoG
-        aG = glob(np.array([rho[1], -rho[0]]) * acc - rho * w * w) * a + np.array([ag, 0.0])
-        self.inertia.FG = -self.mass * aG / P
-        MB = self.JG * acc
-        if self.m1 > 0:
-            ry = self.L + p.s + self.h
-            d1 = np.array([ry, p.s1 - 2.0])
-            d2 = np.array([-2.0 + 2.0 * p.s1, -ry + p.s2])
-            aC = glob(d1 * acc + d2 * w * w) * a + np.array([ag, 0.0])
-            self.inertia.FC = -self.m1 * aC / P
-            MB += self.Jc * acc
-        else:
-            self.inertia.FC = None
-        self.inertia.MB = MB / (P * a)
-        save = (self.y, self.alpha)
-        try:
-            s_c = p.s if self.mode == "stuck" else None
-            y, alpha, _ = self.solve(phi, p.y, p.alpha, s_c=s_c)
-        finally:
-            self.inertia.FG = np.zeros(2)
-            self.inertia.FC = None
-            self.inertia.MB = 0.0
-            self.y, self.alpha = save
-        RA = -y[self.row_A1:self.row_A1 + 2] * P
-        RB = -y[self.row_B1:self.row_B1 + 2] * P
-        return float(RA[0]), float(RA[1]), float(RB[0]), float(RB[1]), float(y[self.row_rot]) * P * a, y, alpha
-
-    def stiffness(self):
-        """K = -dQ/dphi at phi = 0 [N m/rad] (slide free: spring k) and the mass M(0)."""
-        p = self.point(0.0)
-        M, _ = self.mass_terms(p)
-        return -p.dQ * self.Pa, M, p
-
-
-# -- excitation ----------------------------------------------------------------------------------------
-
-class Ground:
-    """Horizontal ground acceleration a_g(t) = ag sin(theta t) + record(t) (linear, 0 outside)."""
-
-    def __init__(self, ag=0.0, theta=0.0, record=None):
-        self.ag, self.theta = float(ag or 0.0), float(theta)
-        self.rt = self.ra = None
-        if record:
-            from femslide.analysis.records import read_record
-            t, acc = read_record(record)
-            self.rt, self.ra = np.array(t), np.array(acc)
-        self.forced = (self.ag != 0.0 and self.theta > 0) or self.rt is not None
-
-    def __call__(self, t):
-        out = self.ag * math.sin(self.theta * t) if self.theta > 0 else 0.0
-        if self.rt is not None and self.rt[0] <= t <= self.rt[-1]:
-            out += float(np.interp(t, self.rt, self.ra))
-        return out
-
-
-def _quiet(v):
-    return bool(v.get("_quiet"))
-
-
-class _Progress:
-    def __init__(self, t_end, v, desc):
-        try:
-            from femslide.app.progress import progress
-            self.bar = progress(1000, desc, _quiet(v), unit="‰")
-        except ImportError:  # progress bars are optional
-            self.bar = None
-        self.t_end, self.done = t_end, 0
-
-    def at(self, t):
-        k = int(min(1000, 1000 * t / self.t_end))
-        if k > self.done and self.bar is not None:
-            self.bar.update(k - self.done)
-            self.done = k
-
-    def close(self):
-        if self.bar is not None:
-            self.bar.close()
-
-
-# -- beam-oscillation ------------------------------------------------------------------------------------
-
-RTOL, ATOL_PHI = 1e-11, 1e-14
-
-
-def _check_common(v):
-    if not v["t_end"] > 0:
-        raise BadInput(f"parameter t_end = {v['t_end']:g} s: allowed t_end > 0")
-
-
-class Run:
-    """Integration of the reduced equation with history, events and energy."""
-
-    def __init__(self, st: Structure, ground: Ground, c_v: float, bar):
-        self.st, self.ground, self.c_v, self.bar = st, ground, c_v, bar
-        self.cache = {}
-        self.V0 = None
-
-    def eval(self, t, phi, s_c=None):
-        key = (phi, self.st.mode, self.st.sigma, s_c)
-        p = self.cache.get(key)
-        if p is None:
-            p = self.st.point(phi, s_c=s_c)
-            if len(self.cache) > 64:
-                self.cache.clear()
-            self.cache[key] = p
-        return p
-
-    def accel(self, t, phi, w, p):
-        st = self.st
-        M, half = st.mass_terms(p)
-        ag = self.ground(t) if self.ground.forced else 0.0
-        Qg = st.Qg(phi, ag, p) if ag else 0.0
-        F = p.Q * st.Pa - self.c_v * w + Qg
-        return (F - half * w * w) / M, Qg, ag
-
-    def energy(self, p, w):
-        M, _ = self.st.mass_terms(p)
-        return 0.5 * M * w * w + (self.st.potential(p.y, p.alpha) - self.V0) * self.st.Pa
-
-
-def _integrate(run, t0, t1, y0, events, s_c=None, max_step=np.inf):
-    from scipy.integrate import solve_ivp
-    st = run.st
-
-    def rhs(t, z):
-        run.bar.at(t)
-        phi, w = z[0], z[1]
-        p = run.eval(t, phi, s_c)
-        acc, Qg, ag = run.accel(t, phi, w, p)
-        out = [w, acc, run.c_v * w * w, Qg * w]
-        if st.slock is not None:
-            out.append(st.mu * p.N * st.P * abs(p.s1 * w) * st.a if st.mode == "slip" else 0.0)
-        return out
-
-    return solve_ivp(rhs, (t0, t1), y0, method="DOP853", rtol=RTOL,
-                     atol=[ATOL_PHI, ATOL_PHI * 10, 1e-14, 1e-14] + ([1e-14] if st.slock is not None else []),
-                     dense_output=True, events=events, max_step=max_step)
-
-
-def run_oscillation(v):
-    """beam-oscillation: free oscillation about the vertical equilibrium from rest at phi0."""
-    _check_common(v)
-    from femslide.scenes.hinge import k_crit
-    kc = k_crit(**{**v, "l1": v["L"]})
+def check(v: dict, friction: bool):
+    """Bad input (exit 2) naming the parameter: k <= k_crit, too many elements."""
+    kc = hinge.k_crit(**{**v, "l1": v["L"], **({"m1": 0.0, "l2": 1.0} if friction else {})})
     if not v["k"] > kc:
         raise BadInput(f"parameter k = {v['k']:g} N/m is not above k_crit = {kc:.6g} N/m: the vertical "
                        f"state is unstable; allowed: k > {kc:.6g}")
-    t0 = time.perf_counter()
-    st = Structure(v)
-    # vertical state (the equilibrium at dm = 0) and the linearised frequency
-    K, M0, p0 = st.stiffness()
-    if not K > 0:
-        raise SolverFailure(f"the vertical state is not stable in the FE model (K = {K:.6g} N m/rad)")
-    omega = math.sqrt(K / M0)
-    st.max_solves = check_work(v, omega, st.n_el, "beam-oscillation")
-    st.deadline = t0 + WALL_LIMIT_S
-    V0 = st.potential(p0.y, p0.alpha)
-    # walk to phi0 (held), warm-starting each step
-    phi0 = v["phi0"]
-    steps = max(1, int(math.ceil(abs(phi0) / 0.02)))
-    for i in range(1, steps + 1):
-        st.point(phi0 * i / steps, second=False)
-    bar = _Progress(v["t_end"], v, "beam-oscillation")
-    run = Run(st, Ground(), v.get("c_v", 0.0) or 0.0, bar)
-    run.V0 = V0
-    pstart = st.point(phi0)
-    E0 = run.energy(pstart, 0.0)
+    if v["n_elements"] > MAX_ELEMENTS:
+        raise BadInput(f"parameter n_elements = {v['n_elements']} is too large for the dynamic scenes; "
+                       f"allowed: 1 <= n_elements <= {MAX_ELEMENTS}")
 
-    def turn(t, z):
-        return z[1]
-    turn.terminal = False
-    turn.direction = 0
-    try:
-        sol = _integrate(run, 0.0, v["t_end"], [phi0, 0.0, 0.0, 0.0], [turn])
-    finally:
-        bar.close()
-    if sol.status < 0:
-        raise SolverFailure(f"time integration failed: {sol.message}")
-    tps = [(float(t), float(z[0])) for t, z in zip(sol.t_events[0], sol.y_events[0]) if t > 1e-12]
-    T_int = time.perf_counter() - t0
-    # energy balance at t_end (and its largest deviation at the turning points)
-    pend = st.point(float(sol.y[0, -1]))
-    E_end = run.energy(pend, float(sol.y[1, -1]))
-    D, W = float(sol.y[2, -1]), float(sol.y[3, -1])
-    Eref = abs(E0) if E0 != 0 else 1.0
-    bal = abs(E_end + D - W - E0) / Eref
-    bal_abs = E_end + D - W - E0
-    drift = 0.0
-    for t, z in zip(sol.t_events[0], sol.y_events[0]):
-        zz = sol.sol(t)
-        pe = st.point(float(z[0]), second=False)
-        drift = max(drift, abs(run.energy(pe, 0.0) + zz[2] - zz[3] - E0) / Eref)
-    hist = _history(run, sol, v, omega, tps)
-    _check_energy(bal, bal_abs, st)
-    res = {
+
+def spec(v: dict, fs, friction: bool):
+    """(Spec, omega [rad/s], theta [rad/s] or None) of the run."""
+    n = v["n_elements"]
+    sp = Spec(t_end=v["t_end"], tolerance=v["tolerance"], elements=n,
+              initial={"body": "deck", "rotation": -v["phi0"]},
+              rotation_damping={"deck": v["c_v"]} if v["c_v"] else None)
+    omega = theta = None
+    if friction:
+        omega = 2 * math.pi * natural_modes(fs, 1, n).values["frequencies_hz"][0]
+        theta = v["theta_ratio"] * omega
+        record = Record(*read_csv_record(v["record"])) if v.get("record") else None
+        if v["ag"] or record is not None:
+            sp.ground = Ground((1.0, 0.0), v["ag"], theta / (2 * math.pi), record=record)
+    return sp, omega, theta
+
+
+def run(v: dict, friction: bool, progress=None) -> Outcome:
+    """The scene beam-oscillation (``friction`` False) or beam-friction from validated parameters."""
+    check(v, friction)
+    fs = structure(v, friction)
+    sp, omega, theta = spec(v, fs, friction)
+    name = "beam-friction" if friction else "beam-oscillation"
+    out = simulate(fs, sp, name, progress)
+    res, fe = out.values, out.get_history()
+    scale = max(abs(x) for x in res["energy"].values())
+    if not res["energy_balance"] <= ENERGY_LIMIT and not scale < ENERGY_FLOOR * v["m"] * v["g"] * v["a"]:
+        raise SolverFailure(f"the energy balance is off by {res['energy_balance']:.3g} of the largest energy "
+                            f"(more than {ENERGY_LIMIT:g}): the motion cannot be trusted")
+    if omega is None:
+        omega = 2 * math.pi * res["frequencies_hz"][0]
+    h = history(fe, res["events"].get("clamp", []))
+    T, phi = h["t"], h["phi"]
+    tps = turning_points(T, phi, h["phi_dot"], -fe["bodies.deck.rotation_accel"])
+    forced = sp.ground is not None
+    amp, reason = steady(sp.ground, theta, tps, T, phi, v["tolerance"])
+    values = {
         "converged": True,
         "turning_points": [{"t": t, "w": w} for t, w in tps],
         "stop": None,
-        "w_max": float(max([abs(phi0)] + [abs(w) for _, w in tps] + [float(np.abs(hist['phi']).max())])),
-        "steady_amplitude": None,
-        "steady_reason": "unforced run (no steady forced response)",
-        "steps": int(sol.t.size - 1),
-        "F2_max": hist["F2_max"],
-        "energy_balance": bal,
-        "energy_balance_turning_points": drift,
-        "w_is": "phi [rad], the body rotation (positive leaning towards B1)",
+        "w_max": float(max([abs(v["phi0"]), float(np.abs(phi).max())] + [abs(w) for _, w in tps])),
+        "steady_amplitude": amp,
+        **({"steady_reason": reason} if amp is None else {}),
+        "steps": res["steps"],
+        "F2_max": res["peaks"]["reactions"]["B1"]["Fx"],
+        "energy_balance": res["energy_balance"],
+        "energy": res["energy"],
+        "frequencies_hz": res["frequencies_hz"],
+        "frequencies_of": res["frequencies_of"],
+        **({"events": res["events"]} if friction else {}),
+        "peaks": res["peaks"],
+        "w_is": "phi [rad], the deck rotation (positive leaning towards B1)",
         "omega": omega,
+        "omega_is": "lowest natural frequency of the frictionless structure [rad/s] (slide free, spring k)",
+        "theta": theta if forced else None,
         "period_linear": 2 * math.pi / omega,
-        "K_eff": K,
-        "M_eff": M0,
-        "dalembert_residual": hist["dal_res"],
-        "n_elements": st.n_el,
-        "rhs_evaluations": int(sol.nfev),
-        "statics_solves": st.n_solves,
+        "rejected_steps": res["rejected_steps"],
+        "newton_iterations": res["newton_iterations"],
+        "n_elements": v["n_elements"],
+        "tolerance": v["tolerance"],
         "t_end": v["t_end"],
-        "integration_time_s": T_int,
-        "_write": lambda d: _write(d, "beam-oscillation", hist, st),
-        "_history": lambda: history_table(hist),
+        "integration_time_s": res["integration_time_s"],
     }
-    return res
+    if friction:
+        values.update(stuck_stats(h, res["events"].get("clamp", []), v["t_end"], v["mu0"]))
+    frames = out.frames
+    if frames is not None:
+        row = {float(t): i for i, t in enumerate(T)}
+        frames = Frames(frames.model, [(t, y, a, {**vals, **frame_values(h, row[float(t)])})
+                                       for t, y, a, vals in frames.states])
+    table = Table("history.csv", [head for _, head in CSV], [h[k] for k, _ in CSV],
+                  ["%.17g"] * 5 + ["%d"] + ["%.17g"] * 5)
+    return Outcome(values, name, history=h, tables=[table], frames=frames, loops=out.loops)
 
 
-def _missed_crossing(event, sol, fractions=(0.25, 0.5, 0.75)):
-    """First upward zero of ``event`` inside the steps of ``sol`` that the endpoint test of
-    solve_ivp missed (the event function can rise above zero and fall back within one step: in a
-    stuck phase |F_ax| - mu0 N oscillates with the stiff locked structure; mu = 2, mu0 = 2.4 went
-    0.12 % over mu0 N unnoticed), or None.  Three interior samples per step, then a bracketing root."""
+def history(fe: dict, events: list) -> dict:
+    """The scene's history (see the module docstring) from the FE history ``fe`` and the clamp's
+    friction events (none without friction)."""
+    T = fe["t"]
+    stuck = np.zeros(T.size, dtype=int)
+    if events:
+        te = np.array([e["t"] for e in events])
+        k = np.searchsorted(te, T, side="right") - 1   # the event that set each row's mode
+        kinds = np.array([e["kind"] == "stick" for e in events])
+        stuck = np.where(k >= 0, kinds[np.maximum(k, 0)], False).astype(int)
+    F_ax = -fe["joints.clamp.friction"] if "joints.clamp.friction" in fe else np.zeros(T.size)
+    return {"t": T, "phi": -fe["bodies.deck.rotation"], "phi_dot": -fe["bodies.deck.rotation_rate"],
+            "slide": fe["joints.clamp.slide"], "stuck": stuck, "F_ax": F_ax, "N": fe["joints.clamp.normal"],
+            "F1": fe["reactions.A1.Fx"], "N1": fe["reactions.A1.Fy"],
+            "F2": fe["reactions.B1.Fx"], "N2": fe["reactions.B1.Fy"]}
+
+
+def frame_values(h: dict, i: int) -> dict:
+    """The scene's global values at history row i, as a VTU frame's field data (with their units)."""
+    from femslide.output.vtu import UNITS
+    return {**{k: float(h[k][i]) for k in COLUMNS if k != "t"}, "units": UNITS + "; " + FRAME_UNITS}
+
+
+def turning_points(t, phi, w, acc) -> list:
+    """[(t, phi)] where phi' returns to zero after t = 0: in every step whose end rates w differ in sign
+    (or end on zero) the root of the derivative of the quintic Hermite interpolant of phi through
+    (phi, phi', phi'') at both ends (a quartic with the step's own end rates), and phi there."""
     from scipy.optimize import brentq
-
-    def g(x):
-        return event(x, sol.sol(x))
-    ts = sol.t
-    for i in range(ts.size - 1):
-        a, b = float(ts[i]), float(ts[i + 1])
-        for f in fractions:
-            tm = a + f * (b - a)
-            if g(tm) > 0.0:
-                if g(a) > 0.0:
-                    return a
-                return brentq(g, a, tm, xtol=1e-15, rtol=4 * np.finfo(float).eps)
-    return None
-
-
-def _check_coulomb(rows, modes, mu0, mu, P):
-    """Coulomb's law on the history samples (columns F_ax, N in N): stuck, |F_ax| <= mu0 N (1 + 1e-6)
-    + 1e-9 P (the absolute part: round-off of the multipliers, ~1e-11 P, which matters only for
-    tiny mu0); slipping, |F_ax| = mu N.  A violation fails the run (exit 1).  Returns max |F_ax| /
-    (mu0 N) and max (|F_ax| - mu0 N) [N] while stuck (None without stuck samples)."""
-    worst = excess = None
-    for r in rows:
-        md, _, _ = modes(r[0])
-        F, N = abs(r[9]), r[10]
-        tol = COULOMB_TOL * max(F, mu0 * N) + 1e-9 * P
-        if md == "stuck":
-            ratio = F / (mu0 * N) if mu0 * N > 0 else (0.0 if F <= tol else math.inf)
-            worst = ratio if worst is None else max(worst, ratio)
-            excess = F - mu0 * N if excess is None else max(excess, F - mu0 * N)
-            if F > mu0 * N + tol:
-                raise SolverFailure(f"Coulomb's law violated while stuck at t = {r[0]:.6g} s: guide force "
-                                    f"|F_ax| = {F:.6g} N > mu0 N = {mu0 * N:.6g} N")
-        elif md == "slip" and abs(F - mu * N) > tol:
-            raise SolverFailure(f"Coulomb's law violated while slipping at t = {r[0]:.6g} s: guide force "
-                                f"|F_ax| = {F:.6g} N, mu N = {mu * N:.6g} N")
-    return worst, excess
-
-
-def _check_energy(bal, err_abs, st):
-    """ENERGY_TOL at the default RTOL; a coarser integrator tolerance set on purpose (the
-    work-precision study sets RTOL up to 1e-4) is allowed 100 RTOL.  An absolute error below the
-    round-off level of the potential energy (~1e-12 P a: strain energy and weights of order P a are
-    summed) passes: a run so short or so small that all its energies are at that level (t_end = 1e-6
-    s: 1e-22 J) has no meaningful relative balance."""
-    tol = max(ENERGY_TOL, 100.0 * RTOL)
-    if not (bal <= tol or abs(err_abs) <= 1e-12 * st.Pa):
-        raise SolverFailure(f"energy balance {bal:.3g} is worse than the tolerance {tol:g} "
-                            f"(relative to the largest energy): the integration cannot be trusted")
-
-
-def _sample_times(sol, omega, t_end, tps, per_period=64):
-    dt = 2 * math.pi / omega / per_period
-    n = int(min(200000, math.ceil(t_end / dt)))
-    t = np.concatenate([np.linspace(0.0, t_end, n + 1), [t for t, _ in tps]])
-    return np.unique(t)
-
-
-def _history(run, sol, v, omega, tps, modes=None):
-    """Time history on a uniform grid (64 per linear period) plus the turning points: phi, phi',
-    phi'', the slide and the d'Alembert reactions; F2_max refined around the largest sample."""
-    st = run.st
-    t = _sample_times(sol, omega, v["t_end"], tps)
-    rows = []
-    states = []
-    dal = 0.0
-    Qmax = 1e-300
-
-    def at(ti):
-        nonlocal dal, Qmax
-        z = sol(ti) if callable(sol) else sol.sol(ti)
-        phi, w = float(z[0]), float(z[1])
-        extra = modes(ti) if modes else None
-        s_c = None
-        if extra is not None:
-            st.mode, st.sigma, s_c = extra
-        p = st.point(phi, s_c=s_c)
-        acc, Qg, ag = run.accel(ti, phi, w, p)
-        F1, N1, F2, N2, lockres, y, alpha = st.reactions(p, w, acc, ag)
-        Qmax = max(Qmax, abs(p.Q) * st.Pa)
-        dal = max(dal, abs(lockres))
-        stuck = 1 if (extra is not None and extra[0] == "stuck") else 0
-        return [ti, phi, w, F2, p.s * st.a, stuck, F1, N1, N2, p.lam_s * st.P, p.N * st.P], (y, alpha)
-
-    for ti in t:
-        row, state = at(float(ti))
-        rows.append(row)
-        states.append(state)
-    H = np.array(rows)
-    i = int(np.argmax(np.abs(H[:, 3])))
-    F2max = abs(H[i, 3])
-    # refine the maximum of |F2| by golden-section search between the neighbouring samples
-    if 0 < i < len(H) - 1:
-        lo, hi = H[i - 1, 0], H[i + 1, 0]
-        gr = (math.sqrt(5) - 1) / 2
-        f = lambda tt: abs(at(tt)[0][3])
-        x1, x2 = hi - gr * (hi - lo), lo + gr * (hi - lo)
-        f1, f2 = f(x1), f(x2)
-        for _ in range(40):
-            if hi - lo < 1e-9 * max(1.0, hi):
-                break
-            if f1 > f2:
-                hi, x2, f2 = x2, x1, f1
-                x1 = hi - gr * (hi - lo)
-                f1 = f(x1)
-            else:
-                lo, x1, f1 = x1, x2, f2
-                x2 = lo + gr * (hi - lo)
-                f2 = f(x2)
-        F2max = max(F2max, f1, f2)
-    return {"rows": H, "states": states, "F2_max": float(F2max), "dal_res": dal / Qmax,
-            "phi": H[:, 1]}
-
-
-def history_table(hist) -> dict:
-    """The time history as named arrays (SI; the samples of history.csv): ``t`` [s], ``phi`` [rad]
-    (body rotation, > 0 leaning towards B1), ``phi_dot`` [rad/s], ``slide`` [m] (along the guide),
-    ``stuck`` (1 stuck, 0 sliding or free), ``F_ax`` [N] (guide axial force, the slide-lock
-    multiplier; 0 without friction), ``N`` [N] (magnitude of the transverse clamp force), and the d'Alembert
-    reactions of the ground, ``F1``, ``N1`` at A1 and ``F2``, ``N2`` at B1 [N] (global x and y)."""
-    H = hist["rows"]
-    cols = {"t": 0, "phi": 1, "phi_dot": 2, "slide": 4, "stuck": 5, "F_ax": 9, "N": 10,
-            "F1": 6, "N1": 7, "F2": 3, "N2": 8}
-    out = {k: H[:, i].copy() for k, i in cols.items()}
-    out["stuck"] = out["stuck"].astype(int)
+    out = []
+    for k in range(t.size - 1):
+        w0, w1 = float(w[k]), float(w[k + 1])
+        if w1 == 0.0:
+            out.append((float(t[k + 1]), float(phi[k + 1])))
+            continue
+        if w0 == 0.0 or (w0 > 0.0) == (w1 > 0.0):
+            continue
+        h = float(t[k + 1] - t[k])
+        c = (float(phi[k]), h * w0, h * h * float(acc[k]), float(phi[k + 1]), h * w1, h * h * float(acc[k + 1]))
+        s = brentq(_quintic, 0.0, 1.0, args=(c, 1), xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        out.append((float(t[k]) + s * h, _quintic(s, c, 0)))
     return out
 
 
-FRAME_VALUES = ("time", "phi", "phi_dot", "F2", "slide", "stuck", "F1", "N1", "N2", "F_ax", "N")
-FRAME_UNITS = ("time: s; phi: rad (body rotation, > 0 leaning towards B1); phi_dot: rad/s; "
-               "F1, N1 / F2, N2: N (horizontal, vertical reaction at A1 / B1, forces of the ground on the "
-               "structure, d'Alembert); slide: m; stuck: 1 stuck, 0 sliding or free; F_ax: N (guide axial "
-               "force); N: N (|transverse clamp force|)")
-
-
-def _write(out_dir, name, hist, st):
-    """history.csv and a PVD series of VTU frames (at most 200), each frame with its time and the run's
-    global values at that time (FRAME_VALUES) as field data, plus the joints' positions, axes and
-    forces (femslide.output.vtu)."""
-    from femslide.output.vtu import UNITS, describe, joint_data, mesh_data, write_series
-    H = hist["rows"]
-    path = os.path.join(out_dir, "history.csv")
-    if not np.isfinite(H).all():
-        raise SolverFailure("the time history is not finite; nothing written")
-    np.savetxt(path, H[:, [0, 1, 2, 3, 4, 5, 9, 10]], delimiter=",", comments="",
-               header="t [s],phi [rad],phi_dot [rad/s],F2 [N],slide [m],stuck (1 stuck; 0 sliding or free),"
-                      "F_ax [N] (guide axial force: slide-lock multiplier; 0 without friction),"
-                      "N [N] (|transverse clamp force|)",
-               fmt=["%.17g"] * 5 + ["%d"] + ["%.17g"] * 2)
-    # frames: at most 200, evenly spread over the samples (>= 10 when there are that many samples)
-    idx = np.unique(np.linspace(0, len(H) - 1, min(len(H), 200)).round().astype(int))
-    frames = []
-    for k in idx:
-        y, alpha = hist["states"][k]
-        pts, cells, pdata, cdata = mesh_data(st.model, y, alpha)
-        fd = {key: float(H[k, c]) for key, c in zip(FRAME_VALUES, (0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10))}
-        fd.update(joint_data(st.model, y))
-        frames.append((float(H[k, 0]), pts, cells, pdata, cdata, fd))
-    files = write_series(frames, out_dir, name, {**describe(st.model), "units": UNITS + "; " + FRAME_UNITS})
-    return [path] + files
-
-
-# -- beam-friction ---------------------------------------------------------------------------------------
-
-STEADY_RTOL = 1e-6   # two successive forcing periods agree to this (relative to the amplitude)
-
-
-def run_friction(v):
-    """beam-friction: Coulomb friction in the sliding clamp under a horizontal ground acceleration.
-
-    The run is a sequence of segments, each integrated by DOP853 with event location:
-    stuck (slide locked at s_c; event: |F_ax| = mu0 N crossing upwards -> slip in the direction of
-    F_ax, after the jump of the massless slide to F_ax = sigma mu N) and slipping (F_ax = sigma mu N;
-    event: s' = (ds/dphi) phi' reaching zero -> stick at the current slide if static friction can
-    hold it there, see below).  m1 = 0 here: the rod and the telescopic piece are massless,
-    T = J_A1 phi'^2 / 2 exactly.  Initial state: at rest at phi0 with the slide of the frictionless
-    statics.
-
-    Entry into stick (t = 0 and every end of a slip): the slide is locked only if |F_ax| <= mu0 N
-    there; on the boundary (within round-off: F_ax = N = 0 in the vertical state, or |F_ax| = mu N =
-    mu0 N when a slip ends with mu = mu0) only if |F_ax| - mu0 N does not grow for the coming motion
-    (one-sided rates from dF_ax/dphi and dN/dphi with the slide locked; the motion's direction from
-    phi', phi'' and the change of the forcing).  Otherwise it slips at once; mu0 = 0 never sticks.
-    After the run every history sample is checked against Coulomb's law and the energy balance
-    against ENERGY_TOL: a violation fails the run (exit 1).
-
-    Scene defaults EI = 1e4 N m^2, EA = 1e6 N (EA/EI = 100 m^-2, not the inextensible 1e6): while
-    stuck, phi can change only by stretching the rod, K_stuck ~ EA (2a)^2 / L, and with the default
-    EA/EI the stuck phases would oscillate at ~1e5 rad/s (the explicit integrator would crawl).
-    """
-    _check_common(v)
-    from femslide.scenes.hinge import k_crit
-    kc = k_crit(**{**v, "l1": v["L"], "m1": 0.0, "l2": 1.0})
-    if not v["k"] > kc:
-        raise BadInput(f"parameter k = {v['k']:g} N/m is not above k_crit = {kc:.6g} N/m: the vertical "
-                       f"state is unstable; allowed: k > {kc:.6g}")
-    if v["mu"] < 0 or v["mu0"] < v["mu"]:
-        raise BadInput(f"parameter mu0 = {v['mu0']:g} must be >= mu = {v['mu']:g} >= 0")
-    t_wall = time.perf_counter()
-    st = Structure(v, friction=True)
-    st.mode = "free"
-    K, M0, p0 = st.stiffness()
-    if not K > 0:
-        raise SolverFailure(f"the vertical state is not stable in the FE model (K = {K:.6g} N m/rad)")
-    omega = math.sqrt(K / M0)
-    theta = v["theta_ratio"] * omega
-    ground = Ground(v.get("ag", 0.0), theta, v.get("record"))
-    # the integrator follows the faster of the motion and the forcing, and steps at record nodes
-    w_fast = max(omega, theta) if ground.forced and ground.ag else omega
-    nodes = int(np.searchsorted(ground.rt, v["t_end"])) if ground.rt is not None else 0
-    st.max_solves = check_work(v, w_fast, st.n_el, "beam-friction", extra_solves=20 * nodes)
-    st.deadline = t_wall + WALL_LIMIT_S
-    V0 = st.potential(p0.y, p0.alpha)
-    phi0 = v["phi0"]
-    steps = max(1, int(math.ceil(abs(phi0) / 0.02)))
-    for i in range(1, steps + 1):
-        st.point(phi0 * i / steps, second=False)
-    p_init = st.point(phi0, second=False)
-    bar = _Progress(v["t_end"], v, "beam-friction")
-    run = Run(st, ground, v.get("c_v", 0.0) or 0.0, bar)
-    run.V0 = V0
-    st.mu = v["mu"]
-    mu0 = v["mu0"]
-    E0 = run.energy(p_init, 0.0)
-    t, z = 0.0, np.array([phi0, 0.0, 0.0, 0.0, 0.0])
-    segs = []         # (t0, t1, dense, mode, sigma, s_c)
-    tps = []
-    jump_loss = 0.0
-    n_steps = n_fev = 0
-    short = 0
-    h_probe = 1e-4 * 2 * math.pi / max(omega, theta if ground.forced else 0.0)
-    mode, sigma, s_c = "free", 0.0, None
-
-    def set_mode():
-        st.mode, st.sigma = mode, sigma
-        run.cache.clear()
-
-    def motion_direction(tt, zz, p):
-        """Sign of the coming change of phi from (tt, phi, phi'), to third order in time (the
-        jerk from the change of the forcing at fixed state): 0 when nothing moves."""
-        phi_, w_ = float(zz[0]), float(zz[1])
-        a0 = run.accel(tt, phi_, w_, p)[0]
-        a1 = run.accel(tt + h_probe, phi_, w_, p)[0]
-        h = h_probe
-        delta = w_ * h + 0.5 * a0 * h * h + (a1 - a0) * h * h / 6.0
-        scale = abs(w_) * h + (abs(a0) + abs(a1)) * h * h
-        if scale == 0.0 or abs(delta) <= 1e-12 * scale:
-            return 0.0
-        return 1.0 if delta > 0 else -1.0
-
-    def stick_test(tt, zz, p):
-        """(holds, sigma): can static friction hold the slide locked at this instant?  |F_ax| <=
-        mu0 N decides; on the boundary (within round-off, e.g. F_ax = N = 0 in the vertical state,
-        or |F_ax| = mu N = mu0 N when a slip ends with mu = mu0) the one-sided rate of
-        |F_ax| - mu0 N for the coming motion does (computed from dF_ax/dphi and dN/dphi with the
-        slide locked): stick only if it does not grow.  sigma: the slip direction otherwise."""
-        F, F1, c, c1 = p.lam_s, p.lam_s1, p.Nc, p.Nc1
-        tol = 1e-9 * (1.0 + abs(F) + mu0 * abs(c))
-        g = abs(F) - mu0 * abs(c)
-        if g < -tol:
-            return True, 0.0
-        if g > tol:
-            return False, (1.0 if F > 0 else -1.0)
-        d = motion_direction(tt, zz, p)
-        if d == 0.0:
-            return True, 0.0      # nothing moves: held until the breakaway event says otherwise
-
-        def rate(dd):
-            dF = (1.0 if F > 0 else -1.0) * F1 * dd if abs(F) > tol else abs(F1)
-            dN = (1.0 if c > 0 else -1.0) * c1 * dd if abs(c) > tol else abs(c1)
-            return dF - mu0 * dN
-        if rate(d) <= 1e-9 * (abs(F1) + mu0 * abs(c1)):
-            return True, 0.0
-        if abs(F) > tol:
-            return False, (1.0 if F > 0 else -1.0)
-        return False, (1.0 if F1 * d > 0 else -1.0)
-
-    def to_slip(tt, phi, s_lock, sgm):
-        """Jump of the massless slide at fixed phi, phi' from the locked state to F_ax = sgm mu N;
-        the elastic energy released is dissipated (jump_loss)."""
-        nonlocal jump_loss, mode, sigma
-        mode, sigma = "stuck", 0.0
-        set_mode()
-        p = run.eval(tt, phi, s_lock)
-        E_before = st.potential(p.y, p.alpha)
-        mode, sigma = "slip", sgm
-        set_mode()
-        try:
-            q = st.point(phi, second=False)
-        except SolverFailure as exc:
-            raise SolverFailure(f"no slip state at breakaway, t = {tt:.6g} s: {exc.reason}", exc.history)  # noqa: B904 (cause in the message)
-        if sgm * (q.s - s_lock) < -1e-12:
-            raise SolverFailure(f"the slide jumped against the breakaway force at t = {tt:.6g} s")
-        jump_loss += (E_before - st.potential(q.y, q.alpha)) * st.Pa
-        run.cache.clear()
-
-    def enter_stick(tt, zz, s_lock):
-        """At t = 0 and at every end of a slip: stuck at s_lock if static friction can hold the
-        slide there, else slip at once (mu0 = 0 never sticks: the slide is free)."""
-        nonlocal mode, sigma, s_c
-        if mu0 == 0.0:
-            mode, sigma, s_c = "free", 0.0, None
-            return
-        mode, sigma = "stuck", 0.0
-        set_mode()
-        p = run.eval(tt, float(zz[0]), s_lock)
-        holds, sgm = stick_test(tt, zz, p)
-        if holds:
-            mode, sigma, s_c = "stuck", 0.0, s_lock
-        else:
-            to_slip(tt, float(zz[0]), s_lock, sgm)
-            s_c = None
-
-    def turn(tt, zz):
-        return zz[1]
-    turn.terminal = False
-    turn.direction = 0
-
-    def breakaway(tt, zz):
-        # |F_ax| - mu0 N, less the round-off margin of the stick test: a stuck phase entered on
-        # the boundary (mu = mu0, or F_ax = N = 0) starts at -margin, not at a round-off sign that
-        # would hide the upward crossing from the event search
-        p = run.eval(tt, zz[0], s_c)
-        return abs(p.lam_s) - mu0 * p.N - 1e-9 * (1.0 + abs(p.lam_s) + mu0 * p.N)
-    breakaway.terminal = True
-    breakaway.direction = 1
-
-    def slip_end(tt, zz):
-        p = run.eval(tt, zz[0], None)
-        return sigma * p.s1 * zz[1]
-    slip_end.terminal = True
-    slip_end.direction = -1
-
-    try:
-        enter_stick(0.0, z, p_init.s)
-        while t < v["t_end"] * (1 - 1e-14):
-            set_mode()
-            if mode == "stuck":
-                sol = _integrate(run, t, v["t_end"], z, [turn, breakaway], s_c=s_c)
-            elif mode == "slip":
-                sol = _integrate(run, t, v["t_end"], z, [turn, slip_end])
-            else:
-                sol = _integrate(run, t, v["t_end"], z, [turn])
-            if sol.status < 0:
-                raise SolverFailure(f"time integration failed at t = {t:.6g} s ({mode}): {sol.message}")
-            n_steps += sol.t.size - 1
-            n_fev += sol.nfev
-            t_new, status, z_new = float(sol.t[-1]), sol.status, sol.y[:, -1].copy()
-            if mode == "stuck":
-                hit = _missed_crossing(breakaway, sol)
-                if hit is not None:
-                    t_new, status, z_new = hit, 1, np.asarray(sol.sol(hit)).copy()
-            segs.append((t, t_new, sol.sol, mode, sigma, s_c))
-            tps += [(float(te), float(ze[0])) for te, ze in zip(sol.t_events[0], sol.y_events[0])
-                    if 1e-12 < te <= t_new and (not tps or te > tps[-1][0] + 1e-12)]
-            short = short + 1 if t_new - t < 1e-10 else 0
-            if short > 6:
-                raise SolverFailure(f"stick-slip switching does not advance at t = {t:.6g} s (chattering)")
-            t, z = t_new, z_new
-            if status != 1:
-                break
-            phi = float(z[0])
-            if mode == "stuck":            # breakaway: slip in the direction of the guide force
-                p = run.eval(t, phi, s_c)
-                to_slip(t, phi, s_c, 1.0 if p.lam_s > 0 else -1.0)
-                s_c = None
-            else:                          # the slip ends: stuck, if static friction holds there
-                p = run.eval(t, phi, None)
-                enter_stick(t, z, p.s)
-    finally:
-        bar.close()
-
-    def dense(tt):
-        k = max(0, min(len(segs) - 1, int(np.searchsorted([s[0] for s in segs], tt, side="right")) - 1))
-        return segs[k][2](tt)
-
-    def modes(tt):
-        k = max(0, min(len(segs) - 1, int(np.searchsorted([s[0] for s in segs], tt, side="right")) - 1))
-        _, _, _, md, sg, sc = segs[k]
-        return md, sg, (sc if md == "stuck" else None)
-
-    # energy balance at t_end
-    md, sg, sc = modes(t)
-    st.mode, st.sigma = md, sg
-    pend = st.point(float(z[0]), second=False, s_c=sc)
-    E_end = run.energy(pend, float(z[1]))
-    Dv, W, Df = float(z[2]), float(z[3]), float(z[4])
-    err = E_end + Dv + Df + jump_loss - W - E0
-    hist = _history(run, dense, v, omega, tps, modes=modes)
-    rows = hist["rows"]
-    M = st.M_body
-    if W != 0 or abs(E0) == 0:
-        Eref = max(abs(E0), abs(W), float(np.max(0.5 * M * rows[:, 2] ** 2)))
+def _quintic(s, c, der):
+    """The quintic Hermite polynomial with end values c = (p0, h v0, h^2 a0, p1, h v1, h^2 a1) at s in
+    [0, 1] (der = 0), or its derivative d/ds (der = 1)."""
+    s2, s3, s4, s5 = s * s, s ** 3, s ** 4, s ** 5
+    if der == 0:
+        b = (1 - 10 * s3 + 15 * s4 - 6 * s5, s - 6 * s3 + 8 * s4 - 3 * s5, 0.5 * (s2 - 3 * s3 + 3 * s4 - s5),
+             10 * s3 - 15 * s4 + 6 * s5, -4 * s3 + 7 * s4 - 3 * s5, 0.5 * (s3 - 2 * s4 + s5))
     else:
-        Eref = abs(E0)
-    bal = abs(err) / Eref if Eref > 0 else 0.0
-    ratio, excess = _check_coulomb(rows, modes, mu0, st.mu, st.P)
-    _check_energy(bal, err, st)
-    amp, reason = _steady(ground, theta, tps, v["t_end"], rows)
-    stuck_time = sum(b - a for a, b, _, md_, _, _ in segs if md_ == "stuck")
-    # zero drift while stuck: the slide of every stuck sample equals its segment's s_c
-    drift = 0.0
-    for r in rows:
-        md_, _, sc_ = modes(r[0])
-        if md_ == "stuck":
-            drift = max(drift, abs(r[4] - sc_ * st.a))
-    res = {
-        "converged": True,
-        "turning_points": [{"t": tt, "w": ww} for tt, ww in tps],
-        "stop": None,
-        "w_max": float(max([abs(phi0)] + [abs(ww) for _, ww in tps] + [float(np.abs(rows[:, 1]).max())])),
-        "steady_amplitude": amp,
-        **({"steady_reason": reason} if amp is None else {}),
-        "steps": int(n_steps),
-        "F2_max": hist["F2_max"],
-        "energy_balance": bal,
-        "w_is": "phi [rad], the body rotation (positive leaning towards B1)",
-        "omega": omega,
-        "omega_is": "small-oscillation frequency of the frictionless structure (slide free, spring k)",
-        "theta": theta if ground.forced else None,
-        "segments": len(segs),
-        "stick_slip_switches": len(segs) - 1,
-        "stuck_time": stuck_time,
-        "stuck_slide_drift": drift,
-        "stuck_force_ratio_max": ratio,
-        "stuck_force_excess_max": excess,
-        "friction_work": Df,
-        "jump_loss": jump_loss,
-        "work_in": W,
-        "slide_range": [float(rows[:, 4].min()), float(rows[:, 4].max())],
-        "dalembert_residual": hist["dal_res"],
-        "n_elements": st.n_el,
-        "rhs_evaluations": int(n_fev),
-        "t_end": v["t_end"],
-        "integration_time_s": time.perf_counter() - t_wall,
-        "_write": lambda d: _write(d, "beam-friction", hist, st),
-        "_history": lambda: history_table(hist),
-    }
-    return res
+        b = (-30 * s2 + 60 * s3 - 30 * s4, 1 - 18 * s2 + 32 * s3 - 15 * s4, 0.5 * (2 * s - 9 * s2 + 12 * s3 - 5 * s4),
+             30 * s2 - 60 * s3 + 30 * s4, -12 * s2 + 28 * s3 - 15 * s4, 0.5 * (3 * s2 - 8 * s3 + 5 * s4))
+    return sum(x * y for x, y in zip(c, b))
 
 
-def _steady(ground, theta, tps, t_end, rows):
-    """Amplitude of the last forcing period if it repeats the one before (STEADY_RTOL), else None."""
-    if not ground.forced:
+def steady(ground, theta, tps, T, phi, tolerance):
+    """(amplitude, None) of the last forcing period, half the range of phi over it (samples and turning
+    points), when its largest and smallest phi repeat those of the period before to STEADY_FACTOR *
+    tolerance relative to the amplitude; else (None, the reason)."""
+    if ground is None:
         return None, "unforced run (no steady forced response)"
-    if ground.rt is not None:
+    if ground.record is not None:
         return None, "record excitation is not periodic"
+    if not ground.harmonic:
+        return None, "unforced run (no steady forced response)"
     Tf = 2 * math.pi / theta
-    n = int(math.floor(t_end / Tf))
+    n = int(math.floor(T[-1] / Tf))
     if n < 2:
         return None, "fewer than two complete forcing periods before t_end"
-    pts = np.array([(r[0], r[1]) for r in rows] + list(tps))
+    pts = np.vstack([np.column_stack([T, phi])] + ([np.array(tps)] if tps else []))
 
     def ext(k):
-        sel = pts[(pts[:, 0] >= k * Tf) & (pts[:, 0] <= (k + 1) * Tf)]
-        return sel[:, 1].max(), sel[:, 1].min()
+        sel = pts[(pts[:, 0] >= k * Tf) & (pts[:, 0] <= (k + 1) * Tf), 1]
+        return sel.max(), sel.min()
     a1, b1 = ext(n - 2)
     a2, b2 = ext(n - 1)
     amp = 0.5 * (a2 - b2)
-    if max(abs(a2 - a1), abs(b2 - b1)) > STEADY_RTOL * max(amp, 1e-300):
-        return None, (f"not steady by t_end: the last two forcing periods differ by "
-                      f"{max(abs(a2 - a1), abs(b2 - b1)):.3g} rad; increase t_end")
+    diff = max(abs(a2 - a1), abs(b2 - b1))
+    if diff > STEADY_FACTOR * tolerance * max(amp, 1e-300):
+        return None, (f"not steady by t_end: the last two forcing periods differ by {diff:.3g} rad "
+                      f"(> {STEADY_FACTOR:g} tolerance of the amplitude); increase t_end")
     return float(amp), None
+
+
+def stuck_stats(h: dict, events: list, t_end: float, mu0: float) -> dict:
+    """Friction diagnostics: ``stick_slip_switches`` (events after t = 0), ``stuck_time`` [s],
+    ``stuck_slide_drift`` [m] (largest change of the slide within a stuck phase: the lock is exact),
+    ``stuck_force_ratio_max`` (largest |F_ax| / (mu0 N) while stuck; <= 1 by Coulomb's law)."""
+    te = [e["t"] for e in events] + [t_end]
+    stuck_time = sum(te[i + 1] - te[i] for i, e in enumerate(events) if e["kind"] == "stick")
+    drift, ratio = 0.0, None
+    T, s, st = h["t"], h["slide"], h["stuck"]
+    for i, e in enumerate(events):
+        if e["kind"] != "stick":
+            continue
+        sel = (T >= te[i]) & (T < te[i + 1]) & (st == 1)
+        if sel.any():
+            drift = max(drift, float(np.abs(s[sel] - s[sel][0]).max()))
+    sel = st == 1
+    if sel.any() and mu0 > 0:
+        N = h["N"][sel]
+        ratio = float(np.max(np.abs(h["F_ax"][sel]) / np.where(N > 0, mu0 * N, np.inf)))
+    return {"stick_slip_switches": max(0, len(events) - 1), "stuck_time": stuck_time,
+            "stuck_slide_drift": drift, "stuck_force_ratio_max": ratio}

@@ -106,14 +106,18 @@ PARAMS: dict[str, Param] = {p.name: p for p in [
           1, 16384, kind="int", derived="adaptive"),
     Param("mu", 0.0, "-", "kinetic Coulomb friction coefficient", 0, _INF),
     Param("mu0", None, "-", "static Coulomb friction coefficient, mu0 >= mu", 0, _INF, derived="mu"),
-    Param("c_v", 0.0, "N s/m", "viscous damping coefficient", 0, _INF),
+    Param("c_v", 0.0, "N s/m", "viscous damping coefficient (sdof scenes: on w; beam-oscillation, beam-friction: "
+          "on phi, a rotational dashpot on the deck, in N m s/rad)", 0, _INF),
     Param("w0", 0.0, "m", "initial displacement of the oscillator", -_INF, _INF),
-    Param("phi0", 0.01, "rad", "initial tilt of the body about its equilibrium", -1.5, 1.5),
+    Param("phi0", 0.01, "rad", "initial tilt of the body (clockwise, towards B1), held and released at rest; "
+          "0 is the vertical state, the equilibrium with an inextensible rod", -1.5, 1.5),
     Param("P0", 0.0, "N", "amplitude of the harmonic force P0 sin(theta t)", 0, _INF),
     Param("theta_ratio", 0.5, "-", "forcing frequency over natural frequency, theta/omega", 0, _INF, lo_open=True),
     Param("ag", 0.0, "m/s^2", "amplitude of the harmonic base acceleration", 0, _INF),
     Param("record", None, "-", "CSV file of base acceleration: columns t [s], a [m/s^2]", kind="path"),
     Param("t_end", 5.0, "s", "end time of the simulation", 0, 1e7, lo_open=True),
+    Param("tolerance", 1e-6, "-", "local error tolerance of the FE transient (relative to the motion's "
+          "amplitude; as a structure file's [simulate] tolerance)", 1e-12, 1e-2),
     Param("L", 1.0, "m", "length of the cantilever; free length of a flexible sliding rod (default l)",
           0, _INF, lo_open=True, derived="l"),
     Param("m_ratio", 0.5, "-", "end moment over 2 pi EI/L (1 rolls the cantilever into a full circle)", -10, 10),
@@ -126,12 +130,14 @@ class ParamSet:
     """The parameters one scene accepts, with scene-specific defaults and cross-parameter rules.
 
     ``rules`` are callables ``rule(values) -> str | None`` returning an error message naming the
-    parameters involved, or ``None`` when the combination is allowed.
+    parameters involved, or ``None`` when the combination is allowed.  ``units`` overrides a
+    parameter's unit in this scene (c_v is N m s/rad on a rotation).
     """
 
     names: tuple[str, ...]
     defaults: dict = field(default_factory=dict)
     rules: tuple = ()
+    units: dict = field(default_factory=dict)
 
     def params(self) -> list[Param]:
         out = []
@@ -139,6 +145,8 @@ class ParamSet:
             p = PARAMS[n]
             if n in self.defaults:
                 p = replace(p, default=self.defaults[n])
+            if n in self.units:
+                p = replace(p, unit=self.units[n])
             out.append(p)
         return out
 
