@@ -178,6 +178,8 @@ def _consistent_start(sysm, s: State, h_s: float) -> State:
     # from a = q'' = 0: a dof held by a constraint then gets q'' = 0 and its multiplier the force
     # that holds it (the stick test needs that), the free massive dofs get the q'' the equations give
     z = np.zeros_like(s.v)
+    if hasattr(sysm, "end"):   # a Radau step system: its own tiny step
+        return _consistent_radau(sysm, State(s.t, s.y, s.v, z, z.copy(), s.elements), h_s)
     s = State(s.t, s.y, s.v, z, z.copy(), s.elements)
     for _ in range(8):
         sysm.prepare(s, h_s)
@@ -221,3 +223,25 @@ def _step_work(s: State, y1, v1, h, ground_power, loss_power, n_q):
         W += w * ground_power(q, v, s.t + tau * h)
         D += w * loss_power(y, v)
     return W * h, D * h
+
+
+def _consistent_radau(sysm, s: State, h_s: float) -> State:
+    """The consistent start of :func:`_consistent_start` by a tiny Radau step (femslide.analysis.radau)."""
+    for _ in range(8):
+        sysm.prepare(s, h_s)
+        sysm.roundoff_floor = False
+        try:
+            Y, info = newton(sysm, sysm.predictor(), s.elements, tol=NEWTON_TOL, maxit=20)
+        finally:
+            sysm.roundoff_floor = True
+            s.elements.revert()
+        if info.converged:
+            y, _, acc = sysm.end(Y)
+            y0 = s.y.copy()
+            y0[sysm.nq:] = y[sysm.nq:]
+            sysm.previous = None
+            return State(s.t, y0, s.v, acc.copy(), acc.copy(), s.elements)
+        h_s *= 4.0
+    raise SolverFailure("simulate: no consistent initial acceleration (Newton failed on the start step)",
+                        info.history)
+

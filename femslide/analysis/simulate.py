@@ -49,6 +49,7 @@ located in time); the static start ignores friction.
 from __future__ import annotations
 
 import math
+import os
 import time
 from dataclasses import dataclass, replace
 
@@ -83,6 +84,7 @@ class Spec:
     initial: dict | None = None
     elements: int = DEFAULT_ELEMENTS
     rotation_damping: dict | None = None   # {body name: c [N m s/rad]}: rotational dashpots
+    method: str = "generalized-alpha"     # the integrator: "generalized-alpha" or "radau"
 
 
 def _num(where, x, lo, hi, lo_open=False):
@@ -105,6 +107,7 @@ def parse_spec(table, base_dir=".", where="[simulate]") -> Spec:
     if bad:
         raise BadInput(f"{where}: unknown key {bad[0]!r}; allowed: {', '.join(SIM_KEYS)}")
     sp_ = Spec()
+    sp_.method = os.environ.get("FEMSLIDE_METHOD", sp_.method)   # (experiment switch; to be settled)
     sp_.t_end = _num(f"{where} t_end", table.get("t_end", 1.0), 0.0, 1e7, lo_open=True)
     sp_.tolerance = _num(f"{where} tolerance", table.get("tolerance", 1e-6), 1e-12, 1e-2)
     damp = table.get("damping", {}) or {}
@@ -371,7 +374,9 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     if fric_joints:
         from femslide.analysis.stickslip import Friction
         from femslide.analysis.generalized_alpha import StepSystem
-        fr = Friction(model, fric_joints, lambda m, extras: StepSystem(m, masses, C, spec.ground, extras), counts)
+        from femslide.analysis.radau import RadauSystem
+        make = RadauSystem if spec.method == "radau" else StepSystem
+        fr = Friction(model, fric_joints, lambda m, extras: make(m, masses, C, spec.ground, extras), counts)
         if frequencies_of == "frictionless structure":
             # stuck phases may be much stiffer (a massless rod clamped in its guide must stretch):
             # the run-time step allowance follows the highest frequency of either
@@ -442,7 +447,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     run = integrate(model, masses, y0, e0, spec.t_end, spec.tolerance, C=C, ground=spec.ground,
                     observe=observe, h0=h0, h_max=h_max, max_steps=max_steps,
                     wall_limit=WALL_LIMIT_S, progress=progress, q_ref=y_s, friction=fr,
-                    period=1.0 / f_ref[0])
+                    period=1.0 / f_ref[0], scheme=spec.method)
     t_int = time.perf_counter() - t_int
     H = np.array(run.rows)
     if not np.all(np.isfinite(H)):

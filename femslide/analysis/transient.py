@@ -61,6 +61,7 @@ from femslide.analysis.generalized_alpha import (
     error_constant,
 )
 from femslide.analysis.newton import newton
+from femslide.analysis.radau import RadauSystem
 from femslide.model.state import ElementState
 from femslide.analysis.stickslip import _locate, _settle, _switch
 from femslide.errors import BadInput, SolverFailure
@@ -83,7 +84,7 @@ class Integration:
 
 def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=None, observe=None,
               h0=None, h_max=None, max_steps=MAX_STEPS, wall_limit=None, progress=None, q_ref=None,
-              friction=None, period=None):
+              friction=None, period=None, scheme="generalized-alpha"):
     """Integrate from rest at the state (y0, elements0) (model units; the elements' history
     committed there) to ``t_end`` [s].
 
@@ -93,7 +94,9 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     static equilibrium (default: the start), from which the displacements that scale the error are
     measured; ``friction``: a :class:`femslide.analysis.stickslip.Friction` (stick/slip modes and events) or
     None; ``period`` [s]: the time over which the error scale (the motion's amplitude) is
-    remembered (default: the whole run).  Raises SolverFailure when a step cannot be completed
+    remembered (default: the whole run); ``scheme``: "generalized-alpha" or "radau" (the step
+    systems of femslide.analysis.generalized_alpha or femslide.analysis.radau; with friction, the
+    Friction's systems are of the scheme).  Raises SolverFailure when a step cannot be completed
     (Newton fails at the smallest step)
     or the step count or wall time runs out."""
     c3 = error_constant()
@@ -135,19 +138,26 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         return P + (fr.power(y, v) if fr is not None else 0.0)
 
     def attempt(sysm, s, h):
+        """One step of size h from s: (y, alpha, a, v, acc, Y) at its end (Y: the Newton unknowns
+        of the step, the stages of a Radau step) or None, and Newton's info."""
         sysm.prepare(s, h)
-        y, info = newton(sysm, sysm.predictor(), s.elements, tol=newton_tol, maxit=12)
+        Y, info = newton(sysm, sysm.predictor(), s.elements, tol=newton_tol, maxit=12)
         alpha1 = s.elements.trial
         s.elements.revert()   # (every trial starts from the state's committed history)
         out.newton_iterations += info.iterations
         if not info.converged:
             return None, info
-        a1, v1, acc1 = sysm.kinematics(y[:n_q])
-        return (y, alpha1, a1, v1, acc1), info
+        if radau:
+            y, v1, acc1 = sysm.end(Y)
+            return (y, alpha1, acc1, v1, acc1, Y), info
+        a1, v1, acc1 = sysm.kinematics(Y[:n_q])
+        return (Y, alpha1, a1, v1, acc1, Y), info
 
+    radau = scheme == "radau"
+    order = RadauSystem.order if radau else 3
     h_s = START_STEP * h
     if fr is None:
-        sysm = StepSystem(model, masses, C, ground)
+        sysm = (RadauSystem if radau else StepSystem)(model, masses, C, ground)
         s = _consistent_start(sysm, s, h_s)
     else:
         s, sysm, released = _settle(fr, s, h_s, list(range(len(fr.joints))), ())
@@ -207,25 +217,28 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
                                     f"{h:.3g} s: {info.reason}", info.history)
             h *= 0.25
             continue
-        y, alpha1, a1, v1, acc1 = cand
+        y, alpha1, a1, v1, acc1, Y = cand
         q = y[:n_q]
-        e = np.zeros(n_q)   # (the massless dofs' a is no estimate of anything: left out)
-        e[heavy] = c3 * h * h * (a1[heavy] - s.a[heavy])
-        est = np.abs(sysm.filtered_error(e)[heavy])
+        if radau:
+            est = np.abs(sysm.error(Y)[0][heavy])
+        else:
+            e = np.zeros(n_q)   # (the massless dofs' a is no estimate of anything: left out)
+            e[heavy] = c3 * h * h * (a1[heavy] - s.a[heavy])
+            est = np.abs(sysm.filtered_error(e)[heavy])
         disp = float(np.abs(q[heavy] - q_static[heavy]).max())
         err = float(est.max()) / (SAFETY * tolerance * max(amp, disp, 1e-3 * amp_all)) if est.size else 0.0
         if err > 1.0 and h > h_min:
             out.rejected += 1
-            h *= max(0.2, 0.9 * err ** (-1.0 / 3.0))
+            h *= max(0.2, 0.9 * err ** (-1.0 / order))
             continue
         event = None
-        h_next = h * min(2.0, max(0.2, 0.9 * max(err, 1e-12) ** (-1.0 / 3.0)))
+        h_next = h * min(2.0, max(0.2, 0.9 * max(err, 1e-12) ** (-1.0 / order)))
         if fr is not None:
             phi0, phi1 = ph, fr.phi(y, v1)   # (ph: the modes' event functions at s, above)
             cross = (phi1 < 0.0) & (phi0 >= 0.0)
             if cross.any():
                 h_ev, cand = _locate(lambda hh, sy=sysm, st=s: attempt(sy, st, hh), fr, phi0, cross, h, cand)
-                y, alpha1, a1, v1, acc1 = cand
+                y, alpha1, a1, v1, acc1, Y = cand
                 q = y[:n_q]
                 event = int(np.argmin(np.where(cross, fr.phi(y, v1), np.inf)))
                 h_next = max(h, 10 * h_ev) if h_ev < 0.1 * h else h
@@ -237,9 +250,14 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         amp = max(disp, amp * math.exp(-h / period) if period else amp, 1e-6)
         t1 = t_stop if (t_stop is not None and event is None) else s.t + h
         if ground is not None or Csr is not None or fr is not None:   # (else no work, no loss)
-            dW, dD = _step_work(s, y, v1, h, ground_power, loss_power, n_q)
+            if radau:
+                dW, dD = sysm.work(Y, ground_power, loss_power)
+            else:
+                dW, dD = _step_work(s, y, v1, h, ground_power, loss_power, n_q)
             W += dW
             D += dD
+        if radau:
+            sysm.remember(Y)
         s = State(t1, y, v1, acc1, a1, ElementState(alpha1))
         if fr is not None and event is None:
             ph, ph_of = phi1, s   # (evaluated at this state's (y, v1) above)

@@ -140,8 +140,8 @@ def solve_linear(A, b):
 
     Dense and banded systems go to LAPACK's dgesv and dgbsv (:func:`_lapack`: without importing
     scipy.linalg), sparse ones to scipy's SuperLU.  A dense A is not modified."""
-    if isinstance(A, BandMatrix):
-        return A.solve(b)
+    if isinstance(A, BandMatrix) or (not isinstance(A, np.ndarray) and hasattr(A, "solve")):
+        return A.solve(b)   # (a band, or an operator that solves itself: femslide.analysis.radau)
     if isinstance(A, np.ndarray):
         _, _, x, info = _lapack("dgesv")(A, b, overwrite_a=0, overwrite_b=0)
         if info != 0:
@@ -166,3 +166,45 @@ def lu_solve(factors, b):
     if info != 0:
         raise ValueError(f"LAPACK getrs info {info}")
     return x
+
+
+class Factorized:
+    """An LU factorisation of a dense, banded or sparse Jacobian of :meth:`Model.system` (real or
+    complex) kept for several solves: ``solve(b)``.  LinAlgError when the matrix is singular."""
+
+    def __init__(self, A):
+        self.band = self.dense = self.sparse = None
+        if isinstance(A, BandMatrix):
+            p = A.pattern
+            pre = "z" if np.iscomplexobj(A.ab) else "d"
+            lu, piv, info = _lapack(pre + "gbtrf")(A.ab, p.kl, p.ku)
+            if info != 0:
+                raise np.linalg.LinAlgError(f"singular matrix (LAPACK gbtrf info {info})")
+            self.band, self.pattern, self.piv, self._trs = lu, p, piv, _lapack(pre + "gbtrs")
+        elif isinstance(A, np.ndarray):
+            pre = "z" if np.iscomplexobj(A) else "d"
+            lu, piv, info = _lapack(pre + "getrf")(A, overwrite_a=0)
+            if info != 0:
+                raise np.linalg.LinAlgError(f"singular matrix (LAPACK getrf info {info})")
+            self.dense, self.piv, self._trs = lu, piv, _lapack(pre + "getrs")
+        else:
+            import scipy.sparse.linalg as spla
+            try:
+                self.sparse = spla.splu(A.tocsc(), permc_spec="COLAMD")
+            except RuntimeError as exc:   # SuperLU: "Factor is exactly singular"
+                raise np.linalg.LinAlgError(f"singular matrix ({exc})") from None
+
+    def solve(self, b):
+        if self.sparse is not None:
+            return self.sparse.solve(b)
+        if self.dense is not None:
+            x, info = self._trs(self.dense, self.piv, b)
+        else:
+            p = self.pattern
+            x, info = self._trs(self.band, p.kl, p.ku, b[p.perm], self.piv)
+            out = np.empty_like(x)
+            out[p.perm] = x
+            x = out
+        if info != 0:
+            raise np.linalg.LinAlgError(f"LAPACK trs info {info}")
+        return x
