@@ -144,3 +144,37 @@ def first_crossing(g, x_start: float, x_max: float, grow: float = 1.3, rtol: flo
             raise NoRoot(f"no equilibrium found up to {x_max:g}")
         lo, glo = x, gx
         x = min(x * grow, x_max)
+
+
+def locate_step(attempt, f, f0, h, cand, max_iter=60):
+    """The step size in (0, h] at which an event function f of a time step's end reaches zero from
+    above, each trial a step from the same state (``attempt(x)`` -> candidate or None), so that the
+    event lies on the step's own solution; ``f0`` >= 0 its value at the start, ``cand`` the step of
+    size h (f(cand) < 0).  Returns (h_event, candidate): the trial at or just past the event.
+
+    A function that is zero at the start (a slip just begun from rest) gives no secant: the step is
+    halved until a trial has not crossed yet, so that the event lies inside the step, never at its
+    start."""
+    tried = {h: cand}
+
+    def trial(x):
+        c = attempt(x)
+        if c is None:
+            return None
+        tried[x] = c
+        return -f(c)
+    lo, g_lo, hi, g_hi = 0.0, -f0, h, -f(cand)
+    for _ in range(max_iter):
+        if g_lo < 0.0:
+            break
+        x = 0.5 * (lo + hi)
+        gx = trial(x)
+        if gx is None:
+            break
+        if gx < 0.0:
+            lo, g_lo = x, gx
+        else:
+            hi, g_hi = x, gx
+    x = root_up(trial, lo, hi, min(g_lo, -1e-300), g_hi, xtol=1e-12, maxiter=max_iter)
+    return x, tried[x]
+

@@ -22,26 +22,30 @@ generalized-alpha only damps them).  Order 5 in the positions (2s - 1) of an ODE
 positions of index-3 constraints; the velocities and multipliers of constraints between massive
 parts converge at lower order (Hairer & Wanner VII.4).
 
-The stage equations are solved by the one Newton loop (femslide.analysis.newton) with the simplified
-Newton matrix of RADAU5, frozen at the step's start: with T^-1 W T = diag(mu_r, [[a, b], [-b, a]]) the
-3-stage linear system decouples into one real and one complex system of the model's size,
+The stage equations are solved by the one Newton loop (femslide.analysis.newton) with the exact
+Newton matrix of the three coupled stages: with the velocity corrections eliminated,
+dv_i = ((W dq)_i + r_i) / h, the unknowns are (dq_i, dmu_i) and stage i's rows are
 
-    [[K + lam (C + D_v) + lam^2 M, G^T], [G, 0]],   lam = mu_r / h  and  (a - i b) / h,
+    K_i dq_i + (1/h) C_i (W dq)_i + (1/h^2) M_i (W^2 dq)_i + G_i^T dmu_i = ...,   G_i dq_i = ...,
 
-(K, G the model's tangent, D_v the centripetal velocity terms), each factorised once per step.
-The local error estimate is RADAU5's (the embedded order-3 formula filtered through the real
-system); the dense output is the collocation polynomial of degree 3 (events are located on it);
-the energy integrals use the Radau quadrature (exact for degree 4).
+(K_i, G_i the model's tangent at stage i, C_i the damping and the centripetal velocity terms, M_i
+the mass matrix), a matrix of 3 (n_q + n_c) unknowns stored dense, banded or sparse as the model's
+Jacobians are.  (RADAU5's simplified Newton, a single matrix frozen at the step's start and
+decoupled into one real and one complex system, does not converge on nearly inextensible rods:
+the frozen axial stiffness EA of a rod that turns within the step swamps its bending stiffness.)
+The local error estimate is RADAU5's (the embedded order-3 formula filtered through
+[[K + lam C + lam^2 M, G^T], [G, 0]] at the step's start, lam = mu_r / h); the dense output is the
+collocation polynomial of degree 3; the energy integrals use the Radau quadrature (exact for
+polynomials of degree 4).
 """
 from __future__ import annotations
 
 import math
 
 import numpy as np
-import scipy.sparse as sp
 
 from femslide.analysis.generalized_alpha import State, add_coo
-from femslide.model.linalg import BandMatrix, Factorized
+from femslide.model.linalg import Assembler, Factorized
 from femslide.model.state import ElementState
 
 S6 = math.sqrt(6.0)
@@ -67,61 +71,18 @@ EPS = float(np.finfo(float).eps)
 ORDER = 4          # the local error estimate is O(h^4): steps follow err^(-1/4)
 
 
-def _complex_copy(A):
-    if isinstance(A, BandMatrix):
-        return BandMatrix(A.pattern, A.ab.astype(complex))
-    if isinstance(A, np.ndarray):
-        return A.astype(complex)
-    return A.astype(complex).tocsc()
-
-
-def _real_copy(A):
-    if isinstance(A, BandMatrix):
-        return BandMatrix(A.pattern, A.ab.copy())
-    return A.copy()
-
-
-class RadauMatrix:
-    """The simplified Newton matrix of the stage equations, as factorised real and complex blocks:
-    ``solve(r)`` maps a residual of the stacked stages to the Newton correction of the stacked
-    unknowns (femslide.model.linalg.solve_linear dispatches to it)."""
-
-    def __init__(self, sysm, real, complex_):
-        self.s, self.real, self.complex = sysm, real, complex_
-
-    def _block(self, fact, lam, rv, rq, rm):
-        s = self.s
-        top = rv + s.Cv @ rq + lam * (s.M @ rq)
-        x = fact.solve(np.concatenate([top, rm]))
-        dq = x[:s.nq]
-        return dq, lam * dq - rq, x[s.nq:]
-
-    def solve(self, r):
-        s = self.s
-        nq, nc, h = s.nq, s.nc, s.h
-        Rv = r[:3 * nq].reshape(3, nq)
-        Rq = r[3 * nq:6 * nq].reshape(3, nq)
-        Rm = r[6 * nq:].reshape(3, nc)
-        Tv, Tq, Tm = TI_RK @ Rv, (TI_RK @ Rq) / h, TI_RK @ Rm
-        q0, v0, m0 = self._block(self.real, MU_REAL / h, Tv[0], Tq[0], Tm[0])
-        qc, vc, mc = self._block(self.complex, MU_COMPLEX / h, Tv[1] + 1j * Tv[2], Tq[1] + 1j * Tq[2],
-                                 Tm[1] + 1j * Tm[2])
-        dQ = T_RK @ np.array([q0, qc.real, qc.imag])
-        dV = T_RK @ np.array([v0, vc.real, vc.imag])
-        dM = T_RK @ np.array([m0, mc.real, mc.imag])
-        return np.concatenate([dQ.ravel(), dV.ravel(), dM.ravel()])
-
-    def error(self, rv, rq, rm):
-        """The real system's solution for the right-hand side (rv, rq, rm) (the error estimate)."""
-        return self._block(self.real, MU_REAL / self.s.h, rv, rq, rm)
+def _coo_mv(rows, cols, vals, x, n):
+    """(rows, cols, vals) @ x for a COO matrix of n rows (duplicates summed)."""
+    return np.bincount(rows, weights=vals * x[cols], minlength=n)
 
 
 class CoupledMatrix:
-    """The exact Newton matrix of the three coupled stages, eliminated to (dq_i, dmu_i) (size
-    3 (n_q + n_c)), factorised: ``solve(r)`` maps a stacked residual to the Newton correction."""
+    """The exact Newton matrix of the three coupled stages (see the module docstring), factorised:
+    ``solve(r)`` maps a residual of the stacked stages to the Newton correction of the stacked
+    unknowns (femslide.model.linalg.solve_linear dispatches to it)."""
 
-    def __init__(self, sysm, A):
-        self.s = sysm
+    def __init__(self, sysm, A, M_parts, C_parts):
+        self.s, self.M_parts, self.C_parts = sysm, M_parts, C_parts
         self.fact = Factorized(A)
 
     def solve(self, r):
@@ -132,11 +93,12 @@ class CoupledMatrix:
         Rq = r[3 * nq:6 * nq].reshape(3, nq)
         Rm = r[6 * nq:].reshape(3, nc)
         WRq = W_RK @ Rq
-        rhs = np.empty(3 * n)
+        rhs = np.empty((3, n))
         for i in range(3):
-            rhs[i * n:i * n + nq] = Rv[i] + s.Cv_i[i] @ Rq[i] / h + s.M_i[i] @ WRq[i] / (h * h)
-            rhs[i * n + nq:(i + 1) * n] = Rm[i]
-        x = self.fact.solve(rhs).reshape(3, n)
+            rhs[i, :nq] = (Rv[i] + _coo_mv(*self.C_parts[i], Rq[i], nq) / h
+                           + _coo_mv(*self.M_parts[i], WRq[i], nq) / (h * h))
+            rhs[i, nq:] = Rm[i]
+        x = self.fact.solve(rhs.ravel()).reshape(3, n)
         dQ, dM = x[:, :nq], x[:, nq:]
         dV = (W_RK @ dQ - Rq) / h
         return np.concatenate([dQ.ravel(), dV.ravel(), dM.ravel()])
@@ -145,7 +107,9 @@ class CoupledMatrix:
 class RadauSystem:
     """The stage equations of one Radau IIA step in the interface femslide.analysis.newton.newton
     expects (``n_q``: the stacked force rows, ``rotation_dofs``, ``system``); unknowns
-    Y = [ZQ (3 n_q), ZV (3 n_q), mu (3 n_c)], residual rows [forces, h x kinematics, constraints]."""
+    Y = [ZQ (3 n_q), ZV (3 n_q), mu (3 n_c)], residual rows [forces, h x kinematics, constraints].
+    The friction and lock models of femslide.analysis.stickslip build one per set of friction
+    modes, like femslide.analysis.generalized_alpha.StepSystem."""
 
     order = ORDER
 
@@ -161,15 +125,36 @@ class RadauSystem:
         self._rot = np.concatenate([i * self.nq + rot for i in range(3)]).astype(np.intp)
         self.m_max = float(max(np.abs(masses.matrix(np.zeros(model.n_q))[2]).max(initial=0.0), 0.0))
         self.roundoff_floor = True
-        self.exact = True      # the exact Newton matrix of the coupled stages (else RADAU5's simplified one)
-        self.previous = None   # the last accepted step's dense output (start, h, polynomials)
+        self.previous = None   # the last accepted step's collocation polynomial (the next predictor)
+        self.big = None        # the coupled matrix's pattern (built at the first Jacobian)
 
     def rotation_dofs(self):
         return self._rot
 
+    def _pattern(self, model_coo, extra_coo):
+        """The coupled matrix's pattern from the model's Jacobian pattern, the inertia's, the damping's
+        and the friction terms' (all static)."""
+        nq, n = self.nq, self.nq + self.nc
+        ir, ic = self.masses.coo_rows, self.masses.coo_cols
+        rows, cols = [], []
+        for i in range(3):
+            o = i * n
+            rows += [model_coo[0] + o, ir + o] + [e[0] + o for e in extra_coo]
+            cols += [model_coo[1] + o, ic + o] + [e[1] + o for e in extra_coo]
+        for i in range(3):
+            for j in range(3):
+                rows.append(ir + i * n)
+                cols.append(ic + j * n)
+                if self.Crows is not None:
+                    rows.append(self.Crows + i * n)
+                    cols.append(self.Ccols + j * n)
+        del nq
+        self.big = Assembler(np.concatenate(rows).astype(np.intp), np.concatenate(cols).astype(np.intp), 3 * n)
+
     # -- the step ---------------------------------------------------------------------------------
     def prepare(self, s: State, h: float):
-        """Set the step from state s with step h: the frozen Jacobian, factorised."""
+        """Set the step from state s with step h (the ground motion at the stages, the error
+        estimate's matrix at the step's start)."""
         m, nq = self.model, self.nq
         self.s, self.h = s, h
         self.t = s.t + C_RK * h
@@ -179,30 +164,30 @@ class RadauSystem:
             self.ag = [self.ground.accel(t) * e for t in self.t]
         else:
             self.ag = [None, None, None]
-        es = ElementState(s.alpha)
-        _, A0, info = m.system(s.y, es, 1.0, None, True)
-        self.noise0 = float(info["noise"])
-        # the inertia's parts at the step's start: M, the velocity derivative D_v (centripetal), the
-        # position derivative D_q
-        rows, cols, base = self.masses.inertia(self.qn, s.v, s.acc, 0.0, 0.0, self.ag[0])[1]
-        vm = self.masses.inertia(self.qn, s.v, s.acc, 1.0, 0.0, self.ag[0])[1][2] - base
-        vd = self.masses.inertia(self.qn, s.v, s.acc, 0.0, 1.0, self.ag[0])[1][2] - base
-        self.M = sp.csr_matrix((vm, (rows, cols)), shape=(nq, nq))
-        Cv = sp.csr_matrix((vd, (rows, cols)), shape=(nq, nq))
-        if self.Csr is not None:
-            Cv = Cv + self.Csr
-        self.Cv = Cv.tocsr()
-        fr = [ex(s.y, s.v, 0.0)[1] for ex in self.extra]
-        parts = []
-        for lam, A in ((MU_REAL / h, _real_copy(A0)), (MU_COMPLEX / h, _complex_copy(A0))):
-            coos = [(rows, cols, base + lam * vd + lam * lam * vm)] + fr
-            if self.Crows is not None:
-                coos.append((self.Crows, self.Ccols, lam * self.Cvals))
-            parts.append(Factorized(add_coo(A, *coos)))
-        self.matrix = RadauMatrix(self, *parts)
         self.elements = [ElementState(s.alpha) for _ in range(3)]
+        self._error_matrix = None
         vmax = float(np.abs(s.v).max(initial=0.0))
         self.noise_in = EPS * 30.0 * self.m_max * vmax / h   # round-off of M (W ZV)/h (|W| ~ 30)
+
+    def _error_system(self):
+        """[[K + lam C_v + lam^2 M, G^T], [G, 0]] at the step's start, lam = mu_r / h, factorised,
+        with M and C_v (COO) for the right-hand side: what RADAU5's error estimate solves."""
+        if self._error_matrix is None:
+            s, h, m = self.s, self.h, self.model
+            es = ElementState(s.alpha)
+            _, A0, _ = m.system(s.y, es, 1.0, None, True)
+            lam = MU_REAL / h
+            rows, cols, base = self.masses.inertia(self.qn, s.v, s.acc, 0.0, 0.0, self.ag[0])[1]
+            vm = self.masses.inertia(self.qn, s.v, s.acc, 1.0, 0.0, self.ag[0])[1][2] - base
+            vd = self.masses.inertia(self.qn, s.v, s.acc, 0.0, 1.0, self.ag[0])[1][2] - base
+            coos = [(rows, cols, base + lam * vd + lam * lam * vm)] + [ex(s.y, s.v, 0.0)[1] for ex in self.extra]
+            Cr, Cc, Cvals = rows, cols, vd
+            if self.Crows is not None:
+                coos.append((self.Crows, self.Ccols, lam * self.Cvals))
+                Cr, Cc, Cvals = (np.concatenate([rows, self.Crows]), np.concatenate([cols, self.Ccols]),
+                                 np.concatenate([vd, self.Cvals]))
+            self._error_matrix = (Factorized(add_coo(A0, *coos)), (rows, cols, vm), (Cr, Cc, Cvals), lam)
+        return self._error_matrix
 
     def predictor(self):
         """The start of Newton: the previous step's collocation polynomial continued (when it ended
@@ -226,59 +211,64 @@ class RadauSystem:
         return Y[:3 * nq].reshape(3, nq), Y[3 * nq:6 * nq].reshape(3, nq), Y[6 * nq:].reshape(3, nc)
 
     def system(self, Y, elements, lam=1.0, control=None, jacobian=True, dense=False):
-        m, nq, h = self.model, self.nq, self.h
+        """The stacked stage residual at Y (and, with ``jacobian``, the coupled Newton matrix);
+        ``elements.trial`` becomes the step's end (the third stage's chord rotations)."""
+        m, nq, h, masses = self.model, self.nq, self.h, self.masses
         ZQ, ZV, MU = self.split(Y)
         Q = self.qn + ZQ
         V = self.s.v + ZV
         ACC = (W_RK @ ZV) / h
         Rv = np.empty((3, nq))
         Rm = np.empty((3, self.nc))
-        fmax = noise = 0.0
-        exact = jacobian and self.exact
-        if exact:
-            n = nq + self.nc
-            big = np.zeros((3 * n, 3 * n))
-            W2 = W_RK @ W_RK
-            self.M_i, self.Cv_i = [], []
+        fmax = 0.0
+        vals, M_parts, C_parts, coupling = [], [], [], []
         for i in range(3):
             y = np.concatenate([Q[i], MU[i]])
-            r, Ai, info = m.system(y, self.elements[i], 1.0, None, exact, dense=True)
-            f, (ir, ic, base) = self.masses.inertia(Q[i], V[i], ACC[i], 0.0, 0.0, self.ag[i])
-            if exact:
-                vm = self.masses.inertia(Q[i], V[i], ACC[i], 1.0, 0.0, self.ag[i])[1][2] - base
-                vd = self.masses.inertia(Q[i], V[i], ACC[i], 0.0, 1.0, self.ag[i])[1][2] - base
-                Mi = sp.csr_matrix((vm, (ir, ic)), shape=(nq, nq))
-                Ci = sp.csr_matrix((vd, (ir, ic)), shape=(nq, nq))
-                if self.Csr is not None:
-                    Ci = (Ci + self.Csr).tocsr()
-                self.M_i.append(Mi)
-                self.Cv_i.append(Ci)
-                big[i * n:(i + 1) * n, i * n:(i + 1) * n] += Ai
-                np.add.at(big, (i * n + ir, i * n + ic), base)
-                Md, Cd = Mi.toarray(), Ci.toarray()
-                for j in range(3):
-                    big[i * n:i * n + nq, j * n:j * n + nq] += (W2[i, j] / (h * h)) * Md + (W_RK[i, j] / h) * Cd
-                for ex in self.extra:
-                    er, ec, ev = ex(y, V[i], 0.0)[1]
-                    np.add.at(big, (i * n + er, i * n + ec), ev)
+            r, coo, info = m.system(y, self.elements[i], 1.0, None, jacobian, dense="coo")
+            f, (ir, ic, base) = masses.inertia(Q[i], V[i], ACC[i], 0.0, 0.0, self.ag[i])
             rv = r[:nq] + f
             if self.Csr is not None:
                 rv += self.Csr @ V[i]
+            ex_coo = []
             for ex in self.extra:
-                rv += ex(y, V[i], 0.0)[0]
+                fe, ce = ex(y, V[i], 0.0)
+                rv += fe
+                ex_coo.append(ce)
             Rv[i] = rv
             Rm[i] = r[nq:]
             fmax = max(fmax, info["fmax"])
+            if jacobian:
+                if self.big is None:
+                    self._pattern(coo, ex_coo)
+                vm = masses.inertia(Q[i], V[i], ACC[i], 1.0, 0.0, self.ag[i])[1][2] - base
+                vd = masses.inertia(Q[i], V[i], ACC[i], 0.0, 1.0, self.ag[i])[1][2] - base
+                vals += [coo[2], base] + [ce[2] for ce in ex_coo]
+                M_parts.append((ir, ic, vm))
+                if self.Crows is not None:
+                    C_parts.append((np.concatenate([ir, self.Crows]), np.concatenate([ic, self.Ccols]),
+                                    np.concatenate([vd, self.Cvals])))
+                else:
+                    C_parts.append((ir, ic, vd))
+                coupling.append((vm, vd))
         elements.trial = self.elements[2].trial
         Rq = W_RK @ ZQ - h * V
         r = np.concatenate([Rv.ravel(), Rq.ravel(), Rm.ravel()])
-        noise = self.noise0
+        noise = float(info["noise"]) if jacobian else 0.0
         if self.roundoff_floor and self.noise_in > 1e-6 * (1.0 + fmax):
             noise += self.noise_in
-        info = {"fmax": fmax, "noise": noise, "lam": 1.0}
-        if exact:
-            return r, CoupledMatrix(self, big), info
-        return r, (self.matrix if jacobian else None), info
+        out = {"fmax": fmax, "noise": noise, "lam": 1.0}
+        if not jacobian:
+            return r, None, out
+        W2 = W_RK @ W_RK
+        hh = h * h
+        for i in range(3):
+            vm, vd = coupling[i]
+            for j in range(3):
+                vals.append((W2[i, j] / hh) * vm + (W_RK[i, j] / h) * vd)
+                if self.Crows is not None:
+                    vals.append((W_RK[i, j] / h) * self.Cvals)
+        A = self.big.assemble(np.concatenate(vals))
+        return r, CoupledMatrix(self, A, M_parts, C_parts), out
 
     # -- what a converged step gives ------------------------------------------------------------
     def end(self, Y):
@@ -295,10 +285,13 @@ class RadauSystem:
         """RADAU5's local error estimate of the positions and velocities (n_q each): the embedded
         order-3 solution's difference filtered through the real system."""
         ZQ, ZV, _ = self.split(Y)
-        h = self.h
+        h, nq = self.h, self.nq
+        fact, Mp, Cp, lam = self._error_system()
         ZEq, ZEv = (E_RK @ ZQ) / h, (E_RK @ ZV) / h
-        eq, ev, _ = self.matrix.error(self.M @ (self.s.acc + ZEv), self.s.v + ZEq, np.zeros(self.nc))
-        return eq, ev
+        rv, rq = _coo_mv(*Mp, self.s.acc + ZEv, nq), self.s.v + ZEq
+        top = rv + _coo_mv(*Cp, rq, nq) + lam * _coo_mv(*Mp, rq, nq)
+        eq = fact.solve(np.concatenate([top, np.zeros(self.nc)]))[:nq]
+        return eq, lam * eq - rq
 
     def dense(self, Y):
         """The collocation polynomial of the step: a function t -> (y, v) on [t_n, t_n + h]."""

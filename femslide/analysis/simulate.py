@@ -51,7 +51,7 @@ from __future__ import annotations
 import math
 import os
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -84,7 +84,8 @@ class Spec:
     initial: dict | None = None
     elements: int = DEFAULT_ELEMENTS
     rotation_damping: dict | None = None   # {body name: c [N m s/rad]}: rotational dashpots
-    method: str = "generalized-alpha"     # the integrator: "generalized-alpha" or "radau"
+    method: str = field(default_factory=lambda: os.environ.get("FEMSLIDE_METHOD", "radau"))  # (experiment)
+    turning: tuple = ()                   # bodies whose rotation rate's zeros are located (turning points)
 
 
 def _num(where, x, lo, hi, lo_open=False):
@@ -444,10 +445,15 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         if spec.ground.harmonic:
             h_max = min(h_max, 0.05 / spec.ground.frequency)
     t_int = time.perf_counter()
+    for b in spec.turning:
+        if b not in model.body_index:
+            raise BadInput(f"turning points of {b!r}: no such body; bodies: {', '.join(model.body_index) or 'none'}")
+    rates = [model.body_dof(b) + 2 for b in spec.turning]
+    watch = [(lambda y, v, d=d: float(v[d])) for d in rates]
     run = integrate(model, masses, y0, e0, spec.t_end, spec.tolerance, C=C, ground=spec.ground,
                     observe=observe, h0=h0, h_max=h_max, max_steps=max_steps,
                     wall_limit=WALL_LIMIT_S, progress=progress, q_ref=y_s, friction=fr,
-                    period=1.0 / f_ref[0], scheme=spec.method)
+                    period=1.0 / f_ref[0], scheme=spec.method, watch=watch)
     t_int = time.perf_counter() - t_int
     H = np.array(run.rows)
     if not np.all(np.isfinite(H)):
@@ -473,6 +479,11 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
            "events": fr.events if fr is not None else {},
            "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of, "peaks": peaks,
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
+    if spec.turning:   # the located zeros of the bodies' rotation rates (rows of the history)
+        T = H[:, 0]
+        res["turning_points"] = {
+            b: [{"t": t, "rotation": float(H[int(np.searchsorted(T, t)), col[f"bodies.{b}.rotation"]])}
+                for k, t in run.crossings if spec.turning[k] == b] for b in spec.turning}
     history = {c: H[:, i] for i, c in enumerate(cols)}   # t first
     res["wall_time_s"] = time.perf_counter() - t_wall
     return Outcome(res, name, history=history, tables=[Table("history.csv", cols, list(H.T))],

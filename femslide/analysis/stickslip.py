@@ -3,22 +3,25 @@
 :class:`Friction` holds the friction joints of a model (femslide.joints.friction: the Coulomb law of
 one joint) and their modes (0 stuck, +-1 slipping), a model per set of stuck joints (a stuck joint's
 slide is locked by an exact constraint, femslide.joints.holds.SlideHold) and its step system, the
-event functions (slip velocity, static margin mu0 N - |lam|) and the events recorded.  :func:`_locate`
-finds an event inside a step (Illinois on the step size, each trial a step from the same state);
-:func:`_switch` and :func:`_settle` change modes (the stick test on the consistent start's lock
-multiplier); at every change the massless parts are re-solved for equilibrium in the new modes
-(:func:`_requilibrate`), the energy their jump releases counted as dissipated.
+event functions (slip velocity, static margin mu0 N - |lam|) and the events recorded; the
+integrator locates an event inside a step (femslide.analysis.events.locate_step); :func:`_switch`
+and :func:`_settle` change modes (the stick test on the consistent start's lock multiplier); at
+every change the massless parts are re-solved for equilibrium in the new modes (:func:`_requilibrate`),
+the energy their jump releases counted as dissipated.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from femslide.analysis.events import root_up
 from femslide.analysis.generalized_alpha import NEWTON_TOL, State, _consistent_start, add_coo
 from femslide.errors import SolverFailure
 from femslide.joints.friction import FrictionJoint
 from femslide.joints.holds import SlideHold
 from femslide.model.linalg import solve_linear
+
+
+SAME_INSTANT = 1e-9   # s (relative to max(1, t)): events this close are one instant (events are
+                      # located to ~1e-12 s; two of them at one physical instant land within this)
 
 
 class Friction:
@@ -90,10 +93,11 @@ class Friction:
 
     # -- events -------------------------------------------------------------------------------------
     def event(self, i, t, kind):
-        """Record joint i's new mode at t (a repeat of the joint's last event is not recorded: the
-        stick test may confirm a slip direction twice at one instant)."""
+        """Record joint i's new mode at t; a repeat of the joint's last event at the same instant
+        (within SAME_INSTANT: the stick test may confirm a slip direction twice, or two events located
+        to the locator's tolerance may coincide) is not recorded."""
         ev = self.events[self.joints[i].name]
-        if not ev or ev[-1] != {"t": t, "kind": kind}:
+        if not ev or ev[-1]["kind"] != kind or abs(ev[-1]["t"] - t) > SAME_INSTANT * max(1.0, abs(t)):
             ev.append({"t": t, "kind": kind})
 
     def phi(self, y, v):
@@ -109,9 +113,10 @@ class Friction:
         return np.array(out)
 
     def started_slip(self, i, t):
-        """Whether joint i started to slip at t (its last event, and it is slipping)."""
+        """Whether joint i started to slip at t (its last event, within SAME_INSTANT, and it is
+        slipping)."""
         ev = self.events[self.joints[i].name]
-        return self.mode[i] != 0 and bool(ev) and ev[-1]["t"] == t
+        return self.mode[i] != 0 and bool(ev) and abs(ev[-1]["t"] - t) <= SAME_INSTANT * max(1.0, abs(t))
 
     def holding(self, i, y):
         """Stuck joint i's margin mu0 N - |lam|: >= 0 while static friction holds."""
@@ -136,40 +141,6 @@ class Friction:
                     return self.lock_multiplier(y, i)
                 return mo * fj.mu * fj.normal(y)[0]
         return 0.0
-
-
-def _locate(attempt, fr, phi0, cross, h, cand, max_iter=60):
-    """The step size at which the first event function of the crossing joints reaches zero, located
-    by femslide.analysis.events.root_up on the step size in (0, h], each trial a step from the same
-    state (so the event lies on the step's own solution); returns (h_event, candidate): the trial at
-    or just past the event."""
-    def g(c):
-        return -float(np.min(np.where(cross, fr.phi(c[0], c[3]), np.inf)))
-    tried = {h: cand}
-
-    def trial(x):
-        c, _ = attempt(x)
-        if c is None:
-            return None
-        tried[x] = c
-        return g(c)
-    lo, g_lo, hi, g_hi = 0.0, -float(np.min(phi0[cross])), h, g(cand)
-    # an event function that is zero at the step's start (a slip just begun from rest) gives no
-    # secant: halve the step until a trial has not crossed yet, so that the event is located inside
-    # the step, never at its start
-    for _ in range(max_iter):
-        if g_lo < 0.0:
-            break
-        x = 0.5 * (lo + hi)
-        gx = trial(x)
-        if gx is None:
-            break
-        if gx < 0.0:
-            lo, g_lo = x, gx
-        else:
-            hi, g_hi = x, gx
-    x = root_up(trial, lo, hi, min(g_lo, -1e-300), g_hi, xtol=1e-12, maxiter=max_iter)
-    return x, tried[x]
 
 
 class _Light:
@@ -267,7 +238,7 @@ def _requilibrate(sysm, s: State):
     forces equal the sliding friction (and stops there, with no overshoot).  Returns the state and
     the potential energy the jump releases (model units; dissipated)."""
     heavy = sysm.masses.massive_dofs()
-    if heavy.size == sysm.n_q:
+    if heavy.size == sysm.model.n_q:
         return s, 0.0
     light = _Light(sysm, s.y, s.elements, s.v, heavy)
     y, elements, _ = light.solve(s.y)

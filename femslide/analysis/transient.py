@@ -63,7 +63,8 @@ from femslide.analysis.generalized_alpha import (
 from femslide.analysis.newton import newton
 from femslide.analysis.radau import RadauSystem
 from femslide.model.state import ElementState
-from femslide.analysis.stickslip import _locate, _settle, _switch
+from femslide.analysis.events import locate_step
+from femslide.analysis.stickslip import _settle, _switch
 from femslide.errors import BadInput, SolverFailure
 
 MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/analysis/simulate.py comes first)
@@ -80,11 +81,12 @@ class Integration:
     newton_iterations: int = 0
     energy_balance: float = 0.0
     energy: dict = field(default_factory=dict)
+    crossings: list = field(default_factory=list)   # (index of the watched function, t) at its zeros
 
 
 def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=None, observe=None,
               h0=None, h_max=None, max_steps=MAX_STEPS, wall_limit=None, progress=None, q_ref=None,
-              friction=None, period=None, scheme="generalized-alpha"):
+              friction=None, period=None, scheme="generalized-alpha", watch=()):
     """Integrate from rest at the state (y0, elements0) (model units; the elements' history
     committed there) to ``t_end`` [s].
 
@@ -96,7 +98,9 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     None; ``period`` [s]: the time over which the error scale (the motion's amplitude) is
     remembered (default: the whole run); ``scheme``: "generalized-alpha" or "radau" (the step
     systems of femslide.analysis.generalized_alpha or femslide.analysis.radau; with friction, the
-    Friction's systems are of the scheme).  Raises SolverFailure when a step cannot be completed
+    Friction's systems are of the scheme); ``watch``: functions g(y, v) (model units) whose sign
+    changes are located as events: the step ends there, and ``crossings`` lists (index, t).
+    Raises SolverFailure when a step cannot be completed
     (Newton fails at the smallest step)
     or the step count or wall time runs out."""
     c3 = error_constant()
@@ -165,6 +169,10 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         J += released
     if observe:
         out.rows.append(observe(0.0, s.y, s.alpha, s.v, s.acc))
+    watch = list(watch)
+    wvals = np.array([g(s.y, s.v) for g in watch])
+    wscale = np.abs(wvals)
+    wsign = np.where(wvals != 0.0, np.sign(wvals), 0.0)
     t0 = time.perf_counter()
     switches, t_switch = 0, None
     ph_of = None   # the state the event functions ph were evaluated at
@@ -231,24 +239,44 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             out.rejected += 1
             h *= max(0.2, 0.9 * err ** (-1.0 / order))
             continue
-        event = None
         h_next = h * min(2.0, max(0.2, 0.9 * max(err, 1e-12) ** (-1.0 / order)))
-        if fr is not None:
-            phi0, phi1 = ph, fr.phi(y, v1)   # (ph: the modes' event functions at s, above)
-            cross = (phi1 < 0.0) & (phi0 >= 0.0)
-            if cross.any():
-                h_ev, cand = _locate(lambda hh, sy=sysm, st=s: attempt(sy, st, hh), fr, phi0, cross, h, cand)
-                y, alpha1, a1, v1, acc1, Y = cand
-                q = y[:n_q]
-                event = int(np.argmin(np.where(cross, fr.phi(y, v1), np.inf)))
-                h_next = max(h, 10 * h_ev) if h_ev < 0.1 * h else h
-                h = h_ev
+        # events: a friction joint's mode stops holding (its event function turns negative), a
+        # watched quantity changes sign; the step is cut at the first, located on the step's own
+        # solution (femslide.analysis.events.locate_step)
+        nf = len(fr.joints) if fr is not None else 0
+        ev0 = np.concatenate([ph if fr is not None else np.zeros(0), wsign * wvals])
+
+        def event_values(y_, v_, ws=wsign):
+            f = fr.phi(y_, v_) if fr is not None else np.zeros(0)
+            return np.concatenate([f, ws * np.array([g(y_, v_) for g in watch])]) if watch else f
+        ev1 = at = event_values(y, v1)
+        cross = (ev1 < 0.0) & (ev0 >= 0.0)
+        if watch:
+            cross[nf:] &= wsign != 0.0
+        crossed, due = [], []
+        if cross.any():
+            f_at = (lambda c, cr=cross: float(np.min(np.where(cr, event_values(c[0], c[3]), np.inf))))
+            h_ev, cand = locate_step(lambda hh, sy=sysm, st=s: attempt(sy, st, hh)[0], f_at,
+                                     float(np.min(ev0[cross])), h, cand)
+            y, alpha1, a1, v1, acc1, Y = cand
+            q = y[:n_q]
+            at = event_values(y, v1)
+            # the first event, and every other that reaches zero at the same instant (within 1e-9 s
+            # by its rate over the step): a slide that stops as the deck turns is both a friction
+            # event and a turning point, whichever is located first
+            rate = np.maximum((ev0 - at) / h_ev, 1e-300)
+            now = cross & (at <= 1e-9 * rate)
+            now[int(np.argmin(np.where(cross, at, np.inf)))] = True
+            due = [int(i) for i in np.nonzero(now)[0] if i < nf]
+            crossed = [int(i) - nf for i in np.nonzero(now)[0] if i >= nf]
+            h_next = max(h, 10 * h_ev) if h_ev < 0.1 * h else h
+            h = h_ev
         disp = float(np.abs(q[heavy] - q_static[heavy]).max())
         amp_all = max(amp_all, disp)
         # the amplitude of the recent motion (a decaying memory of one period): a decaying or
         # growing motion keeps its relative accuracy
         amp = max(disp, amp * math.exp(-h / period) if period else amp, 1e-6)
-        t1 = t_stop if (t_stop is not None and event is None) else s.t + h
+        t1 = t_stop if (t_stop is not None and not cross.any()) else s.t + h
         if ground is not None or Csr is not None or fr is not None:   # (else no work, no loss)
             if radau:
                 dW, dD = sysm.work(Y, ground_power, loss_power)
@@ -259,11 +287,18 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         if radau:
             sysm.remember(Y)
         s = State(t1, y, v1, acc1, a1, ElementState(alpha1))
-        if fr is not None and event is None:
-            ph, ph_of = phi1, s   # (evaluated at this state's (y, v1) above)
+        for k in crossed:
+            out.crossings.append((k, t1))
+        if watch:
+            wvals = np.array([g(s.y, s.v) for g in watch])
+            wscale = np.maximum(wscale, np.abs(wvals))
+            # (a quantity just located at zero carries no sign until it moves away)
+            wsign = np.where(np.abs(wvals) > 1e-9 * wscale, np.sign(wvals), 0.0)
+        if fr is not None and not due:
+            ph, ph_of = at[:nf], s   # (evaluated at this state's (y, v1) above)
         out.steps += 1
-        if event is not None:
-            s, sysm, released = _switch(fr, s, event, START_STEP * h_next)
+        for i in due:   # (several joints may change modes at one instant: each in turn)
+            s, sysm, released = _switch(fr, s, i, START_STEP * h_next)
             D += released
             J += released
         T = masses.kinetic(s.y[:n_q], s.v)         # (after a switch: the state it left)

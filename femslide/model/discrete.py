@@ -483,8 +483,9 @@ class Model:
         ``control``: None (load ``lam`` given) or a femslide.joints.holds.DofHold: its dof is held at
         its target and lam is the last unknown y[-1] (displacement control).  Returns (r, A, info)
         with A dense, banded or sparse CSC (:func:`solve_linear` solves any of them; ``dense=True``
-        asks for a dense array whatever the size), or None with ``jacobian=False`` (then
-        info["noise"] is not estimated either).
+        asks for a dense array whatever the size; ``dense="coo"`` for its entries (rows, cols,
+        values) in the pattern's order, duplicates to be summed), or None with ``jacobian=False``
+        (then info["noise"] is not estimated either).
 
         One evaluation of all elements (:func:`femslide.elements.corotational.element_terms`), the
         terms and joints in Python floats (few numbers each, where numpy's per-call cost would dominate), one
@@ -529,6 +530,8 @@ class Model:
             jv += info["fl"][self._load_dofs].tolist()
         rows, cols, size, band, sparse, flat = self._pattern(None if control is None else control.dof)
         vals = np.concatenate([K.ravel(), jv]) if self.elements is not None else np.array(jv)
+        if dense == "coo":   # the entries themselves, in the pattern's order (duplicates to be summed)
+            return r, (rows, cols, vals), info
         if band is not None and not dense:
             A = band.assemble(vals)
         elif sparse and not dense:

@@ -208,3 +208,30 @@ class Factorized:
         if info != 0:
             raise np.linalg.LinAlgError(f"LAPACK trs info {info}")
         return x
+
+
+class Assembler:
+    """A static sparsity pattern (rows, cols; duplicates summed) of a size x size matrix, stored as the
+    model's Jacobians are: dense for small systems, as a band after reverse Cuthill-McKee renumbering
+    when the band is narrow, else dense up to ``sparse_limit`` unknowns and sparse above;
+    ``assemble(values)`` gives the matrix (values in the pattern's order), which
+    :class:`Factorized` factorises."""
+
+    def __init__(self, rows, cols, size, dense_limit=100, sparse_limit=600):
+        self.rows, self.cols, self.size = rows, cols, size
+        self.band, self.sparse = None, False
+        if size > dense_limit:
+            self.band = Banded(rows, cols, size)
+            if self.band.kl + self.band.ku >= size // 4:
+                self.band, self.sparse = None, size > sparse_limit
+        self.flat = rows * size + cols if self.band is None and not self.sparse else None
+
+    def assemble(self, vals):
+        if self.band is not None:
+            return self.band.assemble(vals)
+        if self.sparse:
+            import scipy.sparse as sp
+            return sp.csc_matrix((vals, (self.rows, self.cols)), shape=(self.size, self.size))
+        n = self.size
+        return np.bincount(self.flat, weights=vals, minlength=n * n).reshape(n, n)
+

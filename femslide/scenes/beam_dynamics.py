@@ -21,9 +21,9 @@ ag sin(theta t) along x [m/s^2] (plus the CSV ``record``), theta = theta_ratio *
 natural_modes: the same statics and modes simulate reports as ``frequencies_hz``).
 
 The result keeps the scenes' contract (SPEC section 7) and adds simulate's: ``turning_points`` (every
-instant after t = 0 where phi' returns to zero: the roots of the derivative of the quintic Hermite
-interpolant of phi between accepted steps, from phi, phi' and phi'' at both ends, located to
-round-off; w = phi there), ``w_max`` (largest |phi|, phi0 included), ``steady_amplitude``,
+instant after t = 0 where phi' returns to zero: events of the integration, located on the steps'
+own solution to ~1e-12 s (femslide.analysis.simulate's ``turning``); w = phi there), ``w_max``
+(largest |phi|, phi0 included), ``steady_amplitude``,
 ``F2_max`` (= ``peaks.reactions.B1.Fx``, refined between steps), ``energy_balance``,
 ``frequencies_hz``, ``events``, ``peaks``, ``omega`` and (forced) ``theta``; a run whose energy
 balance is worse than ENERGY_LIMIT fails (SolverFailure, exit 1) unless its energies are all at the
@@ -42,6 +42,7 @@ import numpy as np
 
 from femslide.analysis.excitation import Ground, Record, read_csv_record
 from femslide.analysis.simulate import Spec, natural_modes, simulate
+from femslide.analysis.stickslip import SAME_INSTANT
 from femslide.errors import BadInput, SolverFailure
 from femslide.results.outcome import Frames, Outcome, Table
 from femslide.scenes import hinge
@@ -89,7 +90,7 @@ def spec(v: dict, fs, friction: bool):
     n = v["n_elements"]
     sp = Spec(t_end=v["t_end"], tolerance=v["tolerance"], elements=n,
               initial={"body": "deck", "rotation": -v["phi0"]},
-              rotation_damping={"deck": v["c_v"]} if v["c_v"] else None)
+              rotation_damping={"deck": v["c_v"]} if v["c_v"] else None, turning=("deck",))
     omega = theta = None
     if friction:
         omega = 2 * math.pi * natural_modes(fs, 1, n).values["frequencies_hz"][0]
@@ -116,7 +117,10 @@ def run(v: dict, friction: bool, progress=None) -> Outcome:
         omega = 2 * math.pi * res["frequencies_hz"][0]
     h = history(fe, res["events"].get("clamp", []))
     T, phi = h["t"], h["phi"]
-    tps = turning_points(T, phi, h["phi_dot"], -fe["bodies.deck.rotation_accel"])
+    tps = []
+    for tp in res["turning_points"]["deck"]:   # (located zeros of phi'; two within SAME_INSTANT are one)
+        if tp["t"] > 0.0 and not (tps and tp["t"] - tps[-1][0] <= SAME_INSTANT * max(1.0, tp["t"])):
+            tps.append((tp["t"], -tp["rotation"]))
     forced = sp.ground is not None
     amp, reason = steady(sp.ground, theta, tps, T, phi, v["tolerance"])
     values = {
@@ -179,39 +183,6 @@ def frame_values(h: dict, i: int) -> dict:
     """The scene's global values at history row i, as a VTU frame's field data (with their units)."""
     from femslide.output.vtu import UNITS
     return {**{k: float(h[k][i]) for k in COLUMNS if k != "t"}, "units": UNITS + "; " + FRAME_UNITS}
-
-
-def turning_points(t, phi, w, acc) -> list:
-    """[(t, phi)] where phi' returns to zero after t = 0: in every step whose end rates w differ in sign
-    (or end on zero) the root of the derivative of the quintic Hermite interpolant of phi through
-    (phi, phi', phi'') at both ends (a quartic with the step's own end rates), and phi there."""
-    from scipy.optimize import brentq
-    out = []
-    for k in range(t.size - 1):
-        w0, w1 = float(w[k]), float(w[k + 1])
-        if w1 == 0.0:
-            out.append((float(t[k + 1]), float(phi[k + 1])))
-            continue
-        if w0 == 0.0 or (w0 > 0.0) == (w1 > 0.0):
-            continue
-        h = float(t[k + 1] - t[k])
-        c = (float(phi[k]), h * w0, h * h * float(acc[k]), float(phi[k + 1]), h * w1, h * h * float(acc[k + 1]))
-        s = brentq(_quintic, 0.0, 1.0, args=(c, 1), xtol=1e-15, rtol=4 * np.finfo(float).eps)
-        out.append((float(t[k]) + s * h, _quintic(s, c, 0)))
-    return out
-
-
-def _quintic(s, c, der):
-    """The quintic Hermite polynomial with end values c = (p0, h v0, h^2 a0, p1, h v1, h^2 a1) at s in
-    [0, 1] (der = 0), or its derivative d/ds (der = 1)."""
-    s2, s3, s4, s5 = s * s, s ** 3, s ** 4, s ** 5
-    if der == 0:
-        b = (1 - 10 * s3 + 15 * s4 - 6 * s5, s - 6 * s3 + 8 * s4 - 3 * s5, 0.5 * (s2 - 3 * s3 + 3 * s4 - s5),
-             10 * s3 - 15 * s4 + 6 * s5, -4 * s3 + 7 * s4 - 3 * s5, 0.5 * (s3 - 2 * s4 + s5))
-    else:
-        b = (-30 * s2 + 60 * s3 - 30 * s4, 1 - 18 * s2 + 32 * s3 - 15 * s4, 0.5 * (2 * s - 9 * s2 + 12 * s3 - 5 * s4),
-             30 * s2 - 60 * s3 + 30 * s4, -12 * s2 + 28 * s3 - 15 * s4, 0.5 * (3 * s2 - 8 * s3 + 5 * s4))
-    return sum(x * y for x, y in zip(c, b))
 
 
 def steady(ground, theta, tps, T, phi, tolerance):
