@@ -116,6 +116,10 @@ def first_up(fd, tau_max, h, from_zero=False):
             fm = f(tm)
             if fm >= 0.0:
                 return root_up(f, lo, tm, flo, fm)
+            # a zero touched (a double root): the maximum is zero to round-off, whose sign at the
+            # located maximum is chance
+            if fm >= -1e-12 * max(abs(flo), abs(fhi)):
+                return tm
         lo, flo, dlo = hi, fhi, dhi
     return None
 
@@ -146,7 +150,7 @@ def first_crossing(g, x_start: float, x_max: float, grow: float = 1.3, rtol: flo
         x = min(x * grow, x_max)
 
 
-def locate_step(attempt, f, f0, h, cand, max_iter=60):
+def locate_step(attempt, f, f0, h, cand, max_iter=60, x_min=0.0):
     """The step size in (0, h] at which an event function f of a time step's end reaches zero from
     above, each trial a step from the same state (``attempt(x)`` -> candidate or None), so that the
     event lies on the step's own solution; ``f0`` >= 0 its value at the start, ``cand`` the step of
@@ -154,7 +158,8 @@ def locate_step(attempt, f, f0, h, cand, max_iter=60):
 
     A function that is zero at the start (a slip just begun from rest) gives no secant: the step is
     halved until a trial has not crossed yet, so that the event lies inside the step, never at its
-    start."""
+    start.  No trial is shorter than ``x_min`` (the resolution of event times: shorter steps carry
+    the round-off of their own stage equations); an event before it is placed at x_min."""
     tried = {h: cand}
 
     def trial(x):
@@ -164,10 +169,18 @@ def locate_step(attempt, f, f0, h, cand, max_iter=60):
         tried[x] = c
         return -f(c)
     lo, g_lo, hi, g_hi = 0.0, -f0, h, -f(cand)
+    if 0.0 < x_min < h:
+        g = trial(x_min)
+        if g is not None:
+            if g >= 0.0:
+                return x_min, tried[x_min]
+            lo, g_lo = x_min, g
     for _ in range(max_iter):
         if g_lo < 0.0:
             break
         x = 0.5 * (lo + hi)
+        if x < x_min:
+            return hi, tried[hi]
         gx = trial(x)
         if gx is None:
             break
@@ -177,4 +190,3 @@ def locate_step(attempt, f, f0, h, cand, max_iter=60):
             hi, g_hi = x, gx
     x = root_up(trial, lo, hi, min(g_lo, -1e-300), g_hi, xtol=1e-12, maxiter=max_iter)
     return x, tried[x]
-

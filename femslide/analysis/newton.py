@@ -2,7 +2,7 @@
 
 ``newton(model, y, elements, ...)`` iterates on any object with the model's interface (``n_q``,
 ``rotation_dofs()``, ``system(y, elements, lam, control, jacobian)``): the discrete model itself
-(statics, load or displacement control) or a time step's system (femslide.analysis.generalized_alpha).
+(statics, load or displacement control) or a time step's stage equations (femslide.analysis.radau).
 Its evaluations are trials of the elements' history (femslide.model.state.ElementState): on return
 the trial rotations are those of the returned state, and the caller commits them (a converged
 state it keeps) or reverts them.

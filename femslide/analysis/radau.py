@@ -17,10 +17,10 @@ Butcher matrix, the stage derivatives are (W Z)_i / h, and the step solves for e
     (W ZQ)_i - h V_i = 0,    M(Q_i) (W ZV)_i / h + F(t_i, Q_i, V_i, mu_i) = 0,    g(Q_i) = 0.
 
 The step's end is the third stage (stiffly accurate: L-stable, stiff components - a massive rod's
-axial and high bending modes - are put on their quasi-static response at every step, where
-generalized-alpha only damps them).  Order 5 in the positions (2s - 1) of an ODE and of the
-positions of index-3 constraints; the velocities and multipliers of constraints between massive
-parts converge at lower order (Hairer & Wanner VII.4).
+axial and high bending modes - are put on their quasi-static response at every step; the resolved
+motion is damped only at order 5: the energy of a conservative structure is kept to the tolerance).
+Order 5 in the positions (2s - 1) of an ODE and of the positions of index-3 constraints; the
+velocities and multipliers of constraints between massive parts converge at lower order (Hairer & Wanner VII.4).
 
 The stage equations are solved by the one Newton loop (femslide.analysis.newton) with the exact
 Newton matrix of the three coupled stages: with the velocity corrections eliminated,
@@ -44,9 +44,10 @@ import math
 
 import numpy as np
 
-from femslide.analysis.generalized_alpha import State, add_coo
-from femslide.model.linalg import Assembler, Factorized
-from femslide.model.state import ElementState
+from femslide.analysis.newton import newton
+from femslide.errors import SolverFailure
+from femslide.model.linalg import Assembler, Factorized, add_coo
+from femslide.model.state import ElementState, MotionState
 
 S6 = math.sqrt(6.0)
 C_RK = np.array([(4.0 - S6) / 10.0, (4.0 + S6) / 10.0, 1.0])
@@ -69,6 +70,10 @@ P_RK = np.array([[13.0 / 3.0 + 7.0 * S6 / 3.0, -23.0 / 3.0 - 22.0 * S6 / 3.0, 10
                  [1.0 / 3.0, -8.0 / 3.0, 10.0 / 3.0]])
 EPS = float(np.finfo(float).eps)
 ORDER = 4          # the local error estimate is O(h^4): steps follow err^(-1/4)
+NEWTON_TOL = 1e-10     # Newton's tolerance at tight tolerances (and for the consistent starts) ...
+NEWTON_TOL_MAX = 1e-8  # ... and at loose ones: 1e-3 * tolerance in between
+SAFETY = 0.5           # the local error estimate is held below SAFETY * tolerance
+START_STEP = 1e-2      # the tiny step of a consistent (re)start, relative to the step size
 
 
 def _coo_mv(rows, cols, vals, x, n):
@@ -82,10 +87,14 @@ class CoupledMatrix:
     unknowns (femslide.model.linalg.solve_linear dispatches to it)."""
 
     def __init__(self, sysm, A, M_parts, C_parts):
-        self.s, self.M_parts, self.C_parts = sysm, M_parts, C_parts
-        self.fact = Factorized(A)
+        self.s, self.A, self.M_parts, self.C_parts = sysm, A, M_parts, C_parts
+        self.fact = None
 
     def solve(self, r):
+        """The Newton correction for the stacked residual r (factorising at the first call: a
+        singular matrix raises there, where Newton reports it)."""
+        if self.fact is None:
+            self.fact = Factorized(self.A)
         s = self.s
         nq, nc, h = s.nq, s.nc, s.h
         n = nq + nc
@@ -109,7 +118,7 @@ class RadauSystem:
     expects (``n_q``: the stacked force rows, ``rotation_dofs``, ``system``); unknowns
     Y = [ZQ (3 n_q), ZV (3 n_q), mu (3 n_c)], residual rows [forces, h x kinematics, constraints].
     The friction and lock models of femslide.analysis.stickslip build one per set of friction
-    modes, like femslide.analysis.generalized_alpha.StepSystem."""
+    modes."""
 
     order = ORDER
 
@@ -152,7 +161,7 @@ class RadauSystem:
         self.big = Assembler(np.concatenate(rows).astype(np.intp), np.concatenate(cols).astype(np.intp), 3 * n)
 
     # -- the step ---------------------------------------------------------------------------------
-    def prepare(self, s: State, h: float):
+    def prepare(self, s: MotionState, h: float):
         """Set the step from state s with step h (the ground motion at the stages, the error
         estimate's matrix at the step's start)."""
         m, nq = self.model, self.nq
@@ -191,10 +200,11 @@ class RadauSystem:
 
     def predictor(self):
         """The start of Newton: the previous step's collocation polynomial continued (when it ended
-        where this step starts, in the same layout), else a Taylor start from the step's start."""
+        where this step starts, in the same layout, and this step is at most 4 times as long: a
+        cubic extrapolated further is no prediction), else a Taylor start from the step's start."""
         s, h, nq, ny = self.s, self.h, self.nq, self.s.y.size
         p = self.previous
-        if p is not None and p[0] + p[1] == s.t and p[3].size == ny + nq:
+        if p is not None and p[0] + p[1] == s.t and p[3].size == ny + nq and h <= 4.0 * p[1]:
             t0, h0, Zc, base = p
             x = (self.t - t0) / h0
             Yp = base[None, :] + np.column_stack([x, x * x, x * x * x]) @ Zc   # (3, n_y + n_q)
@@ -325,3 +335,30 @@ class RadauSystem:
             W += b * ground_power(y[:self.nq], v, t)
             D += b * loss_power(y, v)
         return W * self.h, D * self.h
+
+
+def consistent_start(sysm: RadauSystem, s: MotionState, h_s: float) -> MotionState:
+    """The state s with consistent accelerations and multipliers: one tiny step h_s from q'' = 0
+    gives q''(h_s) = q''(0) + O(h_s), massless dofs included (they follow the masses
+    quasi-statically), and the multipliers that hold the released structure (a dof held by a
+    constraint gets q'' = 0 and its multiplier the force that holds it: the stick test of
+    femslide.analysis.stickslip reads it).  The positions are kept; h_s grows 4x per failure."""
+    z = np.zeros_like(s.v)
+    s = MotionState(s.t, s.y, s.v, z, s.elements)
+    for _ in range(8):
+        sysm.prepare(s, h_s)
+        sysm.roundoff_floor = False
+        try:
+            Y, info = newton(sysm, sysm.predictor(), s.elements, tol=NEWTON_TOL, maxit=20)
+        finally:
+            sysm.roundoff_floor = True
+            s.elements.revert()
+        if info.converged:
+            y, _, acc = sysm.end(Y)
+            y0 = s.y.copy()
+            y0[sysm.nq:] = y[sysm.nq:]
+            sysm.previous = None
+            return MotionState(s.t, y0, s.v, acc.copy(), s.elements)
+        h_s *= 4.0
+    raise SolverFailure("simulate: no consistent initial acceleration (Newton failed on the start step)",
+                        info.history)

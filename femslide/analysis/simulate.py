@@ -15,7 +15,7 @@ equilibrium with its friction joints stuck, and ``frequencies_of`` says so), hel
 ``initial`` says so - at a body's rotation [rad] and/or centroid displacement u [m] (its component
 along u is held, the rest of the structure in equilibrium: the body pulled along u) or at a slider's
 slide [m] (an extra exact constraint, walked there in small steps), then released at rest and
-integrated to ``t_end`` (femslide/analysis/transient.py: generalized-alpha, adaptive step).  The lowest natural
+integrated to ``t_end`` (femslide/analysis/transient.py: Radau IIA, adaptive step).  The lowest natural
 frequencies of the frictionless structure about the static equilibrium (femslide/analysis/modes.py) are
 reported as ``frequencies_hz``.
 
@@ -49,9 +49,8 @@ located in time); the static start ignores friction.
 from __future__ import annotations
 
 import math
-import os
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -73,6 +72,9 @@ MODES = 6
 FRAMES = 200                 # at most this many VTU frames in --out
 SIM_KEYS = ("t_end", "tolerance", "damping", "ground", "initial", "elements")
 
+RADAU_C4 = 0.015   # RADAU5's estimate on a harmonic motion ~ RADAU_C4 (omega h)^4 amplitude (measured 0.0075-0.015 on
+                   # section 5.2 at tolerance 1e-9 .. 1e-3: 15 .. 390 steps per period)
+
 
 @dataclass
 class Spec:
@@ -84,7 +86,6 @@ class Spec:
     initial: dict | None = None
     elements: int = DEFAULT_ELEMENTS
     rotation_damping: dict | None = None   # {body name: c [N m s/rad]}: rotational dashpots
-    method: str = field(default_factory=lambda: os.environ.get("FEMSLIDE_METHOD", "radau"))  # (experiment)
     turning: tuple = ()                   # bodies whose rotation rate's zeros are located (turning points)
 
 
@@ -108,7 +109,6 @@ def parse_spec(table, base_dir=".", where="[simulate]") -> Spec:
     if bad:
         raise BadInput(f"{where}: unknown key {bad[0]!r}; allowed: {', '.join(SIM_KEYS)}")
     sp_ = Spec()
-    sp_.method = os.environ.get("FEMSLIDE_METHOD", sp_.method)   # (experiment switch; to be settled)
     sp_.t_end = _num(f"{where} t_end", table.get("t_end", 1.0), 0.0, 1e7, lo_open=True)
     sp_.tolerance = _num(f"{where} tolerance", table.get("tolerance", 1e-6), 1e-12, 1e-2)
     damp = table.get("damping", {}) or {}
@@ -290,10 +290,11 @@ def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
     """Bad input (naming t_end and the usable range) when the run would take more than WORK_BUDGET_S
     by the steps its lowest frequency f1 needs; returns the step count allowed at run time (the
     steps of the highest computed frequency f_top, whose modes a release may excite, times 3)."""
-    from femslide.analysis.generalized_alpha import SAFETY, error_constant
-    # steps per period of a harmonic motion at the error control's step h = (SAFETY tol / c3)^(1/3) / w
-    # (|a_{n+1} - a_n| ~ w^3 h amp), with 1.5 for rejected steps and the control's margin
-    per_period = 2 * math.pi * (error_constant() / (SAFETY * spec.tolerance)) ** (1.0 / 3.0) * 1.5
+    from femslide.analysis.radau import ORDER, SAFETY
+    # steps per period of a harmonic motion at the error control's step h = (SAFETY tol / c4)^(1/4) / w
+    # (RADAU5's estimate ~ c4 (w h)^4 amp; c4 measured on harmonic motions), with 1.5 for rejected
+    # steps and the control's margin
+    per_period = 2 * math.pi * (RADAU_C4 / (SAFETY * spec.tolerance)) ** (1.0 / ORDER) * 1.5
     f_forced = spec.ground.frequency if spec.ground is not None and spec.ground.harmonic else 0.0
     periods = spec.t_end * max(f1, f_forced)
     steps = periods * per_period
@@ -374,10 +375,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     fr = None
     if fric_joints:
         from femslide.analysis.stickslip import Friction
-        from femslide.analysis.generalized_alpha import StepSystem
         from femslide.analysis.radau import RadauSystem
-        make = RadauSystem if spec.method == "radau" else StepSystem
-        fr = Friction(model, fric_joints, lambda m, extras: make(m, masses, C, spec.ground, extras), counts)
+        fr = Friction(model, fric_joints, lambda m, extras: RadauSystem(m, masses, C, spec.ground, extras), counts)
         if frequencies_of == "frictionless structure":
             # stuck phases may be much stiffer (a massless rod clamped in its guide must stretch):
             # the run-time step allowance follows the highest frequency of either
@@ -437,7 +436,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         return row
 
     f_top = f_ref[0]
-    h0 = 0.02 / f_top * spec.tolerance ** (1.0 / 3.0)
+    h0 = 0.02 / f_top * spec.tolerance ** 0.25
     h_max = spec.t_end / 20.0
     if spec.ground is not None:
         if spec.ground.times is not None and spec.ground.dt:
@@ -453,7 +452,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     run = integrate(model, masses, y0, e0, spec.t_end, spec.tolerance, C=C, ground=spec.ground,
                     observe=observe, h0=h0, h_max=h_max, max_steps=max_steps,
                     wall_limit=WALL_LIMIT_S, progress=progress, q_ref=y_s, friction=fr,
-                    period=1.0 / f_ref[0], scheme=spec.method, watch=watch)
+                    period=1.0 / f_ref[0], watch=watch)
     t_int = time.perf_counter() - t_int
     H = np.array(run.rows)
     if not np.all(np.isfinite(H)):

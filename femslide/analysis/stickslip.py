@@ -13,11 +13,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from femslide.analysis.generalized_alpha import NEWTON_TOL, State, _consistent_start, add_coo
+from femslide.analysis.radau import NEWTON_TOL, consistent_start
 from femslide.errors import SolverFailure
 from femslide.joints.friction import FrictionJoint
 from femslide.joints.holds import SlideHold
-from femslide.model.linalg import solve_linear
+from femslide.model.linalg import add_coo, solve_linear
+from femslide.model.state import MotionState
 
 
 SAME_INSTANT = 1e-9   # s (relative to max(1, t)): events this close are one instant (events are
@@ -33,7 +34,7 @@ class Friction:
         from femslide.model.patterns import PatternCache
         self.base = model
         self.joints = [FrictionJoint(model, j) for j in joints]
-        self.make_system = make_system      # (model, extras) -> StepSystem
+        self.make_system = make_system      # (model, extras) -> a step system (femslide.analysis.radau)
         self.counts = counts
         self._Model, self._cache = Model, PatternCache()
         self._models = {(): model}
@@ -229,7 +230,7 @@ def _independent_rows(G, rtol=1e-9):
     return np.array(keep, dtype=np.intp)
 
 
-def _requilibrate(sysm, s: State):
+def _requilibrate(sysm, s: MotionState):
     """The massless dofs at a change of the friction modes: solved for their equilibrium in the new
     modes with the massive dofs (and the velocities) held where they are, and their velocities made
     consistent with the massive ones (the time derivative of that equilibrium).  This is the
@@ -246,21 +247,21 @@ def _requilibrate(sysm, s: State):
     rate = light.rates(s.v[heavy])
     v = s.v.copy()
     v[light.cols[:light.n_q]] = rate[:light.n_q]
-    return State(s.t, y, v, s.acc, s.a, elements), released
+    return MotionState(s.t, y, v, s.acc, elements), released
 
 
-def _restart(fr, s: State, old_stuck, h_s):
+def _restart(fr, s: MotionState, old_stuck, h_s):
     """The state s (laid out for the stuck joints ``old_stuck``) carried into the current modes'
     layout (lock multipliers kept, new ones 0), its massless parts re-solved
     (:func:`_requilibrate`) and its accelerations made consistent: (state, step system, energy
     released by jumps of massless parts)."""
-    s = State(s.t, fr.convert(s.y, old_stuck, fr.stuck()), s.v, s.acc, s.a, s.elements)
+    s = MotionState(s.t, fr.convert(s.y, old_stuck, fr.stuck()), s.v, s.acc, s.elements)
     sysm = fr.system()
     s, released = _requilibrate(sysm, s)
-    return _consistent_start(sysm, s, h_s), sysm, released
+    return consistent_start(sysm, s, h_s), sysm, released
 
 
-def _switch(fr, s: State, i, h_s):
+def _switch(fr, s: MotionState, i, h_s):
     """The mode change of friction joint i at the state s: a slipping joint at rest takes the stick
     test (:func:`_settle`); a stuck one breaks away towards its net force (sign of its lock
     multiplier).  Returns the state in the new modes' layout with consistent accelerations, the
@@ -274,7 +275,7 @@ def _switch(fr, s: State, i, h_s):
     return _restart(fr, s, old, h_s)
 
 
-def _settle(fr, s: State, h_s, pending, old_stuck):
+def _settle(fr, s: MotionState, h_s, pending, old_stuck):
     """Stick test of the joints ``pending`` (at rest along their guides, or all joints at t = 0):
     each is locked where it is, the consistent start gives its lock multiplier lam, and it stays
     stuck if |lam| <= mu0 N, else slips towards sign(lam).  Returns the state (with the new modes'
@@ -289,7 +290,7 @@ def _settle(fr, s: State, h_s, pending, old_stuck):
         fr.stick_at[i] = float(sl)
         rate = float(ds @ v[fj.dofs])
         v[fj.dofs] -= ds * rate / float(ds @ ds)     # exactly at rest along the guide
-    s, sysm, released = _restart(fr, State(s.t, s.y, v, s.acc, s.a, s.elements), old_stuck, h_s)
+    s, sysm, released = _restart(fr, MotionState(s.t, s.y, v, s.acc, s.elements), old_stuck, h_s)
     slip = []
     for i in pending:
         lam = fr.lock_multiplier(s.y, i)

@@ -7,38 +7,28 @@ dead loads, G the exact joint constraints) and solved by the statics' Newton loo
 (:func:`femslide.analysis.newton.newton`) once per step.  Units: the model's (lengths by Lref, forces by Fref),
 time in seconds.
 
-Integrator: generalized-alpha for constrained mechanical systems (Arnold & Bruls 2007; the
-Chung-Hulbert parameters of spectral radius ``RHO_INF`` at infinite frequency): the equations hold
-exactly at t_{n+1} (positions on the constraint manifold, no drift; massless dofs - rods with
-rhoA = 0, node rotations - in static equilibrium at every step), with an acceleration-like variable a,
-
-    q_{n+1} = q_n + h v_n + h^2 ((1/2 - beta) a_n + beta a_{n+1}),
-    v_{n+1} = v_n + h ((1 - gamma) a_n + gamma a_{n+1}),
-    (1 - alpha_m) a_{n+1} + alpha_m a_n = (1 - alpha_f) q''_{n+1} + alpha_f q''_n.
-
-Second order in q, v and the multipliers.  Newton's unknowns are q_{n+1} and mu_{n+1}; the iteration
-matrix is [[M beta' + C gamma' + K, G^T], [G, 0]] with beta' = (1 - alpha_m)/((1 - alpha_f) beta h^2),
-gamma' = gamma / (beta h), plus the derivatives of a body's inertia when its frame origin is not its
-centroid (femslide/model/mass.py).  Step size: adaptive, with the local error estimate of the positions
-e = c3 h^2 (a_{n+1} - a_n), c3 = (alpha_m - alpha_f)/2 + beta - 1/6 (Taylor expansion of the
-position update), filtered through the step's iteration matrix S as RADAU5 filters its estimate,
-e_f = S^-1 (M c_acc + C c_vel) e (the effect of a position error at the step's start on the step's
-solution: unchanged in the modes the step resolves, omega h << 1, and ~1/(omega h)^2 in stiff modes
-the step does not resolve and rho_inf damps - a massive rod's axial and high bending modes, whose
-raw estimate is noise that rejected half the steps), over the dofs with mass, kept below
-SAFETY = 0.5 times ``tolerance`` times the amplitude of the recent motion (the largest
-displacement from the static state, remembered over about one period of the lowest mode; floor
-1e-6 Lref): a step with a larger error is repeated with a smaller h, the next step is
-h (0.9 / err)^(1/3) (between 0.2 h and 2 h).  Under a recorded ground motion the steps end on the
-record's sample times, so that the input is linear within every step.
+Integrator: Radau IIA, 3 stages, order 5 (femslide.analysis.radau: the collocation equations of
+the first-order form y = (q, v) with the multipliers, solved by Newton with the exact coupled-stage
+matrix): the equations and the constraints hold exactly at every stage and at the step's end
+(positions on the constraint manifold, no drift; massless dofs - rods with rhoA = 0, node
+rotations - in static equilibrium at every stage), stiff modes (a massive rod's axial and high
+bending modes) are put on their quasi-static response (L-stable), and the resolved motion is not
+damped (a conservative structure keeps its energy to the tolerance).  Step size: adaptive, with
+RADAU5's local error estimate of the positions (the embedded order-3 solution filtered through
+[[K + lam C + lam^2 M, G^T], [G, 0]] at the step's start) over the dofs with mass, kept below
+SAFETY = 0.5 times ``tolerance`` times the amplitude of the recent motion (the largest displacement
+from the static state, remembered over about one period of the lowest mode; floor 1e-6 Lref): a
+step with a larger error is repeated with a smaller h, the next step is h (0.9 / err)^(1/4)
+(between 0.2 h and 2 h).  Under a recorded ground motion the steps end on the record's sample
+times, so that the input is smooth within every step.
 
 Damping: Rayleigh, C = alpha M0 + beta K0 with M0 and K0 the mass matrix and the tangent at the
 static state (constant; plus any rotational dashpots on bodies, simulate.py).  Energy balance:
 kinetic + potential (strain, springs, dead loads including gravity) + dissipated - work of the
 ground-motion inertia loads (integral of F_g . v); dissipated is the integral of the damping and
 friction power (v.C v + mu N |s'|) plus the energy released by the jumps of massless parts at
-friction events (``_requilibrate``); the integrals per step by 3-point Gauss on the cubic Hermite
-interpolant of the step (:func:`_step_work`); reported relative to the largest energy of the run.
+friction events (``_requilibrate``); the integrals per step by the Radau quadrature on the step's
+stages (exact for polynomials of degree 4); reported relative to the largest energy of the run.
 """
 from __future__ import annotations
 
@@ -48,23 +38,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from femslide.analysis.generalized_alpha import (
+from femslide.analysis.newton import newton
+from femslide.analysis.radau import (
     EPS,
     NEWTON_TOL,
     NEWTON_TOL_MAX,
+    ORDER,
     SAFETY,
     START_STEP,
-    State,
-    StepSystem,
-    _consistent_start,
-    _step_work,
-    error_constant,
+    RadauSystem,
+    consistent_start,
 )
-from femslide.analysis.newton import newton
-from femslide.analysis.radau import RadauSystem
-from femslide.model.state import ElementState
+from femslide.model.state import ElementState, MotionState
 from femslide.analysis.events import locate_step
-from femslide.analysis.stickslip import _settle, _switch
+from femslide.analysis.stickslip import SAME_INSTANT, _settle, _switch
 from femslide.errors import BadInput, SolverFailure
 
 MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/analysis/simulate.py comes first)
@@ -86,7 +73,7 @@ class Integration:
 
 def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=None, observe=None,
               h0=None, h_max=None, max_steps=MAX_STEPS, wall_limit=None, progress=None, q_ref=None,
-              friction=None, period=None, scheme="generalized-alpha", watch=()):
+              friction=None, period=None, watch=()):
     """Integrate from rest at the state (y0, elements0) (model units; the elements' history
     committed there) to ``t_end`` [s].
 
@@ -96,20 +83,17 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     static equilibrium (default: the start), from which the displacements that scale the error are
     measured; ``friction``: a :class:`femslide.analysis.stickslip.Friction` (stick/slip modes and events) or
     None; ``period`` [s]: the time over which the error scale (the motion's amplitude) is
-    remembered (default: the whole run); ``scheme``: "generalized-alpha" or "radau" (the step
-    systems of femslide.analysis.generalized_alpha or femslide.analysis.radau; with friction, the
-    Friction's systems are of the scheme); ``watch``: functions g(y, v) (model units) whose sign
+    remembered (default: the whole run); ``watch``: functions g(y, v) (model units) whose sign
     changes are located as events: the step ends there, and ``crossings`` lists (index, t).
     Raises SolverFailure when a step cannot be completed
     (Newton fails at the smallest step)
     or the step count or wall time runs out."""
-    c3 = error_constant()
     n_q = model.n_q
     heavy = masses.massive_dofs()
     if heavy.size == 0:
         raise BadInput("simulate: nothing in the structure has mass (give bodies a mass or rods a rhoA)")
     zero = np.zeros(n_q)
-    s = State(0.0, y0.copy(), zero.copy(), zero.copy(), zero.copy(), elements0.copy())
+    s = MotionState(0.0, y0.copy(), zero.copy(), zero.copy(), elements0.copy())
     q_static = (y0[:n_q] if q_ref is None else q_ref[:n_q]).copy()
     amp = max(1e-6, float(np.abs(y0[heavy] - q_static[heavy]).max()))
     amp_all = amp
@@ -142,8 +126,8 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         return P + (fr.power(y, v) if fr is not None else 0.0)
 
     def attempt(sysm, s, h):
-        """One step of size h from s: (y, alpha, a, v, acc, Y) at its end (Y: the Newton unknowns
-        of the step, the stages of a Radau step) or None, and Newton's info."""
+        """One step of size h from s: (y, alpha, v, acc, Y) at its end (Y: the step's Newton
+        unknowns, its stages) or None, and Newton's info."""
         sysm.prepare(s, h)
         Y, info = newton(sysm, sysm.predictor(), s.elements, tol=newton_tol, maxit=12)
         alpha1 = s.elements.trial
@@ -151,18 +135,13 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         out.newton_iterations += info.iterations
         if not info.converged:
             return None, info
-        if radau:
-            y, v1, acc1 = sysm.end(Y)
-            return (y, alpha1, acc1, v1, acc1, Y), info
-        a1, v1, acc1 = sysm.kinematics(Y[:n_q])
-        return (Y, alpha1, a1, v1, acc1, Y), info
+        y, v1, acc1 = sysm.end(Y)
+        return (y, alpha1, v1, acc1, Y), info
 
-    radau = scheme == "radau"
-    order = RadauSystem.order if radau else 3
     h_s = START_STEP * h
     if fr is None:
-        sysm = (RadauSystem if radau else StepSystem)(model, masses, C, ground)
-        s = _consistent_start(sysm, s, h_s)
+        sysm = RadauSystem(model, masses, C, ground)
+        s = consistent_start(sysm, s, h_s)
     else:
         s, sysm, released = _settle(fr, s, h_s, list(range(len(fr.joints))), ())
         D += released
@@ -175,6 +154,13 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     wsign = np.where(wvals != 0.0, np.sign(wvals), 0.0)
     t0 = time.perf_counter()
     switches, t_switch = 0, None
+    fresh = [False] * (len(fr.joints) if fr is not None else 0)
+
+    def t_same(t):
+        """The resolution of event times [s]: events closer than this are one instant (1e-9 s,
+        relative to t, and 1/100 of the promised accuracy of event times, 10 tolerance times the
+        lowest mode's period)."""
+        return max(SAME_INSTANT * max(1.0, abs(t)), 0.1 * tolerance * (period or 0.0))
     ph_of = None   # the state the event functions ph were evaluated at
     while s.t < t_end * (1 - 1e-14):
         if out.steps + out.rejected >= max_steps:
@@ -225,21 +211,16 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
                                     f"{h:.3g} s: {info.reason}", info.history)
             h *= 0.25
             continue
-        y, alpha1, a1, v1, acc1, Y = cand
+        y, alpha1, v1, acc1, Y = cand
         q = y[:n_q]
-        if radau:
-            est = np.abs(sysm.error(Y)[0][heavy])
-        else:
-            e = np.zeros(n_q)   # (the massless dofs' a is no estimate of anything: left out)
-            e[heavy] = c3 * h * h * (a1[heavy] - s.a[heavy])
-            est = np.abs(sysm.filtered_error(e)[heavy])
+        est = np.abs(sysm.error(Y)[0][heavy])
         disp = float(np.abs(q[heavy] - q_static[heavy]).max())
         err = float(est.max()) / (SAFETY * tolerance * max(amp, disp, 1e-3 * amp_all)) if est.size else 0.0
         if err > 1.0 and h > h_min:
             out.rejected += 1
-            h *= max(0.2, 0.9 * err ** (-1.0 / order))
+            h *= max(0.2, 0.9 * err ** (-1.0 / ORDER))
             continue
-        h_next = h * min(2.0, max(0.2, 0.9 * max(err, 1e-12) ** (-1.0 / order)))
+        h_next = h * min(2.0, max(0.2, 0.9 * max(err, 1e-12) ** (-1.0 / ORDER)))
         # events: a friction joint's mode stops holding (its event function turns negative), a
         # watched quantity changes sign; the step is cut at the first, located on the step's own
         # solution (femslide.analysis.events.locate_step)
@@ -255,17 +236,43 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             cross[nf:] &= wsign != 0.0
         crossed, due = [], []
         if cross.any():
-            f_at = (lambda c, cr=cross: float(np.min(np.where(cr, event_values(c[0], c[3]), np.inf))))
+            # an event function that reaches zero within the resolution of event times (t_same: a
+            # turning point just after another, a slide that stops just after the deck turns) crosses
+            # at the step's start: placed there, without re-steps shorter than t_same, whose
+            # massless parts' velocities are Newton's residual over the step (a slip just begun
+            # starts at zero and is located inside the step)
+            tau = np.where(cross, ev0 / np.maximum(ev0 - ev1, 1e-300) * h, np.inf)
+            early = cross & (tau <= t_same(s.t))
+            early[:nf] &= (ev0[:nf] > 0.0) & ~np.array(fresh, dtype=bool) if nf else False
+            for k in np.nonzero(early[nf:])[0]:
+                if not any(kk == k and abs(tt - s.t) <= t_same(s.t) for kk, tt in out.crossings[-len(watch):]):
+                    out.crossings.append((int(k), s.t))
+                wsign[k] = 0.0
+            now = [int(i) for i in np.nonzero(early[:nf])[0]]
+            if now:
+                switches = switches + 1 if s.t == t_switch else 1
+                t_switch = s.t
+                if switches > 2 * len(fr.joints) + 2:
+                    raise SolverFailure(f"simulate: the friction joints' stick/slip modes do not settle at "
+                                        f"t = {s.t:.9g} s")
+                s, sysm, released = _switch(fr, s, now[0], START_STEP * h)
+                D += released
+                J += released
+                continue
+            cross &= ~early
+        if cross.any():
+            f_at = (lambda c, cr=cross: float(np.min(np.where(cr, event_values(c[0], c[2]), np.inf))))
             h_ev, cand = locate_step(lambda hh, sy=sysm, st=s: attempt(sy, st, hh)[0], f_at,
-                                     float(np.min(ev0[cross])), h, cand)
-            y, alpha1, a1, v1, acc1, Y = cand
+                                     float(np.min(ev0[cross])), h, cand, x_min=t_same(s.t))
+            y, alpha1, v1, acc1, Y = cand
+            sysm.prepare(s, h_ev)   # (the step system back on the located step: its last trial may be another)
             q = y[:n_q]
             at = event_values(y, v1)
-            # the first event, and every other that reaches zero at the same instant (within 1e-9 s
+            # the first event, and every other that reaches zero at the same instant (within t_same
             # by its rate over the step): a slide that stops as the deck turns is both a friction
             # event and a turning point, whichever is located first
             rate = np.maximum((ev0 - at) / h_ev, 1e-300)
-            now = cross & (at <= 1e-9 * rate)
+            now = cross & (at <= t_same(s.t + h_ev) * rate)
             now[int(np.argmin(np.where(cross, at, np.inf)))] = True
             due = [int(i) for i in np.nonzero(now)[0] if i < nf]
             crossed = [int(i) - nf for i in np.nonzero(now)[0] if i >= nf]
@@ -278,15 +285,11 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         amp = max(disp, amp * math.exp(-h / period) if period else amp, 1e-6)
         t1 = t_stop if (t_stop is not None and not cross.any()) else s.t + h
         if ground is not None or Csr is not None or fr is not None:   # (else no work, no loss)
-            if radau:
-                dW, dD = sysm.work(Y, ground_power, loss_power)
-            else:
-                dW, dD = _step_work(s, y, v1, h, ground_power, loss_power, n_q)
+            dW, dD = sysm.work(Y, ground_power, loss_power)
             W += dW
             D += dD
-        if radau:
-            sysm.remember(Y)
-        s = State(t1, y, v1, acc1, a1, ElementState(alpha1))
+        sysm.remember(Y)
+        s = MotionState(t1, y, v1, acc1, ElementState(alpha1))
         for k in crossed:
             out.crossings.append((k, t1))
         if watch:

@@ -72,7 +72,7 @@ class FrictionJoint:
         return float(s), float(ds @ v[self.dofs])
 
     def slip(self, sigma):
-        """The slip force as an ``extra`` term of a :class:`femslide.analysis.generalized_alpha.StepSystem`."""
+        """The slip force as an ``extra`` term of a :class:`femslide.analysis.radau.RadauSystem`."""
         def term(y, v1, c_vel):
             q = y[:self.link_nq]
             s, ds, Hs = self.link.slide(q[self.dofs])

@@ -135,6 +135,24 @@ class BandMatrix:
         return out
 
 
+
+def add_coo(A, *parts):
+    """A + the COO entries ``parts`` = (rows, cols, vals), ... (which must lie in A's pattern), for A
+    dense, banded (:class:`BandMatrix`) or sparse (one sparse sum for all parts)."""
+    if isinstance(A, np.ndarray):
+        for rows, cols, vals in parts:
+            np.add.at(A, (rows, cols), vals)
+        return A
+    if isinstance(A, BandMatrix):
+        p = A.pattern
+        for rows, cols, vals in parts:
+            pr, pc = p.inv[rows], p.inv[cols]
+            np.add.at(A.ab, (p.kl + p.ku + pr - pc, pc), vals)
+        return A
+    import scipy.sparse as sp
+    rows, cols, vals = (np.concatenate(x) for x in zip(*parts))
+    return (A + sp.csc_matrix((vals, (rows, cols)), shape=A.shape)).tocsc()
+
 def solve_linear(A, b):
     """Solve A x = b for the dense, banded or sparse Jacobian of :meth:`Model.system`.
 

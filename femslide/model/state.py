@@ -11,6 +11,8 @@ with several sizes, a load step halved): each reads the same reference.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 
@@ -52,3 +54,21 @@ class ElementState:
 
     def __repr__(self):
         return f"ElementState({self.committed.size} elements)"
+
+
+@dataclass
+class MotionState:
+    """A state of motion at time t [s] (model units): y = [q, mu] (positions and multipliers),
+    velocities v and accelerations acc (q'') of the positions, and the elements' history
+    (:class:`ElementState`, committed at this state: the reference of the steps tried from it)."""
+
+    t: float
+    y: np.ndarray
+    v: np.ndarray
+    acc: np.ndarray
+    elements: ElementState
+
+    @property
+    def alpha(self) -> np.ndarray:
+        """The committed chord rotations [rad]."""
+        return self.elements.committed
