@@ -673,3 +673,31 @@ def test_add_coo_is_the_same_sum_for_dense_banded_and_sparse():
            sp.csc_matrix(add_coo(A_sparse, *parts)).toarray()]
     for g in got:
         assert np.allclose(g, expected, rtol=0, atol=1e-12 * np.abs(expected).max())
+
+
+@pytest.mark.parametrize("tol,periods", [(1e-4, 2), (1e-6, 2), (1e-6, 20)])
+def test_error_estimate_is_honest_on_the_exact_cosine(tol, periods):
+    """error_estimate (a check run at 10 x tolerance, femslide.analysis.simulate._accuracy) of the
+    block on a spring released from 7 cm against the exact cosine: the actual largest error of the
+    slide history, relative to its amplitude, within 3x of the estimate either way (measured
+    0.84 .. 1.21 of it over tolerance 1e-3 .. 1e-8, 2 and 20 periods), and within 3 tolerance."""
+    omega = math.sqrt(200.0)
+    res, h = _run(_belt(), t_end=periods * 2 * math.pi / omega, tolerance=tol,
+                  initial={"joint": "belt", "slide": 0.07})
+    err = np.abs(h["joints.belt.slide"] - 0.07 * np.cos(omega * h["t"])).max() / 0.07
+    est = res["error_estimate"]
+    assert est / 3 <= err <= 3 * est
+    assert err <= 3 * tol
+    acc = res["accuracy"]
+    assert acc["check_tolerance"] == pytest.approx(10 * tol) and acc["events_agree"]
+    assert 0 < acc["check_steps"] < res["steps"]
+
+
+def test_error_estimate_off_and_bad_value():
+    """error_estimate = false skips the check run (the key is None); a non-boolean is bad input
+    naming the key."""
+    res, _ = _run(_belt(), t_end=0.2, tolerance=1e-4, initial={"joint": "belt", "slide": 0.07},
+                  error_estimate=False)
+    assert "error_estimate" not in res.values
+    with pytest.raises(BadInput, match="error_estimate"):
+        _run(_belt(), t_end=0.2, error_estimate="yes")

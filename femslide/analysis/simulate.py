@@ -70,7 +70,7 @@ STEP_SECONDS_PER_DOF = 1e-5  # ... plus this per frame dof (2-core development m
 WALL_LIMIT_S = 110.0
 MODES = 6
 FRAMES = 200                 # at most this many VTU frames in --out
-SIM_KEYS = ("t_end", "tolerance", "damping", "ground", "initial", "elements")
+SIM_KEYS = ("t_end", "tolerance", "damping", "ground", "initial", "elements", "error_estimate")
 
 RADAU_C4 = 0.015   # RADAU5's estimate on a harmonic motion ~ RADAU_C4 (omega h)^4 amplitude (measured 0.0075-0.015 on
                    # section 5.2 at tolerance 1e-9 .. 1e-3: 15 .. 390 steps per period)
@@ -87,6 +87,7 @@ class Spec:
     elements: int = DEFAULT_ELEMENTS
     rotation_damping: dict | None = None   # {body name: c [N m s/rad]}: rotational dashpots
     turning: tuple = ()                   # bodies whose rotation rate's zeros are located (turning points)
+    estimate: bool = True                 # a check run at CHECK_FACTOR * tolerance gives error_estimate
 
 
 def _num(where, x, lo, hi, lo_open=False):
@@ -147,6 +148,11 @@ def parse_spec(table, base_dir=".", where="[simulate]") -> Spec:
         else:
             raise BadInput(f"{where} initial: name a body (rotation, u) or a slider/roller joint (slide)")
     sp_.initial = ini
+    est = table.get("error_estimate", True)
+    if not isinstance(est, bool):
+        raise BadInput(f"{where} error_estimate = {est!r}; allowed: true (a check run at 10 x tolerance, "
+                       f"about +60 % work) or false")
+    sp_.estimate = est
     n = parse_elements(table, where)
     if n is not None:
         sp_.elements = n
@@ -312,6 +318,48 @@ def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
     return int(3 * max(steps, 1000)) + 1000
 
 
+def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1):
+    """The error estimate of a run (see the module docstring): a check run at CHECK_FACTOR times
+    the tolerance and its differences from the run's histories, peaks and event times, divided by
+    (steps / check steps)^ORDER_GLOBAL - 1 (the check run's error over the run's, less one).
+    Returns the result keys ``error_estimate`` (the largest relative estimate of histories and
+    peaks, or None when the check run fails) and ``accuracy`` (the parts)."""
+    from femslide.analysis.transient import CHECK_FACTOR, ORDER_GLOBAL
+    from femslide.results.compare import event_difference, history_difference, peak_difference
+    tol_c = CHECK_FACTOR * spec.tolerance
+    t0 = time.perf_counter()
+    fr_c = new_friction()
+    try:
+        run_c, Hc = run_at(tol_c, fr_c, False, None)
+    except SolverFailure as exc:
+        return {"error_estimate": None,
+                "accuracy": {"check_tolerance": tol_c, "check_failed": str(exc).splitlines()[0]}}
+    # the check run's error is (steps / check steps)^ORDER_GLOBAL times the run's
+    ratio = max((res["steps"] / max(run_c.steps, 1)) ** ORDER_GLOBAL - 1.0, 0.3)
+    ev, ev_c = res["events"], (fr_c.events if fr_c is not None else {})
+    agree, dt = event_difference(ev, ev_c)
+    times = [e["t"] for evs in ev.values() for e in evs if e["t"] > 0.0]
+    if agree:
+        windows = [(min(a["t"], b["t"]) - 1e-12, max(a["t"], b["t"]) + 1e-12)
+                   for n in ev for a, b in zip(ev[n], ev_c[n]) if a["t"] > 0.0]
+    else:
+        times_c = [e["t"] for evs in ev_c.values() for e in evs if e["t"] > 0.0]
+        windows = [(t - 1e-12, t + 1e-12) for t in times + times_c]
+    # positions from their start (the scale of a moving body is its motion, not its place)
+    offsets = [H[0, i] if c.endswith((".x", ".y")) else 0.0 for i, c in enumerate(cols)]
+    hist = history_difference(H[:, 0], H[:, 1:], Hc[:, 0], Hc[:, 1:], times, windows, offsets[1:]) / ratio
+    pk = peak_difference(res["peaks"], peaks_of(Hc, fr_c))
+    worst_h = int(np.argmax(hist)) if hist.size else None
+    e_h = float(hist.max()) if hist.size else 0.0
+    e_p = max(pk.values(), default=0.0) / ratio
+    acc = {"check_tolerance": tol_c, "check_steps": run_c.steps, "check_time_s": time.perf_counter() - t0,
+           "histories": e_h, "worst_history": cols[1 + worst_h] if worst_h is not None and e_h > 0 else None,
+           "peaks": e_p, "events_agree": agree,
+           "event_times_s": dt / ratio if agree else None, "check_events": sum(len(v) for v in ev_c.values()),
+           "energy_balance": res["energy_balance"]}
+    return {"error_estimate": max(e_h, e_p), "accuracy": acc}
+
+
 def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     """Run the dynamics of a frozen structure (see the module docstring): the outcome's values are
     the JSON object, its history {column: array} (``t`` first, then the columns of history.csv), its
@@ -372,11 +420,16 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     # joints with mu0 = 0 have no friction at all (the stick/slip direction of a massless slide is
     # then undetermined): they are frictionless sliders and rollers
     fric_joints = [j for j in fs.joints if _has_friction(j)]
-    fr = None
-    if fric_joints:
-        from femslide.analysis.stickslip import Friction
+
+    def new_friction():
+        """The friction joints' modes and step systems, fresh for a run (or None)."""
+        if not fric_joints:
+            return None
         from femslide.analysis.radau import RadauSystem
-        fr = Friction(model, fric_joints, lambda m, extras: RadauSystem(m, masses, C, spec.ground, extras), counts)
+        from femslide.analysis.stickslip import Friction
+        return Friction(model, fric_joints, lambda m, extras: RadauSystem(m, masses, C, spec.ground, extras), counts)
+    fr = new_friction()
+    if fr is not None:
         if frequencies_of == "frictionless structure":
             # stuck phases may be much stiffer (a massless rod clamped in its guide must stretch):
             # the run-time step allowance follows the highest frequency of either
@@ -385,7 +438,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     y0, e0 = (y_s, e_s) if spec.initial is None else _held_start(fs, counts, L, F, y_s, e_s, spec.initial)
     fric_names = {j.name for j in fric_joints}
 
-    def forces(y, n):
+    def forces(y, n, fr):
         fx, fy, m = joint_forces(model, y, n)
         if n in fric_names:
             from femslide.joints.friction import joint_friction_force
@@ -407,10 +460,11 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
 
     rod_elements = [np.nonzero(model.elem_rod == k)[0] for k in range(len(rods))] if rods else []
 
-    def observe(t, y, alpha, v, acc):
+    def observe(t, y, alpha, v, acc, fr=None, record=True):
+        """A history row (SI) of the state; with ``record`` the VTU frames are kept too."""
         row = [t]
         for n in reac:
-            fx, fy, m = forces(y, n)
+            fx, fy, m = forces(y, n, fr)
             row += [fx * F, fy * F, m * F * L]
         if rods:
             qb, _ = model.element_forces(y[:model.n_q], alpha)
@@ -429,55 +483,70 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             row += [float(x), float(yy), float(q[d]), float(v[d]), float(acc[d])]
         for n in sorted(fric_names):   # friction force on a along +axis [N]
             row.append(-fr.coefficient(n, y) * F)
-        if t >= next_frame[0] or t >= spec.t_end * (1 - 1e-12):
+        if record and (t >= next_frame[0] or t >= spec.t_end * (1 - 1e-12)):
             frames.append((t, len(frames_rows), y.copy(), alpha.copy()))
             next_frame[0] = t + spec.t_end / FRAMES
-        frames_rows.append(None)
+        if record:
+            frames_rows.append(None)
         return row
 
-    f_top = f_ref[0]
-    h0 = 0.02 / f_top * spec.tolerance ** 0.25
     h_max = spec.t_end / 20.0
-    if spec.ground is not None:
-        if spec.ground.times is not None and spec.ground.dt:
-            h_max = min(h_max, spec.ground.dt)
-        if spec.ground.harmonic:
-            h_max = min(h_max, 0.05 / spec.ground.frequency)
-    t_int = time.perf_counter()
+    if spec.ground is not None and spec.ground.harmonic:
+        h_max = min(h_max, 0.05 / spec.ground.frequency)
     for b in spec.turning:
         if b not in model.body_index:
             raise BadInput(f"turning points of {b!r}: no such body; bodies: {', '.join(model.body_index) or 'none'}")
     rates = [model.body_dof(b) + 2 for b in spec.turning]
     watch = [(lambda y, v, d=d: float(v[d])) for d in rates]
-    run = integrate(model, masses, y0, e0, spec.t_end, spec.tolerance, C=C, ground=spec.ground,
-                    observe=observe, h0=h0, h_max=h_max, max_steps=max_steps,
-                    wall_limit=WALL_LIMIT_S, progress=progress, q_ref=y_s, friction=fr,
-                    period=1.0 / f_ref[0], watch=watch)
-    t_int = time.perf_counter() - t_int
-    H = np.array(run.rows)
-    if not np.all(np.isfinite(H)):
-        raise SolverFailure("simulate: the history holds NaN or inf values")
-    peaks = {"reactions": {}, "rods": {}, "joints": {}}
+
+    def run_at(tol, fr, record, progress):
+        """The integration at tolerance tol with the friction modes fr: (run, history array); the
+        largest step (t_end / 20, 1/20 of a harmonic ground motion's period) scales as the steps
+        the tolerance sets, (tol / tolerance)^(1/4), up to a record's sample interval."""
+        def obs(t, y, alpha, v, acc):
+            return observe(t, y, alpha, v, acc, fr, record)
+        hm = h_max * (tol / spec.tolerance) ** 0.25
+        if spec.ground is not None and spec.ground.times is not None and spec.ground.dt:
+            hm = min(hm, spec.ground.dt)
+        run = integrate(model, masses, y0, e0, spec.t_end, tol, C=C, ground=spec.ground,
+                        observe=obs, h0=0.02 / f_ref[0] * spec.tolerance ** 0.25, h_max=hm, max_steps=max_steps,
+                        wall_limit=WALL_LIMIT_S, progress=progress, q_ref=y_s, friction=fr,
+                        period=1.0 / f_ref[0], watch=watch)
+        H = np.array(run.rows)
+        if not np.all(np.isfinite(H)):
+            raise SolverFailure("simulate: the history holds NaN or inf values")
+        return run, H
+
     col = {c: i for i, c in enumerate(cols)}
-    T = H[:, 0]
-    brk = [e["t"] for evs in (fr.events.values() if fr is not None else ()) for e in evs if e["t"] > 0.0]
 
-    def peak(x):
-        return _peak(T, x, breaks=brk)
+    def peaks_of(H, fr):
+        T = H[:, 0]
+        brk = [e["t"] for evs in (fr.events.values() if fr is not None else ()) for e in evs if e["t"] > 0.0]
 
-    for n in reac:
-        peaks["reactions"][n] = {k: peak(np.abs(H[:, col[f"reactions.{n}.{k}"]])) for k in ("Fx", "Fy", "M")}
-    for n in rods:
-        peaks["rods"][n] = {"M_max": peak(H[:, col[f"rods.{n}.M_max"]])}
-    for n in slides:
-        s = H[:, col[f"joints.{n}.slide"]]
-        peaks["joints"][n] = {"slide_min": -peak(-s), "slide_max": peak(s)}
+        def peak(x):
+            return _peak(T, x, breaks=brk)
+        peaks = {"reactions": {}, "rods": {}, "joints": {}}
+        for n in reac:
+            peaks["reactions"][n] = {k: peak(np.abs(H[:, col[f"reactions.{n}.{k}"]])) for k in ("Fx", "Fy", "M")}
+        for n in rods:
+            peaks["rods"][n] = {"M_max": peak(H[:, col[f"rods.{n}.M_max"]])}
+        for n in slides:
+            s = H[:, col[f"joints.{n}.slide"]]
+            peaks["joints"][n] = {"slide_min": -peak(-s), "slide_max": peak(s)}
+        return peaks
+
+    t_int = time.perf_counter()
+    run, H = run_at(spec.tolerance, fr, True, progress)
+    t_int = time.perf_counter() - t_int
+    peaks = peaks_of(H, fr)
     res = {"converged": True, "steps": run.steps, "rejected_steps": run.rejected,
            "newton_iterations": run.newton_iterations, "t_end": spec.t_end,
            "energy_balance": run.energy_balance, "energy": run.energy,
            "events": fr.events if fr is not None else {},
            "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of, "peaks": peaks,
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
+    if spec.estimate:
+        res.update(_accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, 1.0 / f_ref[0]))
     if spec.turning:   # the located zeros of the bodies' rotation rates (rows of the history)
         T = H[:, 0]
         res["turning_points"] = {

@@ -54,6 +54,8 @@ from femslide.analysis.events import locate_step
 from femslide.analysis.stickslip import SAME_INSTANT, _settle, _switch
 from femslide.errors import BadInput, SolverFailure
 
+CHECK_FACTOR = 10.0    # the check run of an error estimate is at this multiple of the tolerance ...
+ORDER_GLOBAL = 5.0     # ... and the global error ~ steps^-ORDER_GLOBAL (Radau IIA: order 5)
 MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/analysis/simulate.py comes first)
 
 

@@ -133,6 +133,8 @@ def run(v: dict, friction: bool, progress=None) -> Outcome:
         "steps": res["steps"],
         "F2_max": res["peaks"]["reactions"]["B1"]["Fx"],
         "energy_balance": res["energy_balance"],
+        "error_estimate": res.get("error_estimate"),
+        "accuracy": res.get("accuracy"),
         "energy": res["energy"],
         "frequencies_hz": res["frequencies_hz"],
         "frequencies_of": res["frequencies_of"],

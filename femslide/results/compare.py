@@ -1,0 +1,106 @@
+"""The difference of two runs of one motion: histories, peaks and event times.
+
+Two runs of the same structure at two tolerances give two sampled histories on different time
+grids (each run samples at its own steps).  :func:`history_difference` interpolates the denser run
+(``a``) onto the other's sample times (``b``) and returns, per column, the largest difference
+relative to the column's largest value in ``a``.  Interpolation is local (Lagrange through up to
+six neighbouring samples, error ~(omega h)^6 / 720 of a smooth history) and never across a break
+(a friction event, where forces jump); sample times within a window about an event of either run
+are left out (between the two runs' times of one event, one is before it and one after), and
+samples the runs share (record sample times, the start and the end) are compared directly.
+
+:func:`peak_difference` compares nested peak tables ({group: {name: {key: value}}}) relative to each
+value; :func:`event_difference` matches event lists joint by joint, in order.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+POINTS = 6   # samples per local interpolation (degree 5)
+
+
+def _lagrange(ts, t):
+    """Weights of the Lagrange interpolant through the times ``ts`` at t."""
+    w = np.ones(ts.size)
+    for j in range(ts.size):
+        d = ts[j] - np.delete(ts, j)
+        w[j] = np.prod((t - np.delete(ts, j)) / d)
+    return w
+
+
+def interpolate(ta, Xa, tb, breaks=()):
+    """The rows of Xa (samples at the increasing times ta) at the times tb: local Lagrange
+    interpolation within the segments between ``breaks`` (a row at a break time belongs to the
+    segment after it); NaN where a segment has no sample."""
+    ta = np.asarray(ta, dtype=float)
+    Xa = np.asarray(Xa, dtype=float)
+    br = np.sort(np.asarray(list(breaks), dtype=float))
+    seg_a = np.searchsorted(br, ta, side="right")     # segment index of every sample
+    out = np.full((len(tb), Xa.shape[1]), np.nan)
+    for i, t in enumerate(tb):
+        k = int(np.searchsorted(br, t, side="right"))
+        idx = np.nonzero(seg_a == k)[0]
+        if idx.size == 0:
+            continue
+        j = int(np.searchsorted(ta[idx], t))
+        if j < idx.size and abs(ta[idx[j]] - t) <= 1e-12 * max(1.0, abs(t)):
+            out[i] = Xa[idx[j]]
+            continue
+        lo = max(0, min(j - POINTS // 2, idx.size - POINTS))
+        sel = idx[lo:lo + POINTS]
+        scale = max(abs(ta[sel[-1]] - ta[sel[0]]), 1e-300)
+        w = _lagrange((ta[sel] - t) / scale, 0.0)
+        out[i] = w @ Xa[sel]
+    return out
+
+
+def history_difference(ta, Xa, tb, Xb, breaks=(), windows=(), offsets=None):
+    """Per column, max |Xb - Xa(tb)| / max |Xa - offset| over the samples of b outside the
+    ``windows`` [(t0, t1)]; ``offsets`` (per column, default 0) are subtracted for the scale only
+    (positions are measured from their start).  A column of a that is zero throughout gives 0."""
+    tb = np.asarray(tb, dtype=float)
+    keep = np.ones(tb.size, dtype=bool)
+    for t0, t1 in windows:
+        keep &= ~((tb >= t0) & (tb <= t1))
+    Xi = interpolate(ta, Xa, tb[keep], breaks)
+    D = np.abs(np.asarray(Xb, dtype=float)[keep] - Xi)
+    off = np.zeros(Xa.shape[1]) if offsets is None else np.asarray(offsets, dtype=float)
+    scale = np.abs(np.asarray(Xa, dtype=float) - off).max(axis=0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.where(scale > 0.0, np.nanmax(np.where(np.isnan(D), 0.0, D), axis=0, initial=0.0) / scale, 0.0)
+    return rel
+
+
+def _leaves(tree, path=()):
+    if isinstance(tree, dict):
+        for k, v in tree.items():
+            yield from _leaves(v, path + (k,))
+    else:
+        yield path, tree
+
+
+def peak_difference(pa, pb):
+    """{dotted key: |b - a| / |a|} of two peak tables of the same shape (0 where a is 0 and b too)."""
+    flat_b = dict(_leaves(pb))
+    out = {}
+    for path, a in _leaves(pa):
+        b = flat_b.get(path)
+        if b is None:
+            continue
+        d = abs(float(b) - float(a))
+        out[".".join(path)] = d / abs(float(a)) if a else (0.0 if d == 0.0 else float("inf"))
+    return out
+
+
+def event_difference(ea, eb):
+    """(agree, largest |t_b - t_a| [s]) of two event tables {joint: [{t, kind}]}: agree when every
+    joint has the same kinds in the same order."""
+    agree, dt = True, 0.0
+    for name, la in ea.items():
+        lb = eb.get(name, [])
+        if [e["kind"] for e in la] != [e["kind"] for e in lb]:
+            agree = False
+            continue
+        for a, b in zip(la, lb):
+            dt = max(dt, abs(a["t"] - b["t"]))
+    return agree, dt
