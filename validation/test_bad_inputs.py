@@ -1,0 +1,96 @@
+"""Regression tests of issue 25: the last bad inputs and false failures found by trying femslide as a
+new user would.  Each case misbehaved before the fix (noted per test): an internal error, a wrong
+exit status, a silently ignored setting or a misleading reason.
+
+Each test runs the command line (``femslide.app.cli.main`` in process, or ``python -m femslide`` in a
+subprocess where the process itself matters) or the Python API, and checks the exit status (0
+converged, 1 failed with a reason, 2 bad input naming the parameter or file), the message, and -
+where a run converges - the answer against an independent reference (stated per test).
+"""
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+import femslide
+from femslide.app.cli import main
+
+HERE = pathlib.Path(__file__).resolve().parent
+ROOT = HERE.parent
+STRUCTURES = ROOT / "meshes" / "structures"
+
+
+def cli(*argv):
+    """``femslide.app.cli.main`` in process: (exit status, stdout, stderr)."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main([str(a) for a in argv])
+    return code, out.getvalue(), err.getvalue()
+
+
+def run(*args, timeout=120, cwd=ROOT):
+    """``python -m femslide ARGS`` in a subprocess: (exit status, stdout, stderr)."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    env.pop("FEMSLIDE_DEBUG", None)
+    p = subprocess.run([sys.executable, "-m", "femslide", *map(str, args)], capture_output=True, text=True,
+                       cwd=cwd, env=env, timeout=timeout)
+    return p.returncode, p.stdout, p.stderr
+
+
+def clean(err, *names):
+    """One femslide message naming ``names``: no traceback, no internal error, no numpy warning."""
+    assert "Traceback" not in err and "internal error" not in err, err
+    assert "Warning" not in err, err
+    for n in names:
+        assert n in err, (n, err)
+
+
+# -- the Python API's target ------------------------------------------------------------------------------
+# Before: femslide.solve(123) raised AttributeError, femslide.solve(femslide.Structure()) ValueError.
+
+@pytest.mark.parametrize("target", [123, None, "", 1.5, ["frame.toml"]])
+@pytest.mark.parametrize("func", [femslide.solve, femslide.simulate])
+def test_api_target_of_the_wrong_type_is_bad_input(func, target):
+    with pytest.raises(femslide.BadInput, match="target .*allowed: a femslide.Structure"):
+        func(target)
+
+
+def test_empty_structure_is_bad_input():
+    with pytest.raises(femslide.BadInput, match="no rods and no bodies"):
+        femslide.solve(femslide.Structure())
+
+
+# -- TOML files -------------------------------------------------------------------------------------------
+# Before: nesting 5000 deep was a RecursionError (internal error); a file starting with a UTF-8 byte
+# order mark was called a "scene file" with "malformed TOML" at line 1.
+
+@pytest.mark.parametrize("text", ["x = " + "[" * 5000 + "]" * 5000, "x = " + "{a = " * 5000 + "1" + "}" * 5000])
+def test_deeply_nested_toml_is_bad_input(tmp_path, text):
+    f = tmp_path / "deep.toml"
+    f.write_text(text + "\n")
+    code, out, err = cli("solve", f, "--json")
+    assert code == 2, err
+    clean(err, str(f), "nested too deeply")
+
+
+def test_deeply_nested_set_value_is_bad_input():
+    code, out, err = cli("solve", STRUCTURES / "beam-slider.toml", "--set", "wind.force=" + "[" * 3000 + "]" * 3000)
+    assert code == 2, err
+    clean(err)
+
+
+def test_structure_file_with_a_byte_order_mark_solves_as_without(tmp_path):
+    """Reference: the same file without the mark (the same bytes after it): identical results."""
+    src = (STRUCTURES / "beam-slider.toml").read_bytes()
+    f = tmp_path / "bom.toml"
+    f.write_bytes(b"\xef\xbb\xbf" + src)
+    with_bom = femslide.solve(str(f))
+    plain = femslide.solve(str(STRUCTURES / "beam-slider.toml"))
+    assert with_bom["M_max"] == plain["M_max"]
+    assert femslide.load(str(f)).rods.keys() == femslide.load(str(STRUCTURES / "beam-slider.toml")).rods.keys()
