@@ -94,3 +94,68 @@ def test_structure_file_with_a_byte_order_mark_solves_as_without(tmp_path):
     plain = femslide.solve(str(STRUCTURES / "beam-slider.toml"))
     assert with_bom["M_max"] == plain["M_max"]
     assert femslide.load(str(f)).rods.keys() == femslide.load(str(STRUCTURES / "beam-slider.toml")).rods.keys()
+
+
+# -- near-zero rods ---------------------------------------------------------------------------------------
+# Before: a rod 1e-12 m long on a 3 m column asked for 3e12 elements per level (MemoryError, 43.7 TiB:
+# "internal error"); 2 mm read as a mechanism.
+
+def _column_with_stub(tmp_path, stub, EA=None):
+    f = tmp_path / "stub.toml"
+    f.write_text(f"""
+[[rod]]
+name = "col"
+start = [0.0, 0.0]
+end = [0.0, 3.0]
+EI = 1e6
+[[rod]]
+name = "stub"
+start = [0.0, 3.0]
+end = [{stub!r}, 3.0]
+EI = 1e6
+{'' if EA is None else f'EA = {EA!r}'}
+[[joint]]
+name = "A"
+type = "weld"
+a = "col.start"
+b = "ground"
+[[joint]]
+name = "W"
+type = "weld"
+a = "stub.start"
+b = "col.end"
+[[load]]
+name = "P"
+type = "force"
+on = "stub.end"
+force = [1000.0, -1000.0]
+""")
+    return f
+
+
+@pytest.mark.parametrize("stub", [1e-12, 1e-6, 2e-3])
+def test_near_zero_rod_is_bad_input(tmp_path, stub):
+    code, out, err = cli("solve", _column_with_stub(tmp_path, stub), "--json")
+    assert code == 2, err
+    clean(err, "rod stub", "length", "allowed: a rod of at least 0.003 m")
+
+
+def test_short_rod_at_the_limit_solves(tmp_path):
+    """A 3 mm stub (1e-3 of the structure's size) on a 3 m column solves.  Reference: moment
+    equilibrium of the whole structure about the support A, exact for any deformation: M_A = -(x_P F_y
+    - y_P F_x), P the stub's end where the load acts (its deformed position from the result); 1e-9
+    relative."""
+    r = femslide.solve(str(_column_with_stub(tmp_path, 3e-3)))
+    tip = r["rods"]["stub"]["end"]
+    xP, yP = 3e-3 + tip["u"], 3.0 + tip["v"]
+    M_exact = -(xP * -1000.0 - yP * 1000.0)
+    assert abs(r["reactions"]["A"]["M"] - M_exact) <= 1e-9 * abs(M_exact)
+    assert r["error_estimate"] <= 1e-6
+
+
+def test_stiffness_contrast_is_named_in_the_mechanism_message(tmp_path):
+    """EA = 1e15 N on a 1 cm stub: its axial stiffness is ~1e13 times the column's bending stiffness;
+    before, the failure read as a free part only."""
+    code, out, err = cli("solve", _column_with_stub(tmp_path, 1e-2, EA=1e15))
+    assert code == 1, err
+    clean(err, "beyond double precision", "rigid body or a weld")

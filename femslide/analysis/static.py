@@ -61,6 +61,7 @@ from femslide.results.static import unflatten
 
 TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (10x below 1e-6)
 N_MAX = 4096
+MULT_MAX = 64     # the most elements per level on a long rod for one on the shortest adaptive rod
 N_DIRECT = 16     # meshes finer than this start from the interpolated solution of the coarser one
 ROUNDOFF_LIMIT = 1e-3  # relative round-off scatter of the largest moment above which a result is refused
 
@@ -90,11 +91,18 @@ def scales(fs: Frozen):
 # the stiff terms outgrows the answers while the estimates do not notice)
 KAPPA_MAX = 1e15     # EI / (F L^2): bending stiffness against the loads
 EA_RATIO_MAX = 1e14  # EA L^2 / EI (L: the model length unit)
+MIN_LENGTH = 1e-3    # a rod's length against the structure's size: a 3 mm rod on a 3 m column solves,
+                     # 2 mm reads as a mechanism (its stiffness 1e12 times the column's), 1e-12 m asked for
+                     # 1e12 elements
 
 
 def check_stiffness_range(fs: Frozen, L: float, F: float):
     """Bad input (naming the rod and the field) outside the verified stiffness range."""
     for r in fs.rods:
+        if r.length < MIN_LENGTH * L:
+            raise BadInput(f"rod {r.name}: length {r.length:g} m is below {MIN_LENGTH:g} of the structure's "
+                           f"size {L:g} m; allowed: a rod of at least {MIN_LENGTH * L:g} m (a shorter piece is "
+                           f"rigid against the rest beyond double precision: make it part of a body or a joint)")
         EI = max(r.EI.value) if not isinstance(r.EI, float) else r.EI
         EA = max(r.EA.value) if not isinstance(r.EA, float) else r.EA
         EImin = min(r.EI.value) if not isinstance(r.EI, float) else r.EI
@@ -167,7 +175,9 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
     fixed = {} if uniform else {r.name: r.elements for r in rods if r.elements}
     adaptive = [r for r in rods if r.name not in fixed]
     hmin = min((r.length for r in adaptive), default=1.0)
-    mult = {r.name: (1 if uniform else max(1, round(r.length / hmin))) for r in adaptive}
+    # elements of about one length on every rod, up to MULT_MAX times as many on a long rod as on the
+    # shortest (a rod 1e-12 of the others' length would otherwise ask for 1e12 elements per level)
+    mult = {r.name: (1 if uniform else min(MULT_MAX, max(1, round(r.length / hmin)))) for r in adaptive}
     cache_lv: dict[int, Level] = {}
     its = [0]
     state = {"path": path}
