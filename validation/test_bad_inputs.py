@@ -19,6 +19,7 @@ import sys
 import pytest
 
 import femslide
+import femslide.app.structfile
 from femslide.app.cli import main
 
 HERE = pathlib.Path(__file__).resolve().parent
@@ -159,3 +160,87 @@ def test_stiffness_contrast_is_named_in_the_mechanism_message(tmp_path):
     code, out, err = cli("solve", _column_with_stub(tmp_path, 1e-2, EA=1e15))
     assert code == 1, err
     clean(err, "beyond double precision", "rigid body or a weld")
+
+
+# -- redundant joints --------------------------------------------------------------------------------------
+# Before: "load stepping stalled at load factor 0: a limit point or a bifurcation (singular matrix)".
+
+def _frame(*joints):
+    s = femslide.Structure()
+    s.rod("col", start=(0, 0), end=(0, 3), EI=1e6)
+    s.body("deck", mass=100.0, centroid=(1, 3.5), outline=[(0, 3), (2, 3), (2, 4), (0, 4)])
+    s.weld("top", a="col.end", b="deck")
+    for kind, name, a, kw in joints:
+        getattr(s, kind)(name, a=a, b="ground", **kw)
+    return s
+
+
+@pytest.mark.parametrize("joints, named", [
+    ([("weld", "W1", "col.start", {}), ("weld", "W2", "col.start", {})], "W1, W2"),
+    ([("pin", "A", "col.start", {}), ("roller", "R", "col.start", {"axis": (1, 0)})], "A, R"),
+    ([("weld", "A", "col.start", {}), ("pin", "P", "col.start", {})], "A, P"),
+    ([("weld", "A", "col.start", {}), ("slider", "S1", "deck", {"at": (2, 3), "axis": (0, 1)}),
+      ("slider", "S2", "deck", {"at": (2, 3.5), "axis": (0, 1)})], "S1, S2"),
+])
+def test_redundant_joints_are_named(joints, named):
+    with pytest.raises(femslide.BadInput, match=f"joints {named} hold the same freedom more than once"):
+        femslide.solve(_frame(*joints))
+
+
+def test_redundant_welds_exit_2_on_the_command_line(tmp_path):
+    f = tmp_path / "welds.toml"
+    f.write_text(femslide.app.structfile.dumps(_frame(("weld", "W1", "col.start", {}),
+                                                      ("weld", "W2", "col.start", {}))))
+    code, out, err = cli("solve", f)
+    assert code == 2, err
+    clean(err, "W1, W2", "undetermined")
+
+
+def test_two_rollers_on_a_welded_frame_are_not_redundant():
+    """Two parallel rollers on the deck of a frame welded at its base hold the deck's x and rotation
+    (two independent equations): statically indeterminate, not redundant.  Reference: the deck's
+    weight goes down the column (the rollers are vertical guides: no vertical force), so the base
+    reaction is (.., 100 g, ..) to 1e-9 and the column carries no moment beyond round-off."""
+    r = femslide.solve(_frame(("weld", "A", "col.start", {}),
+                              ("roller", "R1", "deck", {"at": (2, 3), "axis": (0, 1)}),
+                              ("roller", "R2", "deck", {"at": (2, 3.5), "axis": (0, 1)})))
+    assert abs(r["reactions"]["A"]["Fy"] - 100.0 * 9.81) <= 1e-9 * 981.0
+    assert r["rods"]["col"]["M_max"] <= 1e-6
+
+
+# -- ground records in a structure file -------------------------------------------------------------------
+# Before: an .AT2 with NaN and a CSV record of 1e308 ran into exit 1 with a numpy warning and a source
+# line on stderr (the scene path already said exit 2).
+
+def _at2(path, bad=None):
+    import numpy as np
+    t = np.arange(0.0, 2.0, 0.01)
+    g = 0.1 * np.sin(2 * np.pi * t)
+    rows = ["  ".join(f"{x: .7E}" for x in g[i:i + 5]) for i in range(0, g.size, 5)]
+    if bad is not None:
+        rows[7] = rows[7].replace(rows[7].split()[2], bad)
+    path.write_text(f"PEER NGA\nsynthetic\nACCELERATION IN G\nNPTS= {t.size}, DT= 0.0100 SEC\n" + "\n".join(rows) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("bad", ["NaN", "inf", "-Infinity"])
+def test_at2_record_with_nan_or_inf_is_bad_input_naming_the_line(tmp_path, bad):
+    rec = _at2(tmp_path / "rec.AT2", bad)
+    code, out, err = run("simulate", STRUCTURES / "beam-oscillation.toml", "--quiet", "--set", "simulate.t_end=0.5",
+                         "--set", f'simulate.ground={{direction = [1, 0], record = "{rec}"}}')
+    assert code == 2, err
+    clean(err, str(rec), "line 12", "allowed: finite")
+
+
+@pytest.mark.parametrize("ground, named", [
+    ('{direction = [1, 0], record = "REC"}', "reaches |a| = 1e+308"),
+    ('{direction = [1, 0], record = "REC", scale = 1e300}', "scale 1e+300"),
+    ("{direction = [1, 0], amplitude = 1e308, frequency = 1.0}", "amplitude = 1e+308"),
+])
+def test_overflowing_ground_motion_is_bad_input(tmp_path, ground, named):
+    rec = tmp_path / "huge.csv"
+    rec.write_text("t,a\n0,1e308\n1,-1e308\n2,1e308\n" if "scale" not in ground else "t,a\n0,1\n1,-1\n2,1\n")
+    code, out, err = run("simulate", STRUCTURES / "beam-oscillation.toml", "--quiet", "--set", "simulate.t_end=0.5",
+                         "--set", "simulate.ground=" + ground.replace("REC", str(rec)))
+    assert code == 2, err
+    clean(err, named, "allowed: |a")

@@ -42,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from femslide.analysis import redundancy
 from femslide.analysis.paths import N_START, Path, check_stable, choose_path, solve_level
 from femslide.analysis.refine import (
     Level,
@@ -200,7 +201,9 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
             # mesh, and a fine mesh of a stiff rod (EA L^2/EI ~ 1e9, 64 elements) spreads the
             # tangent's eigenvalues beyond what the round-off test for a null space can separate
             cn = {r.name: min(int(c), N_START) for r, c in zip(rods, counts(n).values())}
-            state["path"] = choose_path(model if cn == counts(n) else Model(fs, cn, Lref, Fref, cache))
+            coarse = model if cn == counts(n) else Model(fs, cn, Lref, Fref, cache)
+            redundancy.check(coarse)
+            state["path"] = choose_path(coarse)
         y, es, k = solve_level(model, state["path"], start)
         if not cache_lv:
             check_stable(model, y, es)
