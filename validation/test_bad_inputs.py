@@ -244,3 +244,33 @@ def test_overflowing_ground_motion_is_bad_input(tmp_path, ground, named):
                          "--set", "simulate.ground=" + ground.replace("REC", str(rec)))
     assert code == 2, err
     clean(err, named, "allowed: |a")
+
+
+# -- two sweeps into one --out ----------------------------------------------------------------------------
+# Before: both exited 0, every case row was written twice and the same case folders by both.
+
+def test_second_sweep_into_the_same_out_is_refused_while_the_first_runs(tmp_path):
+    import time
+
+    from femslide.app.sweeps import LOCK, _lock
+    out = tmp_path / "sw"
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    first = subprocess.Popen([sys.executable, "-m", "femslide", "sweep", "sdof-harmonic", "--vary",
+                              "t_end=20000,20001", "--out", str(out), "--quiet"], cwd=ROOT, env=env,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        for _ in range(600):   # until the first sweep holds the lock (its pid in the lock file)
+            if (out / LOCK).exists() and (out / LOCK).read_text().strip() == str(first.pid):
+                break
+            time.sleep(0.05)
+        else:
+            pytest.fail("the first sweep did not start")
+        assert first.poll() is None
+        code, text, err = cli("sweep", "sdof-harmonic", "--vary", "t_end=20000,20001", "--out", out, "--quiet")
+        assert code == 2, err
+        clean(err, f"--out {out}", f"another sweep (process {first.pid})", "one sweep at a time")
+        assert not (out / "sweep.jsonl").exists() or (out / "sweep.jsonl").read_text().count("\n") <= 2
+    finally:
+        first.kill()
+        first.wait()
+    _lock(str(out)).close()   # a sweep that died leaves no stale lock: the next one goes on
