@@ -219,7 +219,8 @@ def _at2(path, bad=None):
     rows = ["  ".join(f"{x: .7E}" for x in g[i:i + 5]) for i in range(0, g.size, 5)]
     if bad is not None:
         rows[7] = rows[7].replace(rows[7].split()[2], bad)
-    path.write_text(f"PEER NGA\nsynthetic\nACCELERATION IN G\nNPTS= {t.size}, DT= 0.0100 SEC\n" + "\n".join(rows) + "\n")
+    path.write_text(f"PEER NGA\nsynthetic\nACCELERATION IN G\nNPTS= {t.size}, DT= 0.0100 SEC\n"
+                    + "\n".join(rows) + "\n")
     return path
 
 

@@ -175,7 +175,8 @@ def parse(spec, base_dir: str = ".", where: str = "simulate.ground") -> Ground |
         raise BadInput(f"{where}.scale is for records; a harmonic ground motion has amplitude and frequency")
     amplitude = num("amplitude", 1.0)
     if abs(amplitude) > MAX_ACCEL:
-        raise BadInput(f"{where}.amplitude = {amplitude:g} m/s^2; allowed: |amplitude| <= {MAX_ACCEL:.3g} m/s^2 (1e6 g)")
+        raise BadInput(f"{where}.amplitude = {amplitude:g} m/s^2; allowed: |amplitude| <= {MAX_ACCEL:.3g} m/s^2 "
+                       f"(1e6 g)")
     return Ground(e, amplitude=amplitude, frequency=num("frequency", 2.0, 0.0, lo_open=True))
 
 

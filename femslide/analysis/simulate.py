@@ -495,6 +495,10 @@ def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
     freq, shapes = modes(model, y, elements, masses, count)
     res = {"converged": True, "frequencies_hz": [float(f) for f in freq],
            "periods_s": [float(1.0 / f) for f in freq], "elements": {r.name: r.elements for r in fs.rods}}
+    if len(freq) < count:   # fewer motions with mass than asked for: say so rather than pad or hide it
+        res["notes"] = [f"{len(freq)} of the {count} modes asked for: the structure has no more motions "
+                        f"with mass (its massless parts - rods with rhoA = 0, rotations of bodies without "
+                        f"inertia - follow the masses quasi-statically)"]
 
     res["wall_time_s"] = time.perf_counter() - t0
     return Outcome(res, name, modes=ModeShapes(model, y, elements.committed, list(freq), shapes))

@@ -12,6 +12,7 @@ import os
 from typing import TYPE_CHECKING
 
 from femslide.errors import BadInput
+from femslide.results.outcome import dotted  # noqa: F401  (the one flattener; app.result.dotted)
 
 if TYPE_CHECKING:
     import pandas
@@ -278,17 +279,6 @@ class Result(dict):
 HISTORY_UNITS = {"t": "s", "w": "m", "v": "m/s", "state": "-", "F": "N", "f": "N", "phi": "rad",
                  "phi_dot": "rad/s", "slide": "m", "stuck": "-", "F_ax": "N", "N": "N", "F1": "N",
                  "N1": "N", "F2": "N", "N2": "N"}
-
-
-def dotted(obj: dict, prefix: str = "") -> dict:
-    """Nested dicts to one dict with dotted keys; lists are left out (see :meth:`Result.flat`)."""
-    out = {}
-    for k, v in obj.items():
-        if isinstance(v, dict):
-            out.update(dotted(v, f"{prefix}{k}."))
-        elif not isinstance(v, (list, tuple)):
-            out[f"{prefix}{k}"] = v
-    return out
 
 
 def clean(obj):

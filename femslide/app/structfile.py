@@ -16,7 +16,8 @@
 The fields and their meaning are those of the Python API (:mod:`femslide.model.structure`); every error
 is bad input naming the file, the entry and the field.  Fields of a file can be overridden by name,
 ``NAME.FIELD=VALUE`` (``right.EI=1e8``, ``wind.force=[100, 0]``, ``gravity=[0, -9.81]``), which is how
-``--set`` and sweeps (``--vary right.EI=1e4,1e6``) address them; ``elements=N`` fixes every rod's mesh.
+``--set`` and sweeps (``--vary right.EI=1e4,1e6``) address them; ``elements=N`` fixes every rod's mesh
+(also of rods that declare their own ``elements``; ``ROD.elements=M`` overrides it for one rod).
 """
 from __future__ import annotations
 
@@ -199,6 +200,10 @@ def apply(structure: Structure, overrides: dict) -> tuple[Structure, int | None]
             continue
         raise BadInput(f"{name}: a structure file's values are named NAME.FIELD (e.g. right.EI), gravity or "
                        f"elements")
+    if elements is not None:   # every rod's mesh, also of rods that declare their own (but not of a
+        for rod in s.rods:     # rod whose elements are overridden by name too: ROD.elements)
+            if f"{rod}.elements" not in overrides:
+                s.set(f"{rod}.elements", elements)
     return s, elements
 
 

@@ -130,10 +130,13 @@ def _text(fd, key):
 
 def _from_mesh(points, cells, point_data, cell_data, fd, magnify, name, where=None):
     import numpy as np
-    P = np.asarray(points, float)[:, :2]
+    from femslide.output.vtu import reference_points
+    Pin = np.asarray(points, float)[:, :2]
     disp = np.asarray(point_data["displacement"], float)[:, :2] if "displacement" in point_data \
-        else np.zeros_like(P)
-    P0 = P - disp
+        else np.zeros_like(Pin)
+    # the points are the reference configuration (files of earlier versions: the deformed one)
+    P0 = Pin if reference_points(fd) else Pin - disp
+    P = P0 + disp
     Pd = P0 + magnify * disp
     if "part" not in cell_data:
         raise BadInput(f"{where or name}: not a femslide result (no cell data 'part'); allowed: a .vtu written by "

@@ -2,8 +2,9 @@
 
 ``femslide show RESULT.vtu|RESULT.pvd [--frame K] [--screenshot out.png]``.  Reads what
 :mod:`femslide.output.vtu` writes (cell data ``part``: 0 rod element, 1 body, 2 rigid rod; point data
-``bending_moment`` and ``displacement``); any other VTU (e.g. a scene mesh from ``femslide mesh``)
-is drawn plainly.  The undeformed configuration (points minus ``displacement``) is drawn thin and grey.
+``bending_moment`` and ``displacement``: the points are the reference configuration, points +
+``displacement`` the deformed one); any other VTU (e.g. a scene mesh from ``femslide mesh``) is drawn
+plainly.  The undeformed configuration is drawn thin and grey.
 
 ``--magnify K`` multiplies the displacements (the undeformed shape stays as it is).  The colour range
 is the same for every frame of a .pvd series (computed over all its frames); a field that is
@@ -135,9 +136,9 @@ def render(path, screenshot=None, frame=None, window_size=WINDOW, diagram=None, 
     if "displacement" in grid.point_data:
         disp = np.asarray(grid.point_data["displacement"])
         ref = grid.copy()
-        ref.points = grid.points - disp
-        if magnify != 1.0:
-            grid.points = ref.points + magnify * disp
+        if "points" not in grid.field_data:   # a file of an earlier version: deformed points
+            ref.points = grid.points - disp
+        grid.points = ref.points + magnify * disp
         ref_parts = ref.extract_cells(np.nonzero(part != 3)[0])
         ref_parts.points[:, 2] -= 2 * depth  # behind everything: the picture is flat, draw order by depth
         pl.add_mesh(ref_parts, style="wireframe", color=(0.72, 0.72, 0.72), line_width=1.5, lighting=False)
