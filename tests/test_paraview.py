@@ -264,3 +264,51 @@ def test_time_series_frames_carry_the_joints_and_reference_points(tmp_path):
         fr = frame_data(vtu)
         assert len(fr["joints"]) == 4 and any(j["ground"] for j in fr["joints"])
         assert len(shapes(fr)) >= 2   # the supports and the ground line are drawn
+
+
+# -- a light install ------------------------------------------------------------------------------------
+
+def test_pyvista_and_vtk_are_an_optional_extra():
+    """The base install writes every file with meshio; pyvista and VTK (566 MB) come with femslide[view]
+    (and with femslide[test], so that the render tests run)."""
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        import tomli as tomllib
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    base = " ".join(project["dependencies"])
+    assert "pyvista" not in base and "vtk" not in base
+    extras = project["optional-dependencies"]
+    for extra in ("view", "test"):
+        assert any(r.startswith("pyvista") for r in extras[extra]) and any(r.startswith("vtk") for r in extras[extra])
+
+
+BLOCK = """
+import sys
+class Block:
+    def find_spec(self, name, path=None, target=None):
+        if name.split('.')[0] in ('pyvista', 'vtk', 'vtkmodules'):
+            raise ModuleNotFoundError(name)
+sys.meta_path.insert(0, Block())
+import importlib.util
+_orig = importlib.util.find_spec
+importlib.util.find_spec = lambda n, *a: None if n.split('.')[0] in ('pyvista', 'vtk', 'vtkmodules') else _orig(n, *a)
+from femslide.app.cli import main
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+def test_show_without_pyvista_names_the_extra_and_solve_still_writes_files(tmp_path):
+    """With pyvista and VTK unimportable (as after `pip install femslide`): solve --out writes its VTU
+    (meshio), show exits 2 naming femslide[view] (before anything is read)."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    out = tmp_path / "out"
+    p = subprocess.run([sys.executable, "-c", BLOCK, "solve", "beam-slider", "--out", str(out)], capture_output=True,
+                       text=True, cwd=ROOT, env=env, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert (out / "beam-slider.vtu").is_file()
+    p = subprocess.run([sys.executable, "-c", BLOCK, "show", str(out / "beam-slider.vtu"), "--screenshot",
+                        str(tmp_path / "x.png")], capture_output=True, text=True, cwd=ROOT, env=env, timeout=120)
+    assert p.returncode == 2, p.stderr
+    assert "pip install 'femslide[view]'" in p.stderr and "Traceback" not in p.stderr
+    assert not (tmp_path / "x.png").exists()

@@ -41,7 +41,20 @@ def _check_readable(vtu, given):
     read_meshio(vtu, what)
 
 
+VIEW_MISSING = ("femslide show draws with pyvista and VTK, which are not installed; install them with "
+                "pip install 'femslide[view]' (the result files themselves are plain VTU/PVD: ParaView opens "
+                "them too)")
+
+
+def need_pyvista():
+    """BadInput naming the extra to install when pyvista (with VTK) is missing."""
+    import importlib.util
+    if importlib.util.find_spec("pyvista") is None or importlib.util.find_spec("vtkmodules") is None:
+        raise BadInput(VIEW_MISSING)
+
+
 def _import_pyvista(off_screen):
+    need_pyvista()
     if off_screen:
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     import pyvista
@@ -114,6 +127,7 @@ def render(path, screenshot=None, frame=None, window_size=WINDOW, diagram=None, 
         raise BadInput(f"--scale {scale:g}: allowed a number > 0 (m per N m for M, m per N for V, N)")
     if not (math.isfinite(magnify) and magnify >= 0):
         raise BadInput(f"--magnify {magnify:g}: allowed a number >= 0 (1: true displacements)")
+    need_pyvista()   # before any work: the message names the extra to install
     vtu, t = pick_file(path, frame)
     _check_readable(vtu, path)
     if diagram is not None:
