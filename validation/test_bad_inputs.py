@@ -275,3 +275,54 @@ def test_second_sweep_into_the_same_out_is_refused_while_the_first_runs(tmp_path
         first.kill()
         first.wait()
     _lock(str(out)).close()   # a sweep that died leaves no stale lock: the next one goes on
+
+
+# -- what the output says ---------------------------------------------------------------------------------
+# Before: the paper's near-mechanism under 800 N of wind swayed 22.6 degrees with support A1 pulled down
+# by 2091 N, reported as plain `converged` (only `femslide show` printed the lift-off); the text output
+# had no units and `files: [2 entries]` hid the paths written.
+
+def _paper_under_wind():
+    s = femslide.Structure(gravity=(0.0, -9.81))
+    s.rod("left", start=(0, 0), end=(0, 3), EI=2e6)
+    s.rod("right", start=(2, 0), end=(2, 3), EI=2e6, rhoA=12.0)
+    s.body("deck", mass=500.0, centroid=(1.0, 3.5), outline=[(0, 3), (2, 3), (2, 4), (0, 4)])
+    s.pin("A1", a="left.start", b="ground")
+    s.pin("B1", a="right.start", b="ground")
+    s.weld("A", a="left.end", b="deck")
+    s.slider("clamp", a="right.end", b="deck", axis=(0, 1))
+    s.force("wind", on="deck", force=(800.0, 0.0), at=(0, 4))
+    return s
+
+
+def test_lift_off_is_a_note_of_the_solve_output(tmp_path):
+    """The note's force is the reaction's vertical component (the pin rests on level ground: inward
+    +y), 1e-12 relative."""
+    r = femslide.solve(_paper_under_wind())
+    Fy = r["reactions"]["A1"]["Fy"]
+    assert Fy < -2000.0
+    assert len(r["notes"]) == 1 and r["notes"][0].startswith(f"lift-off at A1: the ground pulls with {-Fy:.4g} N")
+    f = tmp_path / "paper.toml"
+    f.write_text(femslide.app.structfile.dumps(_paper_under_wind()))
+    code, out, err = cli("solve", f, "--out", tmp_path / "out")
+    assert code == 0, err
+    assert "note: lift-off at A1" in out
+    # every path written, one a line; values with their units
+    assert f"file: {tmp_path / 'out' / 'paper.vtu'}" in out and f"file: {tmp_path / 'out' / 'paper.json'}" in out
+    assert "entries]" not in out
+    assert "reactions.A1: Fx=" in out and " N, Fy=" in out and " N m" in out and "rotation=" in out and " rad" in out
+    assert "M_max: " in out.replace("  ", " ") and "wall_time_s:" in out
+
+
+def test_a_portal_frame_under_roof_load_and_wind_has_no_notes():
+    s = femslide.Structure(gravity=(0.0, -9.81))
+    s.rod("left", start=(0, 0), end=(0, 4), EI=1.2e7)
+    s.rod("right", start=(6, 0), end=(6, 4), EI=1.2e7)
+    s.rod("beam", start=(0, 4), end=(6, 4), EI=4e7, rhoA=60.0)
+    s.weld("A", a="left.start", b="ground")
+    s.weld("B", a="right.start", b="ground")
+    s.weld("corner", a="beam.start", b="left.end")
+    s.slider("bearing", a="right.end", b="beam.end", axis=(1, 0))
+    s.distributed("roof", on="beam", force=(0.0, -8000.0))
+    s.force("wind", on="left.end", force=(6000.0, 0.0))
+    assert femslide.solve(s)["notes"] == []

@@ -173,31 +173,35 @@ def _print_scenes(as_json: bool):
 
 
 def _print_result(res: dict):
-    """One line per value; named objects (rods, joints, ...) one line each with their values."""
-    def flat(d, prefix=""):
-        out = []
-        for k, x in d.items():
-            if isinstance(x, dict):
-                out += flat(x, f"{prefix}{k}.")
-            else:
-                out.append(f"{prefix}{k}={_fmt(x)}")
-        return out
+    """One line per value with its SI unit; named objects (rods, joints, ...) one line each with their
+    values; the files written and the notes one per line."""
+    from femslide.app.result import unit_of
+    from femslide.results.outcome import dotted
+
+    def with_unit(path, x):
+        u = unit_of(path) if isinstance(x, (int, float)) and not isinstance(x, bool) else ""
+        return f"{_fmt(x)} {u}" if u else _fmt(x)
+
+    def flat(d, path):
+        return [f"{k}={with_unit(path + '.' + k, x)}" for k, x in dotted(d).items()]
 
     for key, val in res.items():
-        if isinstance(val, dict) and val and all(isinstance(x, dict) for x in val.values()):
-            if not val:
-                continue
+        if key in ("files", "notes") and isinstance(val, list):
+            for item in val:
+                print(f"{key[:-1]:>24}: {item}")
+        elif isinstance(val, dict) and val and all(isinstance(x, dict) for x in val.values()):
             for name, obj in val.items():
-                print(f"{key + '.' + name:>24}: {', '.join(flat(obj))}")
+                print(f"{key + '.' + name:>24}: {', '.join(flat(obj, key + '.' + name))}")
         elif isinstance(val, dict):
             if val:
-                print(f"{key:>24}: {', '.join(flat(val))}")
+                print(f"{key:>24}: {', '.join(flat(val, key))}")
         elif isinstance(val, list) and len(val) <= 20 and all(isinstance(x, (int, float)) for x in val):
-            print(f"{key:>24}: {', '.join(_fmt(x) for x in val)}")
+            u = unit_of(key)
+            print(f"{key:>24}: {', '.join(_fmt(x) for x in val)}" + (f" {u}" if u else ""))
         elif isinstance(val, list):
             print(f"{key:>24}: [{len(val)} entries]")
         else:
-            print(f"{key:>24}: {_fmt(val)}")
+            print(f"{key:>24}: {with_unit(key, val)}")
 
 
 def _solve(args, command):
