@@ -326,3 +326,18 @@ def test_a_portal_frame_under_roof_load_and_wind_has_no_notes():
     s.distributed("roof", on="beam", force=(0.0, -8000.0))
     s.force("wind", on="left.end", force=(6000.0, 0.0))
     assert femslide.solve(s)["notes"] == []
+
+
+# -- belt-ex3.toml is paper 003's example 3, not its mirror image --------------------------------------------
+# Before: the ground amplitude +4.905 m/s^2 gave the force -P0 sin(theta t).
+
+def test_belt_ex3_moves_as_the_papers_example_3():
+    """Reference: femslide simulate sdof-harmonic (paper 003 ex. 3, the exact event-by-event solution):
+    its first turning point w = +0.0124628 m at t = 0.2021157 s; the structure file at tolerance 1e-7:
+    the first slip positive and the largest slide within 1e-6 m of it."""
+    ref = femslide.simulate("sdof-harmonic", t_end=0.25)["turning_points"][0]
+    assert ref["w"] > 0
+    r = femslide.simulate(str(STRUCTURES / "belt-ex3.toml"), t_end=0.25, tolerance=1e-7)
+    slips = [e["kind"] for e in r["events"]["belt"] if e["kind"].startswith("slip")]
+    assert slips[0] == "slip+"
+    assert abs(r["peaks"]["joints"]["belt"]["slide_max"] - ref["w"]) <= 1e-6
