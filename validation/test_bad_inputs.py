@@ -341,3 +341,32 @@ def test_belt_ex3_moves_as_the_papers_example_3():
     slips = [e["kind"] for e in r["events"]["belt"] if e["kind"].startswith("slip")]
     assert slips[0] == "slip+"
     assert abs(r["peaks"]["joints"]["belt"]["slide_max"] - ref["w"]) <= 1e-6
+
+
+# -- one rule for numbers --------------------------------------------------------------------------------
+# Before: EI = "2e6" was accepted while elements = "8" was rejected.
+
+@pytest.mark.parametrize("field, value", [("right.EI", '"2e6"'), ("right.elements", '"8"'), ("clamp.k", '"100"'),
+                                          ("deck.mass", '"1"'), ("right.rhoA", "true"), ("simulate.t_end", '"3"')])
+def test_a_number_written_as_text_is_bad_input(tmp_path, field, value):
+    src = (STRUCTURES / "beam-oscillation.toml").read_text()
+    name, key = field.split(".")
+    if name == "simulate":
+        src = src.replace("[simulate]\n", f"[simulate]\n{key} = {value}\n").replace("t_end = 3.0\n", "")
+    else:
+        table = {"right": '"right"', "clamp": '"clamp"', "deck": '"deck"'}[name]
+        src = src.replace(f"name = {table}\n", f"name = {table}\n{key} = {value}\n", 1)
+        src = "\n".join(ln for ln in src.splitlines() if not (ln.startswith(f"{key} = ") and value not in ln)) + "\n"
+    f = tmp_path / "s.toml"
+    f.write_text(src)
+    code, out, err = cli("simulate" if name == "simulate" else "solve", f, "--quiet")
+    assert code == 2, err
+    clean(err, key)
+    assert "not a number" in err or "allowed: an integer" in err
+
+
+def test_numbers_from_the_command_line_are_still_numbers():
+    """--set values are parsed (right.EI=2e6 is the number 2e6): the same answer as in the file."""
+    a = femslide.solve(str(STRUCTURES / "beam-slider.toml"), **{"right.EI": "2e6"})
+    b = femslide.solve(str(STRUCTURES / "beam-slider.toml"), **{"right.EI": 2e6})
+    assert a["M_max"] == b["M_max"]

@@ -138,6 +138,8 @@ def parse(spec, base_dir: str = ".", where: str = "simulate.ground") -> Ground |
         raise BadInput(f"{where}: unknown key {bad[0]!r}; allowed: {', '.join(sorted(allowed))}")
     d = spec.get("direction", [1.0, 0.0])
     try:
+        if isinstance(d, str) or any(isinstance(c, (str, bool)) for c in d):
+            raise ValueError
         e = [float(d[0]), float(d[1])]
         if len(d) != 2 or not all(map(math.isfinite, e)) or e == [0.0, 0.0]:
             raise ValueError
@@ -146,6 +148,8 @@ def parse(spec, base_dir: str = ".", where: str = "simulate.ground") -> Ground |
 
     def num(key, default, lo=-math.inf, lo_open=False):
         x = spec.get(key, default)
+        if isinstance(x, (str, bool)):
+            raise BadInput(f"{where}.{key} = {x!r} is not a number; allowed: a number (without quotes)")
         try:
             v = float(x)
         except (TypeError, ValueError):

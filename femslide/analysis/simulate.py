@@ -86,6 +86,8 @@ class Spec:
 
 
 def _num(where, x, lo, hi, lo_open=False):
+    if isinstance(x, (str, bool)):   # one rule for every number of a file: text and true/false are not numbers
+        raise BadInput(f"{where} = {x!r} is not a number; allowed: a number in [{lo:g}, {hi:g}] (without quotes)")
     try:
         v = float(x)
     except (TypeError, ValueError):
