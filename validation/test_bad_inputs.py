@@ -19,6 +19,7 @@ import sys
 import pytest
 
 import femslide
+import femslide.app.run
 import femslide.app.structfile
 from femslide.app.cli import main
 
@@ -370,3 +371,24 @@ def test_numbers_from_the_command_line_are_still_numbers():
     a = femslide.solve(str(STRUCTURES / "beam-slider.toml"), **{"right.EI": "2e6"})
     b = femslide.solve(str(STRUCTURES / "beam-slider.toml"), **{"right.EI": 2e6})
     assert a["M_max"] == b["M_max"]
+
+
+# -- --set elements=N is every rod's mesh ---------------------------------------------------------------------
+# Before: it was silently ignored by modes and simulate for rods that declare their own `elements`.
+
+def test_set_elements_applies_to_rods_with_their_own_mesh():
+    """beam-oscillation.toml declares right.elements = 8.  Reference for the effect: the first
+    frequency converges like h^2 (README), so 4 and 32 elements differ."""
+    f = str(STRUCTURES / "beam-oscillation.toml")
+    for n in (4, 32):
+        code, out, err = cli("modes", f, "--set", f"elements={n}", "--json", "--quiet")
+        assert code == 0, err
+        assert '"elements": {"right": %d}' % n in out
+    code, out, err = cli("modes", f, "--set", "elements=32", "--set", "right.elements=16", "--json", "--quiet")
+    assert '"elements": {"right": 16}' in out        # a rod named explicitly keeps its own
+    a = femslide.app.run.run_case(femslide.app.structfile.load(f).for_modes(), {"elements": 4})
+    b = femslide.app.run.run_case(femslide.app.structfile.load(f).for_modes(), {"elements": 32})
+    assert a["frequencies_hz"][0] != b["frequencies_hz"][0]
+    code, out, err = cli("simulate", f, "--set", "elements=4", "--set", "simulate.t_end=0.02", "--json", "--quiet")
+    assert code == 0, err
+    assert '"elements": {"right": 4}' in out
