@@ -392,3 +392,71 @@ def test_set_elements_applies_to_rods_with_their_own_mesh():
     code, out, err = cli("simulate", f, "--set", "elements=4", "--set", "simulate.t_end=0.02", "--json", "--quiet")
     assert code == 0, err
     assert '"elements": {"right": 4}' in out
+
+
+# -- a release that only the stiffest parts can follow ------------------------------------------------------
+# Before: initial = {body = "deck", rotation = -0.01} on a frame welded at its bases and to its deck ran
+# 110 s and failed (Newton at t = 0.045 s, step 3.4e-13 s).
+
+WELDED_FRAME = """
+gravity = [0.0, -9.81]
+[[rod]]
+name = "left"
+start = [0.0, 0.0]
+end = [0.0, 3.0]
+EI = 2e6
+[[rod]]
+name = "right"
+start = [2.0, 0.0]
+end = [2.0, 3.0]
+EI = 2e6
+rhoA = 12.0
+[[body]]
+name = "deck"
+mass = 500.0
+centroid = [1.0, 3.5]
+outline = [[0.0, 3.0], [2.0, 3.0], [2.0, 4.0], [0.0, 4.0]]
+[[joint]]
+name = "A1"
+type = "weld"
+a = "left.start"
+b = "ground"
+[[joint]]
+name = "B1"
+type = "weld"
+a = "right.start"
+b = "ground"
+[[joint]]
+name = "A"
+type = "weld"
+a = "left.end"
+b = "deck"
+[[joint]]
+name = "B"
+type = "weld"
+a = "right.end"
+b = "deck"
+[simulate]
+t_end = 3.0
+initial = {body = "deck", rotation = -0.01}
+"""
+
+
+def test_release_too_fast_to_follow_is_bad_input_at_once(tmp_path):
+    """The deck, held turned on columns welded to it, rocks on the columns' axial stiffness (EA =
+    1e6 EI): closed form sqrt(2 EA a^2 / (l J)) / (2 pi) = 12.7 kHz (a = 1 m each side, l = 3 m, J =
+    m (2^2 + 1^2) / 12 the deck's inertia); the message's frequency within 5 % (the columns' bending
+    and mass).  Exit 2 naming initial, within seconds."""
+    import re
+    import time
+    f = tmp_path / "frame.toml"
+    f.write_text(WELDED_FRAME)
+    t0 = time.perf_counter()
+    code, out, err = cli("simulate", f, "--quiet")
+    assert time.perf_counter() - t0 < 30
+    assert code == 2, err
+    clean(err, "initial", "a displacement u of a body")
+    got = float(re.search(r"a mode of ([0-9.e+]+) Hz", err).group(1))
+    J = 500.0 * (2.0 ** 2 + 1.0 ** 2) / 12.0
+    ref = (2 * 2e12 * 1.0 ** 2 / (3.0 * J)) ** 0.5 / (2 * 3.141592653589793)
+    assert abs(got / ref - 1) < 0.05
