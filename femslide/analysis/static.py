@@ -138,6 +138,7 @@ class Solution:
     watched: np.ndarray
     raw_values: bool = False
     _result: dict | None = None
+    notes: list = None      # what the user must know about its accuracy (an output at its round-off floor)
 
     @property
     def model(self):
@@ -222,6 +223,7 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
         return lv._watched
 
     raw_values = False
+    notes = []
     if uniform:
         fine = level(elements)
         coarse, err = None, None
@@ -248,6 +250,7 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
         n = p0
         ext = []
         prev_raw = None
+        history = []     # the extrapolated estimates of every level
         fine = level(n)
         while True:
             coarse, fine = fine, level(2 * n)
@@ -292,10 +295,28 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
                         raw_values = True
                         break
             prev_raw = raw
+            if len(ext) >= 2:
+                history.append(errs)
+                floor = _estimate_floor(history, settled, 2 * n)
+                if floor is not None:
+                    # the unsettled outputs' extrapolated estimates stopped shrinking: their round-off floor
+                    # (forces that hang on a huge EA between rods, say); refining further only adds noise
+                    k, est = floor
+                    name = _output_name(watch, fine, fs, k)
+                    if est > FLOOR_LIMIT:
+                        raise SolverFailure(f"the mesh refinement cannot make {name} accurate: its estimated "
+                                            f"relative error stays at {est:.2g} from {2 * n // 4} to {2 * n} "
+                                            f"elements per rod (round-off of the stiff terms)")
+                    notes.append(f"{name} is determined only to about {est:.1g} (relative; the target "
+                                 f"{target:g} is met by the other results): its estimate stopped shrinking at "
+                                 f"{2 * n} elements per rod, the round-off floor of the stiff terms")
+                    break
             if 2 * n >= N_MAX:
+                k = int(np.argmax(np.where(settled, 0.0, errs)))
+                name = _output_name(watch, fine, fs, k)
                 raise SolverFailure(f"the mesh refinement reached {2 * n} elements per rod without meeting "
-                                    f"the error target {target:g} (estimate {err:.3g}); fix a mesh with "
-                                    f"`elements` to accept a coarser answer")
+                                    f"the error target {target:g}: {name} is estimated accurate to "
+                                    f"{float(errs[k]):.3g}; fix a mesh with `elements` to accept a coarser answer")
             n *= 2
         if raw_values:
             coarse = None
@@ -308,4 +329,36 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
                                 f"mesh is determined only to {scatter:.2g} (relative) by the stiff axial terms "
                                 f"(EA/EI of the rods, element length); use fewer elements (or the adaptive default)")
     watched = values(fine)[0] if coarse is None else (4.0 * values(fine)[0] - values(coarse)[0]) / 3.0
-    return Solution(err, its[0], fine, coarse, state["path"], watched, raw_values)
+    return Solution(err, its[0], fine, coarse, state["path"], watched, raw_values, notes=notes)
+
+
+FLOOR_LIMIT = 1e-4   # an output whose estimate stalls above this is refused (exit 1), below it reported
+FLOOR_FROM = 64      # elements per rod from which a stalled estimate counts as a round-off floor
+
+
+def _estimate_floor(history, settled, n):
+    """(output, estimate) when every unsettled output's extrapolated error estimate has stopped
+    shrinking - none of the last two levels brought it below half its best earlier value - on meshes of
+    at least FLOOR_FROM elements per rod; else None.  (A discretisation error shrinks like h^4 after
+    extrapolation; round-off does not.)"""
+    if n < FLOOR_FROM or len(history) < 3 or settled.all():
+        return None
+    H = np.array(history)
+    best = H[:-2].min(axis=0)
+    stuck = (H[-1] > 0.5 * best) & (H[-2] > 0.5 * best)
+    if not np.all(settled | stuck):
+        return None
+    est = np.where(settled, 0.0, np.maximum(H[-1], H[-2]))
+    k = int(np.argmax(est))
+    return k, float(est[k])
+
+
+def _output_name(watch, level, fs, k):
+    """The dotted name of watched output k (default watch), else 'watched result k'."""
+    from femslide.analysis.refine import default_watch
+    if watch is default_watch:
+        from femslide.results.static import flatten_names
+        names = flatten_names(level.res, fs)
+        if k < len(names):
+            return names[k]
+    return f"watched result {k}"

@@ -8,7 +8,7 @@
     femslide modes FILE.toml [--count N] [--set NAME=VALUE]... [--json] [--out DIR]
     femslide mesh SCENE [--set NAME=VALUE]... [--out FILE]
     femslide show RESULT.vtu|RESULT.pvd [--frame K] [--screenshot FILE.png]
-                  [--diagram M|V|N] [--scale K] [--magnify K]
+                  [--diagram M|V|N] [--scale K] [--magnify K] [--units N|kN] [--no-loads]
     femslide init SCENE [DIR]
     femslide --version
 
@@ -142,6 +142,10 @@ def _build_parser() -> argparse.ArgumentParser:
                          "|value| of the series drawn at 15%% of the structure's size")
     sh.add_argument("--magnify", type=float, default=1.0, metavar="K",
                     help="multiply the displacements by K (default 1; the undeformed shape is drawn grey)")
+    sh.add_argument("--units", choices=("N", "kN"), default="N",
+                    help="forces in N or kN, moments in N m or kN m (colour bar, labels, arrows; default N)")
+    sh.add_argument("--no-loads", action="store_true",
+                    help="leave out the load and reaction arrows (drawn with their values by default)")
     it = sub.add_parser("init", help="copy a scene's template file (and its mesh) to edit",
                         description="Copy the template of a built-in scene into DIR: its scene file NAME.toml "
                         "and the reference mesh it names, or with structures/NAME the scene declared as a "
@@ -291,7 +295,7 @@ def _show(args):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         info = render(args.result, screenshot=args.screenshot, frame=args.frame, diagram=args.diagram,
-                      scale=args.scale, magnify=args.magnify)
+                      scale=args.scale, magnify=args.magnify, units=args.units, loads=not args.no_loads)
     for w in caught:   # the picture's notes (lift-off, below ground) as plain messages
         print(f"femslide: note: {w.message}", file=sys.stderr)
     if args.screenshot:

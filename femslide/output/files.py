@@ -53,14 +53,14 @@ def write_frames(frames, out_dir, name) -> list[str]:
     """The PVD series of a motion's states (femslide.output.vtu.write_series): every frame with the
     names of the rods and bodies, the joints' field data at its state (femslide.output.vtu.joint_data)
     and the frame's own values (which win over those: e.g. a run's own ``units`` text)."""
-    from femslide.output.vtu import describe, joint_data, mesh_data, write_series
+    from femslide.output.vtu import describe, joint_data, load_data, mesh_data, write_series
     model = frames.model
     names = describe(model)
 
     def series():
         for t, y, alpha, values in frames.states:
             points, cells, pdata, cdata = mesh_data(model, y, alpha, cuts=element_cuts(model, y, alpha))
-            yield t, points, cells, pdata, cdata, {**names, **joint_data(model, y), **values}
+            yield t, points, cells, pdata, cdata, {**names, **joint_data(model, y), **load_data(model, y), **values}
     return write_series(series(), out_dir, name)
 
 

@@ -261,6 +261,35 @@ def joint_data(model, y) -> dict:
             "joint_inward": inward}
 
 
+def load_data(model, y) -> dict:
+    """Field data of the point loads (dead loads of type force, SI units): ``load_names``,
+    ``load_position`` and ``load_reference`` (x, y, 0) [m] (the point of application now and in the
+    reference state) and ``load_force`` (Fx [N], Fy [N], M [N m]); empty without point loads (the
+    distributed loads are the cell data ``distributed_load``)."""
+    fs = model.structure
+    L = model.Lref
+    q = y[:model.n_q]
+    names, pos, ref, force = [], [], [], []
+    for ld in fs.loads:
+        if ld.type != "force":
+            continue
+        r, _ = fs.refs[ld.name]
+        at0 = np.asarray(ld.at, float)
+        if r.kind == "body":
+            at = model.body_point(r.name, q, at0)
+        else:
+            nd = model.node(r.name, r.end)
+            at = (model.X0[nd] + model.nodal(q)[nd, :2]) * L
+        names.append(ld.name)
+        pos.append((at[0], at[1], 0.0))
+        ref.append((at0[0], at0[1], 0.0))
+        force.append((ld.force[0], ld.force[1], ld.moment))
+    if not names:
+        return {}
+    return {"load_names": names, "load_position": np.array(pos), "load_reference": np.array(ref),
+            "load_force": np.array(force)}
+
+
 def describe(model) -> dict:
     """Text field data of every VTU: units, conventions, names of the rods and bodies."""
     fs = model.structure
@@ -335,6 +364,7 @@ def write_static(sol, out_dir, name, extra=None) -> list[str]:
         fd.update(_flat_numbers(extra))
     fd.update(describe(model))
     fd.update(joint_data(model, lv.y))
+    fd.update(load_data(model, lv.y))
     os.makedirs(out_dir, exist_ok=True)
     path = os.path.join(out_dir, f"{name}.vtu")
     _write_vtu(path, points, cells, point_data, cell_data, fd)
