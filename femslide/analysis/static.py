@@ -335,14 +335,14 @@ FLOOR_FROM = 64      # elements per rod from which a stalled estimate counts as 
 
 def _estimate_floor(history, settled, n):
     """(output, estimate) when every unsettled output's extrapolated error estimate has stopped
-    shrinking - none of the last two levels brought it below half its best earlier value - on meshes of
-    at least FLOOR_FROM elements per rod; else None.  (A discretisation error shrinks like h^4 after
-    extrapolation; round-off does not.)"""
+    shrinking - neither of the last two levels brought it below half its value of the level before
+    them - on meshes of at least FLOOR_FROM elements per rod; else None.  (A discretisation error
+    shrinks by 4 to 16 a level; round-off does not.)"""
     if n < FLOOR_FROM or len(history) < 3 or settled.all():
         return None
     H = np.array(history)
-    best = H[:-2].min(axis=0)
-    stuck = (H[-1] > 0.5 * best) & (H[-2] > 0.5 * best)
+    before = H[-3]
+    stuck = (H[-1] > 0.5 * before) & (H[-2] > 0.5 * before)
     if not np.all(settled | stuck):
         return None
     # at the floor the extrapolated values scatter by the change itself, not by 1/15 of it (the factor
