@@ -96,15 +96,14 @@ def arrows(fr, units: str = "N", size: float | None = None):
         if not q.size or not np.any(q):
             continue
         X = np.asarray(r["X"], float)
-        # one arrow at every k-th node of the loaded elements, one label at the middle
+        # one arrow at every k-th node of the loaded elements, the one nearest the middle labelled
         k = max(1, (len(X) - 1) // 6)
         qmax = q[np.argmax(np.hypot(q[:, 0], q[:, 1]))]
-        for i in range(0, len(X), k):
-            e = min(i, len(q) - 1)
-            if np.any(q[e]):
-                arrow("distributed", X[i], q[e], None)
-        mid = len(X) // 2
-        arrow("distributed", X[mid], qmax, f"{r['name']}: q = {value_text(float(np.hypot(*qmax)), 'N/m', units)}")
+        stations = [i for i in range(0, len(X), k) if np.any(q[min(i, len(q) - 1)])]
+        mid = min(stations, key=lambda i: abs(i - (len(X) - 1) / 2))
+        for i in stations:
+            label = f"{r['name']}: q = {value_text(float(np.hypot(*qmax)), 'N/m', units)}" if i == mid else None
+            arrow("distributed", X[i], q[min(i, len(q) - 1)], label)
     for j in fr["joints"]:
         if not j["ground"] or not np.all(np.isfinite(j["force"])):
             continue
