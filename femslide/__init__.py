@@ -76,9 +76,19 @@ def load(path: str) -> Structure:
     return _load(path).structure
 
 
+def _check_target(command, target):
+    """BadInput unless ``target`` is something :func:`solve` / :func:`simulate` can run."""
+    from femslide.model.frozen import Frozen
+    if isinstance(target, (Structure, Frozen, os.PathLike)) or (isinstance(target, str) and target):
+        return
+    raise BadInput(f"{command}: target {target!r} ({type(target).__name__}); allowed: a femslide.Structure, "
+                   f"a structure or scene file path, or a built-in scene name (femslide.list_scenes())")
+
+
 def _run(command, target, params):
     from femslide.app.run import load_target, run_case
     from femslide.model.frozen import Frozen
+    _check_target(command, target)
     if isinstance(target, (Structure, Frozen)):   # solve (simulate takes structures in app.api.run_api)
         from femslide.app.structfile import apply
         s = target if isinstance(target, Structure) else None
@@ -170,6 +180,7 @@ def simulate(target: Target, **params: Any) -> Result:
         The integration failed (scenes: or its energy balance is worse than 1e-6).
     """
     from femslide.model.frozen import Frozen
+    _check_target("simulate", target)
     if isinstance(target, (Structure, Frozen)) or (isinstance(target, (str, os.PathLike))
                                                    and str(target).endswith(".toml")
                                                    and _is_structure_file(str(target))):

@@ -22,7 +22,12 @@ def test_docs_build_without_warnings(tmp_path):
     assert r.returncode == 0, (r.stdout + r.stderr)[-4000:]
     api = (out / "api.html").read_text(encoding="utf-8")
     for name in ("femslide.Structure", "femslide.solve", "femslide.simulate", "femslide.sweep",
-                 "femslide.load", "femslide.Result", "to_dataframe", "history"):
+                 "femslide.load", "femslide.Result", "to_dataframe", "history", "femslide.plot",
+                 "femslide.output.vtu.read"):
         assert f'id="{name}' in api or name in api, name
     for page in ("index.html", "guide.html", "examples.html"):
         assert (out / page).is_file()
+    # the examples page shows the pictures its scripts write (issue 25: it had none)
+    examples = (out / "examples.html").read_text(encoding="utf-8")
+    for png in ("example-ei-sweep.png", "example-hysteresis.png", "example-frame-M.png"):
+        assert png in examples and (out / "_images" / png).is_file(), png

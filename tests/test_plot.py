@@ -214,21 +214,21 @@ def friction_series(tmp_path_factory):
 
 
 def test_pvd_colour_range_is_global(friction_series):
-    """The colour range of a series is min/max over all its frames (read here with meshio)."""
-    import meshio
-
+    """The colour range of a series is min/max over all its frames (read here with meshio, through
+    femslide's reader for the text arrays)."""
     from femslide.output.show import value_range
     from femslide.output.vtu import pvd_frames
+    from femslide.output.vtu import read as meshio_read
     lo, hi = math.inf, -math.inf
     for _, f in pvd_frames(str(friction_series)):
-        m = meshio.read(f)
+        m = meshio_read(f)
         part = np.concatenate([np.asarray(p).ravel() for p in m.cell_data["part"]])
         conn = np.concatenate([c.data for c in m.cells if c.type == "line"])[:(part == 0).sum()]
         M = m.point_data["bending_moment"][np.unique(conn)]
         lo, hi = min(lo, M.min()), max(hi, M.max())
     got = value_range(str(friction_series))
     assert got[1] == pytest.approx(hi, rel=1e-12) and got[0] == pytest.approx(lo, abs=1e-9 * hi)
-    last = meshio.read(pvd_frames(str(friction_series))[-1][1])
+    last = meshio_read(pvd_frames(str(friction_series))[-1][1])
     assert np.ptp(last.point_data["bending_moment"]) < hi - lo   # one frame alone spans less
 
 
@@ -291,8 +291,6 @@ def test_show_series_colour_range_is_global(friction_series):
     assert r.returncode == 0, r.stderr
     clim = json.loads(r.stdout.strip().splitlines()[-1])
     assert clim == pytest.approx(list(value_range(str(friction_series))), rel=1e-12)
-    import meshio
-
-    from femslide.output.vtu import pvd_frames
-    M0 = meshio.read(pvd_frames(str(friction_series))[0][1]).point_data["bending_moment"]
+    from femslide.output.vtu import pvd_frames, read
+    M0 = read(pvd_frames(str(friction_series))[0][1]).point_data["bending_moment"]
     assert np.ptp(M0) < 0.9 * (clim[1] - clim[0])   # not frame 0's own range

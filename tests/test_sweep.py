@@ -226,7 +226,7 @@ def test_dask_relative_paths_are_made_absolute(tmp_path, monkeypatch):
     assert code == 0, err
     rows = json.loads(out)
     assert all(r["converged"] for r in rows) and any(r["w_max"] > 0 for r in rows)  # the record moved it
-    assert sorted(os.listdir(here / "rel")) == ["case_000", "case_001", "sweep.jsonl"]
+    assert sorted(os.listdir(here / "rel")) == ["case_000", "case_001", "sweep.jsonl", "sweep.lock"]
     assert (here / "rel" / "case_000" / "result.json").is_file()
     assert not list(elsewhere.iterdir())
     rec = [json.loads(line) for line in (here / "rel" / "sweep.jsonl").read_text().splitlines()]

@@ -1,7 +1,9 @@
 """VTU output (femslide/output/vtu.py), exercised as a user does: ``python -m femslide solve SCENE --out DIR`` in
 a subprocess, then the file read back with pyvista.  Checks the mesh layout (one line cell per element,
 a polygon for the body), the arrays and their SI units, the deformed geometry, the sign conventions of
-the moment and the forces (against statics), and the VTU + PVD series writer.
+the moment and the forces (against statics), and the VTU + PVD series writer.  The files hold the
+reference points and the ``displacement`` (ParaView's convention); the geometric checks here move the
+points to the deformed state first.
 """
 from __future__ import annotations
 
@@ -40,8 +42,22 @@ def solve(scene, out, *sets):
 
 
 def read(path):
+    """The VTU with pyvista, its points moved to the deformed state: the file holds the reference
+    points and the displacement (ParaView's convention: Warp By Vector draws the deformed state)."""
     pv = pytest.importorskip("pyvista")
-    return pv.read(str(path))
+    g = pv.read(str(path))
+    assert "reference" in str(g.field_data["points"][0])
+    g.points = g.points + g.point_data["displacement"]
+    return g
+
+
+def read_meshio(path):
+    """The VTU with femslide's reader (meshio underneath; meshio 5 alone cannot read the text arrays),
+    its points moved to the deformed state."""
+    from femslide.output.vtu import read as read_vtu
+    m = read_vtu(str(path))
+    m.points = m.points + m.point_data["displacement"]
+    return m
 
 
 def check_layout(g, n_elements, body):
@@ -187,11 +203,9 @@ def test_series_round_trips_through_pvd(tmp_path):
 def test_static_vtu_field_data_units_conventions_joints(tmp_path):
     """Units, conventions and names as text; the joints' types, positions, axes and forces as arrays;
     checked against the sidecar (this mesh's results) and the geometry of the deck."""
-    import meshio
-
     from femslide.output.vtu import text
     res, path = solve("beam-slider", tmp_path, "n_elements=16")
-    m = meshio.read(path)
+    m = read_meshio(path)
     fd = m.field_data
     units, conv = text(fd, "units"), text(fd, "conventions")
     for word in ("displacement: m", "bending_moment: N m", "axial_force: N", "rotation: rad"):
@@ -221,8 +235,6 @@ def test_static_vtu_field_data_units_conventions_joints(tmp_path):
 def test_dynamic_frames_carry_time_and_global_values(tmp_path):
     """Every frame of a simulate series: its time (= the .pvd timestep), phi, F2, slide ... (= the
     history.csv row at that time), units; the telescopic guide link reaches the rod's top end."""
-    import meshio
-
     from femslide.output.vtu import pvd_frames, text
     env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
     r = subprocess.run([sys.executable, "-m", "femslide", "simulate", "beam-friction", "--set", "t_end=0.4",
@@ -233,7 +245,7 @@ def test_dynamic_frames_carry_time_and_global_values(tmp_path):
     frames = pvd_frames(str(tmp_path / "beam-friction.pvd"))
     assert len(frames) >= 10
     for t, f in frames:
-        m = meshio.read(f)
+        m = read_meshio(f)
         fd = m.field_data
         assert float(fd["time"][0]) == t
         row = H[np.argmin(np.abs(H[:, 0] - t))]

@@ -132,6 +132,7 @@ def cases():
         add("end time t_end", "simulate", scene, t_end=tl)
     _issue12_cases(add)
     _fe_dynamics_cases(add)
+    _issue25_cases(add)
     g = "FE dynamics (scenes)"   # beam-oscillation, beam-friction on the FE transient (issue 21)
     for scene in ("beam-oscillation", "beam-friction"):
         add(g, "simulate", scene)
@@ -247,6 +248,84 @@ def _fe_dynamics_cases(add):
     add(g, "simulate", belt, **{"simulate.t_end": 1e4})    # exit 2 (t_end)
 
 
+def _issue25_files():
+    """Structure files of issue 25's group (written once into $TMPDIR, next to the records)."""
+    import femslide
+    import random_structures as rs
+    from femslide.app.structfile import dumps
+    RECORDS.mkdir(exist_ok=True)
+    files = {}
+    base = (ROOT / "meshes" / "structures" / "beam-slider.toml").read_text()
+    for name, text in (
+            ("bom.toml", None),
+            ("deep.toml", "x = " + "[" * 5000 + "]" * 5000 + "\n"),
+            ("stub.toml", base.replace('[[body]]', '[[rod]]\nname = "stub"\nstart = [2.0, 3.0]\n'
+                                       'end = [2.0, 3.000000000001]\nEI = 1e6\n\n[[joint]]\nname = "ws"\n'
+                                       'type = "weld"\na = "stub.start"\nb = "right.end"\n\n[[body]]', 1)),
+            ("welds.toml", base.replace('[[joint]]\nname = "B1"', '[[joint]]\nname = "B0"\ntype = "weld"\n'
+                                        'a = "right.start"\nb = "ground"\n\n[[joint]]\nname = "B1"', 1)
+             .replace('name = "B1"\ntype = "pin"', 'name = "B1"\ntype = "weld"', 1))):
+        f = RECORDS / name
+        if name == "bom.toml":
+            f.write_bytes(b"\xef\xbb\xbf" + base.encode())
+        else:
+            f.write_text(text)
+        files[name] = str(f)
+    for seed in (35, 183):
+        f = RECORDS / f"random{seed}.toml"
+        f.write_text(dumps(rs.structure(seed), header=f"validation/random_structures.py structure({seed})"))
+        files[f"random{seed}"] = str(f)
+    f = RECORDS / "welded_frame.toml"
+    from test_bad_inputs import WELDED_FRAME
+    f.write_text(WELDED_FRAME)
+    files["welded frame"] = str(f)
+    f = RECORDS / "nan.AT2"
+    t = np.arange(0.0, 2.0, 0.01)
+    g = 0.1 * np.sin(2 * np.pi * t)
+    rows = ["  ".join(f"{x: .7E}" for x in g[i:i + 5]) for i in range(0, g.size, 5)]
+    rows[7] = rows[7].replace(rows[7].split()[2], "NaN")
+    f.write_text(f"PEER NGA\nsynthetic\nACCELERATION IN G\nNPTS= {t.size}, DT= 0.0100 SEC\n" + "\n".join(rows) + "\n")
+    files["nan.AT2"] = str(f)
+    s = femslide.Structure(gravity=(0.0, -9.81))     # the README's portal frame with its sliding clamp
+    s.rod("left", start=(0, 0), end=(0, 4), EI=1.2e7)
+    s.rod("right", start=(6, 0), end=(6, 4), EI=1.2e7)
+    s.rod("beam", start=(0, 4), end=(6, 4), EI=4e7, rhoA=60.0)
+    s.weld("A", a="left.start", b="ground")
+    s.weld("B", a="right.start", b="ground")
+    s.weld("corner", a="beam.start", b="left.end")
+    s.slider("bearing", a="right.end", b="beam.end", axis=(1, 0))
+    s.distributed("roof", on="beam", force=(0.0, -8000.0))
+    s.force("wind", on="left.end", force=(6000.0, 0.0))
+    f = RECORDS / "portal.toml"
+    f.write_text(dumps(s))
+    files["portal"] = str(f)
+    return files
+
+
+def _issue25_cases(add):
+    """Issue 25's bad inputs and false failures (each must end right: solved and checked by global
+    statics, or exit 2 naming what is wrong (``_named``), or exit 1 with its reason), and the
+    structures that used to fail falsely."""
+    g = "issue 25 inputs"
+    fl = _issue25_files()
+    add(g, "solve", fl["bom.toml"])                                       # a byte order mark: solves
+    add(g, "solve", fl["deep.toml"], _named="nested too deeply")
+    add(g, "solve", fl["stub.toml"], _named="rod stub: length")
+    add(g, "solve", fl["welds.toml"], _named="joints B0, B1 hold the same freedom")
+    add(g, "solve", fl["random183"])                                      # round-off floor: a note, solved
+    add(g, "solve", fl["random35"], _limit=0.832)                         # a real limit point (exit 1)
+    add(g, "solve", fl["portal"])
+    add(g, "solve", fl["portal"], **{"elements": 8, "beam.elements": 16})
+    add(g, "solve", fl["portal"], **{"beam.EI": '"4e7"', "_named": "is text, not a number"})
+    osc = "meshes/structures/beam-oscillation.toml"
+    add(g, "simulate", osc, **{"simulate.ground": '{"direction": [1.0, 0.0], "record": "%s"}' % fl["nan.AT2"],
+                               "simulate.t_end": 0.5, "_named": "line 12"})
+    add(g, "simulate", osc, **{"simulate.ground": '{"direction": [1.0, 0.0], "record": "%s"}'
+                               % _records()["huge values"], "simulate.t_end": 0.5, "_named": "reaches |a|"})
+    add(g, "simulate", fl["welded frame"], _named="initial")
+    add(g, "simulate", "meshes/structures/belt-ex3.toml")
+
+
 # -- running ------------------------------------------------------------------------------------------
 
 def run_case(case):
@@ -341,10 +420,13 @@ def check(row):
     scene, v, r = row["scene"], vals(row), row["json"]
     if row["exit"] is None:
         return "timeout", f"no result within {TIMEOUT:g} s"
+    want = row["set"].get("_named")   # issue 25's cases: the words the message must contain
     if row["exit"] == 2:
         msg = row["stderr"].splitlines()[-1] if row["stderr"] else ""
         named = any(f"parameter {k}" in msg or f"{k} " in msg or f"{k.rsplit('.', 1)[-1]} = " in msg
                     for k in row["set"]) or "parameter" in msg
+        if want is not None:
+            named = want in msg
         if "internal error" in row["stderr"] or "Traceback" in row["stderr"] or "Warning" in row["stderr"]:
             return "internal error", "exit 2 but: " + row["stderr"][-300:]
         return ("failed cleanly" if named else "bad-input message unclear"), "exit 2: " + msg
@@ -352,6 +434,13 @@ def check(row):
         msg = row["stderr"].splitlines()[-1] if row["stderr"] else ""
         if "internal error" in msg or not msg:
             return "internal error", msg or "exit 1 without a reason"
+        if row["set"].get("_limit") is not None:   # a limit point confirmed by displacement control
+            import re
+            m = re.search(r"load factor ([0-9.]+): a limit point", msg)
+            ok = m is not None and abs(float(m.group(1)) - row["set"]["_limit"]) <= 0.01
+            return ("failed cleanly" if ok else "WRONG"), ("exit 1: " + msg[:200] + " (a real limit point: "
+                                                           "validation/test_random_structures.py follows the path "
+                                                           "through it by displacement control)")
         extra = ""
         if scene in ("beam-slider", "beam-fixed"):   # does an equilibrium exist that it missed?
             src, rr = structure_reference("slider" if scene == "beam-slider" else "fixed", v)
@@ -361,13 +450,15 @@ def check(row):
         return "failed cleanly", "exit 1: " + msg + extra
     if row["exit"] != 0 or r is None:
         return "internal error", f"exit {row['exit']}: {row['stderr'][-300:]}"
-    if row["group"] == "bad input":
-        return "WRONG", "bad input accepted (exit 0)"
+    if row["group"] == "bad input" or want is not None or row["set"].get("_limit") is not None:
+        return "WRONG", "bad input accepted or a limit point passed (exit 0)"
     if "Warning" in row["stderr"]:
         return "WRONG?", "exit 0 with warnings on stderr: " + row["stderr"][-300:]
     if not r.get("converged", False):
         return "WRONG", "exit 0 but converged is false"
     try:
+        if scene.endswith(".toml") and row["cmd"] == "solve":
+            return check_structure_file(row, r)
         if scene.endswith(".toml"):
             return check_fe_dynamics(row, r)
         if scene in ("beam-slider", "beam-fixed", "beam-both"):
@@ -390,6 +481,23 @@ def _estimate_ok(err, est, fixed_n):
     if est is not None and err <= 10 * est and err <= 1e-4:
         return "solved (flagged)"
     return None
+
+
+def check_structure_file(row, r):
+    """A structure file's statics: the reactions balance the loads (global statics, exact for dead
+    loads: forces 2e-9 of the largest force; moments too without distributed loads or rod masses;
+    validation/random_structures.balance); the notes are reported."""
+    import femslide
+    import random_structures as rs
+    path = row["scene"] if os.path.isabs(row["scene"]) else str(ROOT / row["scene"])
+    s = femslide.load(path)
+    ef, em = rs.balance(s, r)
+    detail = f"global statics: forces {ef:.1e}, moments {'-' if em is None else f'{em:.1e}'}; " \
+             f"error_estimate {r.get('error_estimate')}"
+    if r.get("notes"):
+        detail += "; notes: " + " / ".join(r["notes"])
+    ok = ef <= 2e-9 and (em is None or em <= 2e-9)
+    return ("solved" if ok else "WRONG"), detail
 
 
 def check_structure(row, v, r):
@@ -658,6 +766,17 @@ def check_fe_dynamics(row, r):
         e = max(abs(a - b) for a, b in zip(st, ref_st)) if len(st) == len(ref_st) else math.inf
         ok = ok and e <= 1e-4
         detail += f"; ends of slip {e:.1e} s from the reduced model's"
+    elif name == "belt-ex3" and not sets:   # paper 003's example 3: the exact oscillator at its defaults
+        import femslide
+        ref = femslide.simulate("sdof-harmonic", t_end=table.get("t_end", 1.5))
+        ev = r["events"]["belt"]
+        ends = [e["t"] for k, e in enumerate(ev) if e["t"] > 0 and (e["kind"] == "stick" or
+                                                                   ev[k - 1]["kind"].startswith("slip"))]
+        exact = [tp["t"] for tp in ref["turning_points"]]
+        e = max((abs(a - b) for a, b in zip(ends, exact)), default=0.0) if len(ends) == len(exact) else math.inf
+        first = next(e["kind"] for e in ev if e["kind"].startswith("slip"))
+        ok = ok and e <= 1e-6 and first == "slip+"
+        detail += f"; {len(ends)} ends of slip, {e:.1e} s from sdof-harmonic's turning points; first {first}"
     elif name.startswith("belt-ex1") and set(sets) <= {"belt.k", "block.mass", "belt.mu", "belt.mu0",
                                                          "simulate.t_end"}:
         import femslide

@@ -31,6 +31,8 @@ G_STANDARD = 9.80665  # m/s^2: PEER NGA records are in units of g
 MAX_ROWS = 1_000_000
 MAX_RECORD_ROWS = 1_000_000       # each row is a segment boundary of the exact oscillator (~20 us each: 20 s)
 MAX_RECORD_BYTES = 64 * 2**20     # a 1e6-row CSV of full-precision numbers is ~40 MB
+MAX_ACCEL = 1e6 * G_STANDARD      # m/s^2: no ground motion comes near 1e6 g; beyond, the inertia loads and
+                                  # energies of the FE dynamics leave the float range (a 1e308 record: NaN)
 
 
 class Record:
@@ -108,10 +110,17 @@ def read_at2(path: str):
     n, dt = int(m_n.group(1)), float(m_dt.group(1))
     if not 1 <= n <= MAX_ROWS or not dt > 0:
         raise BadInput(f"ground record {path}: NPTS = {n}, DT = {dt:g}; allowed: 1 <= NPTS <= {MAX_ROWS}, DT > 0")
-    try:
-        vals = [float(x) for ln in lines[4:] for x in ln.replace(",", " ").split()]
-    except ValueError:
-        raise BadInput(f"ground record {path}: non-numeric data after the header") from None
+    vals = []
+    for lineno, ln in enumerate(lines[4:], 5):
+        for x in ln.replace(",", " ").split():
+            try:
+                v = float(x)
+            except ValueError:
+                raise BadInput(f"ground record {path} line {lineno}: {x[:30]!r} is not a number") from None
+            if not math.isfinite(v):
+                raise BadInput(f"ground record {path} line {lineno}: {x[:30]!r}; allowed: finite accelerations "
+                               f"[g]") from None
+            vals.append(v)
     if len(vals) < n:
         raise BadInput(f"ground record {path}: NPTS = {n} but only {len(vals)} values")
     return [k * dt for k in range(n)], [x * G_STANDARD for x in vals[:n]]
@@ -129,6 +138,8 @@ def parse(spec, base_dir: str = ".", where: str = "simulate.ground") -> Ground |
         raise BadInput(f"{where}: unknown key {bad[0]!r}; allowed: {', '.join(sorted(allowed))}")
     d = spec.get("direction", [1.0, 0.0])
     try:
+        if isinstance(d, str) or any(isinstance(c, (str, bool)) for c in d):
+            raise ValueError
         e = [float(d[0]), float(d[1])]
         if len(d) != 2 or not all(map(math.isfinite, e)) or e == [0.0, 0.0]:
             raise ValueError
@@ -137,6 +148,8 @@ def parse(spec, base_dir: str = ".", where: str = "simulate.ground") -> Ground |
 
     def num(key, default, lo=-math.inf, lo_open=False):
         x = spec.get(key, default)
+        if isinstance(x, (str, bool)):
+            raise BadInput(f"{where}.{key} = {x!r} is not a number; allowed: a number (without quotes)")
         try:
             v = float(x)
         except (TypeError, ValueError):
@@ -156,10 +169,19 @@ def parse(spec, base_dir: str = ".", where: str = "simulate.ground") -> Ground |
             raise BadInput(f"{where}.record: file {path} not found")
         t, a = read_at2(path) if path.upper().endswith(".AT2") else read_csv_record(path)
         scale = num("scale", 1.0)
+        peak = max(abs(x) for x in a) * abs(scale)
+        if not peak <= MAX_ACCEL:
+            i = max(range(len(a)), key=lambda k: abs(a[k]))
+            raise BadInput(f"{where}.record: {path} reaches |a| = {peak:.3g} m/s^2 (scale {scale:g}) at t = "
+                           f"{t[i]:g} s; allowed: |a| <= {MAX_ACCEL:.3g} m/s^2 (1e6 g)")
         return Ground(e, record=Record(t, [x * scale for x in a]))
     if "scale" in spec:
         raise BadInput(f"{where}.scale is for records; a harmonic ground motion has amplitude and frequency")
-    return Ground(e, amplitude=num("amplitude", 1.0), frequency=num("frequency", 2.0, 0.0, lo_open=True))
+    amplitude = num("amplitude", 1.0)
+    if abs(amplitude) > MAX_ACCEL:
+        raise BadInput(f"{where}.amplitude = {amplitude:g} m/s^2; allowed: |amplitude| <= {MAX_ACCEL:.3g} m/s^2 "
+                       f"(1e6 g)")
+    return Ground(e, amplitude=amplitude, frequency=num("frequency", 2.0, 0.0, lo_open=True))
 
 
 def read_csv_record(path: str):

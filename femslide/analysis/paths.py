@@ -161,10 +161,16 @@ def choose_path(model: Model) -> Path:
     if wg[0] >= -gtol:
         part = _mode_part(model, mode)
         pushed = abs(fl @ mode) > 1e-9 * (np.abs(fl).max() + 1e-300) * np.abs(mode).max()
+        # a stiffness above the absolute floor that is null only against the stiffest part: the
+        # contrast, not a free part (a rod 1e-3 of the others' length, EA 1e15 on a short rod)
+        contrast = float(w0[null].max()) > 1e-9
         raise SolverFailure(
             f"mechanism: {part.describe(model.structure)} is free to move (its stiffness is zero with "
             f"and without the loads{'; the loads push it along that freedom' if pushed else ''}); "
-            f"add a joint or a spring that holds it")
+            f"add a joint or a spring that holds it"
+            + (f" - or, if it is held, the stiffest part is over {1.0 / (1e3 * np.finfo(float).eps):.0e} "
+               f"times stiffer than it (beyond double precision): declare a very short or very stiff "
+               f"rod as a rigid body or a weld" if contrast else ""))
     # displacement control on the softest mode: a body rotation if one takes part, else the dof
     # that moves most
     rot_b = [(abs(mode[model.body_dof(b.name) + 2]), b.name) for b in model.structure.bodies]

@@ -91,6 +91,8 @@ class Spec:
 
 
 def _num(where, x, lo, hi, lo_open=False):
+    if isinstance(x, (str, bool)):   # one rule for every number of a file: text and true/false are not numbers
+        raise BadInput(f"{where} = {x!r} is not a number; allowed: a number in [{lo:g}, {hi:g}] (without quotes)")
     try:
         v = float(x)
     except (TypeError, ValueError):
@@ -292,15 +294,19 @@ def _stuck_top(fr, y_s, e_s):
     return float(freq[-1]) if len(freq) else 0.0
 
 
+def steps_per_period(tolerance: float) -> float:
+    """Steps per period of a harmonic motion at the error control's step h = (SAFETY tol / c4)^(1/4) / w
+    (RADAU5's estimate ~ c4 (w h)^4 amp; c4 measured on harmonic motions), with 1.5 for rejected
+    steps and the control's margin."""
+    from femslide.analysis.radau import ORDER, SAFETY
+    return 2 * math.pi * (RADAU_C4 / (SAFETY * tolerance)) ** (1.0 / ORDER) * 1.5
+
+
 def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
     """Bad input (naming t_end and the usable range) when the run would take more than WORK_BUDGET_S
     by the steps its lowest frequency f1 needs; returns the step count allowed at run time (the
     steps of the highest computed frequency f_top, whose modes a release may excite, times 3)."""
-    from femslide.analysis.radau import ORDER, SAFETY
-    # steps per period of a harmonic motion at the error control's step h = (SAFETY tol / c4)^(1/4) / w
-    # (RADAU5's estimate ~ c4 (w h)^4 amp; c4 measured on harmonic motions), with 1.5 for rejected
-    # steps and the control's margin
-    per_period = 2 * math.pi * (RADAU_C4 / (SAFETY * spec.tolerance)) ** (1.0 / ORDER) * 1.5
+    per_period = steps_per_period(spec.tolerance)
     f_forced = spec.ground.frequency if spec.ground is not None and spec.ground.harmonic else 0.0
     periods = spec.t_end * max(f1, f_forced)
     steps = periods * per_period
@@ -358,6 +364,69 @@ def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1):
            "event_times_s": dt / ratio if agree else None, "check_events": sum(len(v) for v in ev_c.values()),
            "energy_balance": res["energy_balance"]}
     return {"error_estimate": max(e_h, e_p), "accuracy": acc}
+
+
+RELEASE_SHARE = 0.1   # a mode that carries this fraction of the start's displacement sets the step size
+
+
+def release_frequency(model, masses, y_s, e_s, y0):
+    """(f [Hz], share): the fastest mode that carries at least RELEASE_SHARE of the displacement of the
+    held start y0 from the static equilibrium y_s (the massive dofs' largest displacement), with that
+    share; None for models above the dense size (modes.DENSE_LIMIT).  The held displacement is split
+    into the modes of the frictionless structure about y_s (dense, every mode); modes with a smaller
+    share (the telescopic piece's 410 kHz axial vibration in section 5.2: 0.25 %) are damped out by the
+    integrator within a few steps and cost nothing."""
+    from scipy.linalg import eigh, null_space
+
+    from femslide.analysis.modes import DENSE_LIMIT, tangent
+    n_q = model.n_q
+    heavy = masses.massive_dofs()
+    dq = y0[:n_q] - y_s[:n_q]
+    A = float(np.abs(dq[heavy]).max()) if heavy.size else 0.0
+    if n_q > DENSE_LIMIT or A == 0.0:
+        return None
+    K, G, _ = tangent(model, y_s, e_s)
+    r, c, v = masses.matrix(y_s[:n_q])
+    M = sp.csc_matrix((v, (r, c)), shape=(n_q, n_q)).toarray()
+    Gd = G.toarray()
+    Z = null_space(Gd) if Gd.shape[0] else np.eye(n_q)
+    Kr, Mr = Z.T @ K.toarray() @ Z, Z.T @ M @ Z
+    try:
+        w, V = eigh(0.5 * (Mr + Mr.T), 0.5 * (Kr + Kr.T))   # w = 1 / omega^2, V^T Kr V = I
+    except np.linalg.LinAlgError:
+        return None
+    keep = w > 1e-14 * max(float(w.max()), 1e-300)
+    w, V = w[keep], V[:, keep]
+    b = V.T @ (Kr @ np.linalg.lstsq(Z, dq, rcond=None)[0])     # the modes' amplitudes
+    shares = np.abs((Z @ (V * b))[heavy]).max(axis=0) / A
+    big = np.nonzero(shares >= RELEASE_SHARE)[0]
+    if big.size == 0:
+        return None
+    k = big[np.argmin(w[big])]
+    return 1.0 / math.sqrt(w[k]) / (2.0 * math.pi), float(shares[k])
+
+
+def check_release(spec: Spec, model, masses, y_s, e_s, y0, f1):
+    """Bad input (naming ``initial``) when the motion released from the held start is too fast to
+    follow for t_end within the work budget: e.g. a deck held at a rotation on columns welded to it
+    and to the ground, which only their axial stiffness lets turn (before: 110 s of steps of 1e-7 s,
+    then a failure).  Returns that frequency [Hz] (0 when it cannot be computed: a large model)."""
+    found = release_frequency(model, masses, y_s, e_s, y0)
+    if found is None:
+        return 0.0
+    f, share = found
+    steps = spec.t_end * f * steps_per_period(spec.tolerance)
+    cost = STEP_SECONDS + STEP_SECONDS_PER_DOF * model.n_q
+    if steps * cost > WORK_BUDGET_S:
+        t_max = spec.t_end * WORK_BUDGET_S / (steps * cost)
+        raise BadInput(f"[simulate] initial = {spec.initial}: released there, the structure moves in a mode of "
+                       f"{f:.4g} Hz ({share:.0%} of the start's displacement; its lowest mode has {f1:.4g} Hz): "
+                       f"holding it there strains its stiffest parts (e.g. the axial stiffness of rods welded "
+                       f"to it), and following that motion for t_end = {spec.t_end:g} s at tolerance "
+                       f"{spec.tolerance:g} takes about {steps:.2g} steps (~{steps * cost:.3g} s); allowed: "
+                       f"an initial state its soft modes reach (a displacement u of a body, a slide), or "
+                       f"t_end <= {t_max:.3g} s")
+    return f
 
 
 def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
@@ -434,8 +503,11 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             # stuck phases may be much stiffer (a massless rod clamped in its guide must stretch):
             # the run-time step allowance follows the highest frequency of either
             f_ref[1] = max(f_ref[1], _stuck_top(fr, y_s, e_s))
-    max_steps = check_work(spec, f_ref[0], model.n_q, f_ref[1])
+    check_work(spec, f_ref[0], model.n_q, f_ref[1])
     y0, e0 = (y_s, e_s) if spec.initial is None else _held_start(fs, counts, L, F, y_s, e_s, spec.initial)
+    if spec.initial is not None:   # the released motion may be much faster than the lowest mode
+        f_ref[1] = max(f_ref[1], check_release(spec, model, masses, y_s, e_s, y0, f_ref[0]))
+    max_steps = check_work(spec, f_ref[0], model.n_q, f_ref[1])
     fric_names = {j.name for j in fric_joints}
 
     def forces(y, n, fr):
@@ -579,6 +651,10 @@ def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
     freq, shapes = modes(model, y, elements, masses, count)
     res = {"converged": True, "frequencies_hz": [float(f) for f in freq],
            "periods_s": [float(1.0 / f) for f in freq], "elements": {r.name: r.elements for r in fs.rods}}
+    if len(freq) < count:   # fewer motions with mass than asked for: say so rather than pad or hide it
+        res["notes"] = [f"{len(freq)} of the {count} modes asked for: the structure has no more motions "
+                        f"with mass (its massless parts - rods with rhoA = 0, rotations of bodies without "
+                        f"inertia - follow the masses quasi-statically)"]
 
     res["wall_time_s"] = time.perf_counter() - t0
     return Outcome(res, name, modes=ModeShapes(model, y, elements.committed, list(freq), shapes))

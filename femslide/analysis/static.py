@@ -42,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from femslide.analysis import redundancy
 from femslide.analysis.paths import N_START, Path, check_stable, choose_path, solve_level
 from femslide.analysis.refine import (
     Level,
@@ -61,6 +62,7 @@ from femslide.results.static import unflatten
 
 TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (10x below 1e-6)
 N_MAX = 4096
+MULT_MAX = 64     # the most elements per level on a long rod for one on the shortest adaptive rod
 N_DIRECT = 16     # meshes finer than this start from the interpolated solution of the coarser one
 ROUNDOFF_LIMIT = 1e-3  # relative round-off scatter of the largest moment above which a result is refused
 
@@ -90,11 +92,18 @@ def scales(fs: Frozen):
 # the stiff terms outgrows the answers while the estimates do not notice)
 KAPPA_MAX = 1e15     # EI / (F L^2): bending stiffness against the loads
 EA_RATIO_MAX = 1e14  # EA L^2 / EI (L: the model length unit)
+MIN_LENGTH = 1e-3    # a rod's length against the structure's size: a 3 mm rod on a 3 m column solves,
+                     # 2 mm reads as a mechanism (its stiffness 1e12 times the column's), 1e-12 m asked for
+                     # 1e12 elements
 
 
 def check_stiffness_range(fs: Frozen, L: float, F: float):
     """Bad input (naming the rod and the field) outside the verified stiffness range."""
     for r in fs.rods:
+        if r.length < MIN_LENGTH * L:
+            raise BadInput(f"rod {r.name}: length {r.length:g} m is below {MIN_LENGTH:g} of the structure's "
+                           f"size {L:g} m; allowed: a rod of at least {MIN_LENGTH * L:g} m (a shorter piece is "
+                           f"rigid against the rest beyond double precision: make it part of a body or a joint)")
         EI = max(r.EI.value) if not isinstance(r.EI, float) else r.EI
         EA = max(r.EA.value) if not isinstance(r.EA, float) else r.EA
         EImin = min(r.EI.value) if not isinstance(r.EI, float) else r.EI
@@ -129,6 +138,7 @@ class Solution:
     watched: np.ndarray
     raw_values: bool = False
     _result: dict | None = None
+    notes: list = None      # what the user must know about its accuracy (an output at its round-off floor)
 
     @property
     def model(self):
@@ -167,7 +177,9 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
     fixed = {} if uniform else {r.name: r.elements for r in rods if r.elements}
     adaptive = [r for r in rods if r.name not in fixed]
     hmin = min((r.length for r in adaptive), default=1.0)
-    mult = {r.name: (1 if uniform else max(1, round(r.length / hmin))) for r in adaptive}
+    # elements of about one length on every rod, up to MULT_MAX times as many on a long rod as on the
+    # shortest (a rod 1e-12 of the others' length would otherwise ask for 1e12 elements per level)
+    mult = {r.name: (1 if uniform else min(MULT_MAX, max(1, round(r.length / hmin)))) for r in adaptive}
     cache_lv: dict[int, Level] = {}
     its = [0]
     state = {"path": path}
@@ -190,7 +202,9 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
             # mesh, and a fine mesh of a stiff rod (EA L^2/EI ~ 1e9, 64 elements) spreads the
             # tangent's eigenvalues beyond what the round-off test for a null space can separate
             cn = {r.name: min(int(c), N_START) for r, c in zip(rods, counts(n).values())}
-            state["path"] = choose_path(model if cn == counts(n) else Model(fs, cn, Lref, Fref, cache))
+            coarse = model if cn == counts(n) else Model(fs, cn, Lref, Fref, cache)
+            redundancy.check(coarse)
+            state["path"] = choose_path(coarse)
         y, es, k = solve_level(model, state["path"], start)
         if not cache_lv:
             check_stable(model, y, es)
@@ -209,6 +223,7 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
         return lv._watched
 
     raw_values = False
+    notes = []
     if uniform:
         fine = level(elements)
         coarse, err = None, None
@@ -235,6 +250,7 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
         n = p0
         ext = []
         prev_raw = None
+        history = []     # the extrapolated estimates of every level
         fine = level(n)
         while True:
             coarse, fine = fine, level(2 * n)
@@ -279,10 +295,25 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
                         raw_values = True
                         break
             prev_raw = raw
+            if len(ext) >= 2:
+                history.append(errs)
+                floor = _estimate_floor(history, settled, 2 * n)
+                if floor is not None and floor[1] <= FLOOR_LIMIT:
+                    # the unsettled outputs' extrapolated estimates stopped shrinking, and are small: their
+                    # round-off floor (forces that hang on a huge EA between rods, say); refining further
+                    # only adds noise.  (Larger stalled estimates are not yet asymptotic: refine on.)
+                    k, est = floor
+                    name = _output_name(watch, fine, fs, k)
+                    notes.append(f"{name} is determined only to about {est:.1g} (relative; the target "
+                                 f"{target:g} is met by the other results): its estimate stopped shrinking at "
+                                 f"{2 * n} elements per rod, the round-off floor of the stiff terms")
+                    break
             if 2 * n >= N_MAX:
+                k = int(np.argmax(np.where(settled, 0.0, errs)))
+                name = _output_name(watch, fine, fs, k)
                 raise SolverFailure(f"the mesh refinement reached {2 * n} elements per rod without meeting "
-                                    f"the error target {target:g} (estimate {err:.3g}); fix a mesh with "
-                                    f"`elements` to accept a coarser answer")
+                                    f"the error target {target:g}: {name} is estimated accurate to "
+                                    f"{float(errs[k]):.3g}; fix a mesh with `elements` to accept a coarser answer")
             n *= 2
         if raw_values:
             coarse = None
@@ -295,4 +326,38 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
                                 f"mesh is determined only to {scatter:.2g} (relative) by the stiff axial terms "
                                 f"(EA/EI of the rods, element length); use fewer elements (or the adaptive default)")
     watched = values(fine)[0] if coarse is None else (4.0 * values(fine)[0] - values(coarse)[0]) / 3.0
-    return Solution(err, its[0], fine, coarse, state["path"], watched, raw_values)
+    return Solution(err, its[0], fine, coarse, state["path"], watched, raw_values, notes=notes)
+
+
+FLOOR_LIMIT = 1e-4   # a stalled estimate below this is a round-off floor (reported); above, refinement goes on
+FLOOR_FROM = 64      # elements per rod from which a stalled estimate counts as a round-off floor
+
+
+def _estimate_floor(history, settled, n):
+    """(output, estimate) when every unsettled output's extrapolated error estimate has stopped
+    shrinking - neither of the last two levels brought it below half its value of the level before
+    them - on meshes of at least FLOOR_FROM elements per rod; else None.  (A discretisation error
+    shrinks by 4 to 16 a level; round-off does not.)"""
+    if n < FLOOR_FROM or len(history) < 3 or settled.all():
+        return None
+    H = np.array(history)
+    before = H[-3]
+    stuck = (H[-1] > 0.5 * before) & (H[-2] > 0.5 * before)
+    if not np.all(settled | stuck):
+        return None
+    # at the floor the extrapolated values scatter by the change itself, not by 1/15 of it (the factor
+    # of an h^4 convergence): the estimate is the scatter
+    est = np.where(settled, 0.0, 15.0 * np.maximum(H[-1], H[-2]))
+    k = int(np.argmax(est))
+    return k, float(est[k])
+
+
+def _output_name(watch, level, fs, k):
+    """The dotted name of watched output k (default watch), else 'watched result k'."""
+    from femslide.analysis.refine import default_watch
+    if watch is default_watch:
+        from femslide.results.static import flatten_names
+        names = flatten_names(level.res, fs)
+        if k < len(names):
+            return names[k]
+    return f"watched result {k}"

@@ -8,7 +8,7 @@
     femslide modes FILE.toml [--count N] [--set NAME=VALUE]... [--json] [--out DIR]
     femslide mesh SCENE [--set NAME=VALUE]... [--out FILE]
     femslide show RESULT.vtu|RESULT.pvd [--frame K] [--screenshot FILE.png]
-                  [--diagram M|V|N] [--scale K] [--magnify K]
+                  [--diagram M|V|N] [--scale K] [--magnify K] [--units N|kN] [--no-loads]
     femslide init SCENE [DIR]
     femslide --version
 
@@ -142,6 +142,10 @@ def _build_parser() -> argparse.ArgumentParser:
                          "|value| of the series drawn at 15%% of the structure's size")
     sh.add_argument("--magnify", type=float, default=1.0, metavar="K",
                     help="multiply the displacements by K (default 1; the undeformed shape is drawn grey)")
+    sh.add_argument("--units", choices=("N", "kN"), default="N",
+                    help="forces in N or kN, moments in N m or kN m (colour bar, labels, arrows; default N)")
+    sh.add_argument("--no-loads", action="store_true",
+                    help="leave out the load and reaction arrows (drawn with their values by default)")
     it = sub.add_parser("init", help="copy a scene's template file (and its mesh) to edit",
                         description="Copy the template of a built-in scene into DIR: its scene file NAME.toml "
                         "and the reference mesh it names, or with structures/NAME the scene declared as a "
@@ -173,31 +177,35 @@ def _print_scenes(as_json: bool):
 
 
 def _print_result(res: dict):
-    """One line per value; named objects (rods, joints, ...) one line each with their values."""
-    def flat(d, prefix=""):
-        out = []
-        for k, x in d.items():
-            if isinstance(x, dict):
-                out += flat(x, f"{prefix}{k}.")
-            else:
-                out.append(f"{prefix}{k}={_fmt(x)}")
-        return out
+    """One line per value with its SI unit; named objects (rods, joints, ...) one line each with their
+    values; the files written and the notes one per line."""
+    from femslide.app.result import unit_of
+    from femslide.results.outcome import dotted
+
+    def with_unit(path, x):
+        u = unit_of(path) if isinstance(x, (int, float)) and not isinstance(x, bool) else ""
+        return f"{_fmt(x)} {u}" if u else _fmt(x)
+
+    def flat(d, path):
+        return [f"{k}={with_unit(path + '.' + k, x)}" for k, x in dotted(d).items()]
 
     for key, val in res.items():
-        if isinstance(val, dict) and val and all(isinstance(x, dict) for x in val.values()):
-            if not val:
-                continue
+        if key in ("files", "notes") and isinstance(val, list):
+            for item in val:
+                print(f"{key[:-1]:>24}: {item}")
+        elif isinstance(val, dict) and val and all(isinstance(x, dict) for x in val.values()):
             for name, obj in val.items():
-                print(f"{key + '.' + name:>24}: {', '.join(flat(obj))}")
+                print(f"{key + '.' + name:>24}: {', '.join(flat(obj, key + '.' + name))}")
         elif isinstance(val, dict):
             if val:
-                print(f"{key:>24}: {', '.join(flat(val))}")
+                print(f"{key:>24}: {', '.join(flat(val, key))}")
         elif isinstance(val, list) and len(val) <= 20 and all(isinstance(x, (int, float)) for x in val):
-            print(f"{key:>24}: {', '.join(_fmt(x) for x in val)}")
+            u = unit_of(key)
+            print(f"{key:>24}: {', '.join(_fmt(x) for x in val)}" + (f" {u}" if u else ""))
         elif isinstance(val, list):
             print(f"{key:>24}: [{len(val)} entries]")
         else:
-            print(f"{key:>24}: {_fmt(val)}")
+            print(f"{key:>24}: {with_unit(key, val)}")
 
 
 def _solve(args, command):
@@ -287,7 +295,7 @@ def _show(args):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         info = render(args.result, screenshot=args.screenshot, frame=args.frame, diagram=args.diagram,
-                      scale=args.scale, magnify=args.magnify)
+                      scale=args.scale, magnify=args.magnify, units=args.units, loads=not args.no_loads)
     for w in caught:   # the picture's notes (lift-off, below ground) as plain messages
         print(f"femslide: note: {w.message}", file=sys.stderr)
     if args.screenshot:

@@ -12,6 +12,7 @@ import os
 from typing import TYPE_CHECKING
 
 from femslide.errors import BadInput
+from femslide.results.outcome import dotted  # noqa: F401  (the one flattener; app.result.dotted)
 
 if TYPE_CHECKING:
     import pandas
@@ -280,17 +281,6 @@ HISTORY_UNITS = {"t": "s", "w": "m", "v": "m/s", "state": "-", "F": "N", "f": "N
                  "N1": "N", "F2": "N", "N2": "N"}
 
 
-def dotted(obj: dict, prefix: str = "") -> dict:
-    """Nested dicts to one dict with dotted keys; lists are left out (see :meth:`Result.flat`)."""
-    out = {}
-    for k, v in obj.items():
-        if isinstance(v, dict):
-            out.update(dotted(v, f"{prefix}{k}."))
-        elif not isinstance(v, (list, tuple)):
-            out[f"{prefix}{k}"] = v
-    return out
-
-
 def clean(obj):
     """JSON-safe copy: numpy scalars to float, non-finite floats to null, private keys dropped."""
     if isinstance(obj, dict):
@@ -306,6 +296,31 @@ def clean(obj):
     except (TypeError, ValueError):
         return str(obj)
     return x if math.isfinite(x) else None
+
+
+VALUE_UNITS = {"N m": ("M_max", "M", "T", "M_min"),
+         "N": ("Fx", "Fy", "N_max", "V_max", "F2_max", "normal", "friction", "F_ax", "F1", "F2", "N1", "N2",
+               "Fx_min", "Fx_max", "Fy_min", "Fy_max"),
+         "m": ("x", "y", "u", "v", "slide", "slide_min", "slide_max"),
+         "rad": ("theta", "rotation", "phi", "psi", "phi0"),
+         "rad/s": ("rotation_rate", "omega", "phi_dot"),
+         "s": ("wall_time_s", "import_time_s", "integration_time_s", "t_end", "t", "period", "periods_s",
+               "stuck_time"),
+         "Hz": ("frequencies_hz",),
+         "J": ("kinetic", "potential", "dissipated", "work_in", "jump_loss")}
+_UNIT_OF = {k: u for u, keys in VALUE_UNITS.items() for k in keys}
+
+
+def unit_of(path: str) -> str:
+    """The SI unit of a value of a result by its dotted name (``reactions.A1.Fx`` -> "N"), "" for
+    counts, flags and relative values (error_estimate, energy_balance) and where a key means different
+    things (``w`` is a length of the one-mass oscillator, an angle of the structure scenes)."""
+    parts = path.split(".")
+    if parts == ["theta"]:   # the one-mass oscillator's forcing frequency (theta t)
+        return "rad/s"
+    if parts[-1] in ("stop", "turning_points"):
+        return ""
+    return _UNIT_OF.get(parts[-1], "")
 
 
 def fmt(v):

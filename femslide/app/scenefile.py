@@ -94,16 +94,9 @@ def _as_int(x):
 def load(path: str):
     """Read and check a scene file (and its mesh), or a structure file (no ``scene`` key:
     :mod:`femslide.app.structfile`)."""
-    if not os.path.isfile(path):
-        raise BadInput(f"scene file {path} not found")
-    try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise BadInput(f"scene file {path}: malformed TOML: {exc}") from None
-    except UnicodeDecodeError as exc:
-        raise BadInput(f"scene file {path}: not UTF-8 text: {exc}") from None
-    if "scene" not in data and any(k in data for k in ("rod", "body", "joint", "load")):
+    from femslide.app.structfile import read_toml
+    data = read_toml(path, "file")   # a scene file or a structure file: which one is known once read
+    if "scene" not in data and any(k in data for k in ("rod", "body", "joint", "load", "gravity", "simulate")):
         from femslide.app import structfile
         return structfile.load(path, data)
     unknown = [k for k in data if k not in KEYS]

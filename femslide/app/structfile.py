@@ -16,7 +16,8 @@
 The fields and their meaning are those of the Python API (:mod:`femslide.model.structure`); every error
 is bad input naming the file, the entry and the field.  Fields of a file can be overridden by name,
 ``NAME.FIELD=VALUE`` (``right.EI=1e8``, ``wind.force=[100, 0]``, ``gravity=[0, -9.81]``), which is how
-``--set`` and sweeps (``--vary right.EI=1e4,1e6``) address them; ``elements=N`` fixes every rod's mesh.
+``--set`` and sweeps (``--vary right.EI=1e4,1e6``) address them; ``elements=N`` fixes every rod's mesh
+(also of rods that declare their own ``elements``; ``ROD.elements=M`` overrides it for one rod).
 """
 from __future__ import annotations
 
@@ -43,18 +44,33 @@ def is_structure_data(data: dict) -> bool:
     return "scene" not in data
 
 
-def read_toml(path: str) -> dict:
+def read_toml(path: str, what: str = "file") -> dict:
+    """The tables of a TOML file; every problem is bad input naming the file (``what`` says which
+    kind of file it is).  A UTF-8 byte order mark (written by some Windows editors) is skipped."""
     if not os.path.isfile(path):
-        raise BadInput(f"file {path} not found")
+        raise BadInput(f"{what} {path} not found")
     try:
         with open(path, "rb") as fh:
-            return tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise BadInput(f"file {path}: malformed TOML: {exc}") from None
-    except UnicodeDecodeError as exc:
-        raise BadInput(f"file {path}: not UTF-8 text: {exc}") from None
+            raw = fh.read()
     except OSError as exc:
-        raise BadInput(f"file {path}: cannot be read ({exc.strerror})") from None
+        raise BadInput(f"{what} {path}: cannot be read ({exc.strerror})") from None
+    try:
+        return loads_toml(raw.decode("utf-8-sig"))
+    except UnicodeDecodeError as exc:
+        raise BadInput(f"{what} {path}: not UTF-8 text: {exc}") from None
+    except BadInput as exc:
+        raise BadInput(f"{what} {path}: {exc}") from None
+
+
+def loads_toml(text: str) -> dict:
+    """TOML text -> tables; malformed or too deeply nested text is bad input."""
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise BadInput(f"malformed TOML: {exc}") from None
+    except RecursionError:   # arrays or tables nested thousands deep: the parser's stack
+        raise BadInput("malformed TOML: arrays or tables nested too deeply; allowed: a structure or "
+                       "scene file (a few levels of nesting)") from None
 
 
 def parse(data: dict, path: str = "<structure>") -> Structure:
@@ -153,13 +169,17 @@ def parse_value(text):
         return json.loads(t)
     except ValueError:
         pass
+    except RecursionError:
+        raise BadInput(f"value {t[:40]!r}...: nested too deeply; allowed: a number, a list or a table") from None
     if t[:1] and t[0] in "[{":
         try:
-            doc = tomllib.loads("v = " + t)
+            doc = loads_toml("v = " + t)
             if list(doc) == ["v"]:
                 return doc["v"]
-        except tomllib.TOMLDecodeError:
-            pass
+        except BadInput as exc:
+            if "too deeply" in str(exc):
+                raise BadInput(f"value {t[:40]!r}...: nested too deeply; allowed: a number, a list or a "
+                               f"table") from None
     return t
 
 
@@ -180,6 +200,10 @@ def apply(structure: Structure, overrides: dict) -> tuple[Structure, int | None]
             continue
         raise BadInput(f"{name}: a structure file's values are named NAME.FIELD (e.g. right.EI), gravity or "
                        f"elements")
+    if elements is not None:   # every rod's mesh, also of rods that declare their own (but not of a
+        for rod in s.rods:     # rod whose elements are overridden by name too: ROD.elements)
+            if f"{rod}.elements" not in overrides:
+                s.set(f"{rod}.elements", elements)
     return s, elements
 
 

@@ -303,6 +303,36 @@ def _run_dask(scene_name, cases, todo, out_dirs, address, workers):
 
 # -- the sweep -------------------------------------------------------------------------------------------
 
+LOCK = "sweep.lock"
+
+
+def _lock(out):
+    """An exclusive lock on ``out/sweep.lock`` for the whole sweep (released when its file closes, also
+    when the process dies): a second sweep started into the same folder is bad input, instead of both
+    writing every row twice and the same case folders."""
+    fh = open(os.path.join(out, LOCK), "a+")
+    try:
+        try:
+            import fcntl
+            fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except ImportError:   # Windows
+            import msvcrt
+            fh.seek(0)
+            msvcrt.locking(fh.fileno(), msvcrt.LK_NBLCK, 1)
+    except OSError:
+        fh.seek(0)
+        who = fh.read().strip()
+        fh.close()
+        raise BadInput(f"--out {out}: another sweep{f' (process {who})' if who else ''} is writing into this "
+                       f"folder; allowed: one sweep at a time per --out folder (wait for it to finish, then "
+                       f"rerun to add to it, or choose another --out)") from None
+    fh.seek(0)
+    fh.truncate()
+    fh.write(str(os.getpid()))
+    fh.flush()
+    return fh
+
+
 def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, dask=None,
               resume=False, plot=None, quiet=False):
     """Run a sweep from the command line; returns the exit status (0 all converged, 1 a case failed,
@@ -337,8 +367,10 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, 
     rows: list = [None] * n
     statuses: list = [None] * n
     stream = None
+    lock = None
     if out:
         os.makedirs(out, exist_ok=True)
+        lock = _lock(out)
         path = os.path.join(out, JSONL)
         recs = _records(path)
         fixed = _fixed(target, base, name)
@@ -394,6 +426,8 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, 
         bar.close()
         if stream:
             stream.close()
+        if lock is not None:
+            lock.close()   # (closing the file releases the lock)
     if as_json:
         print(json.dumps(rows))
     if plot:

@@ -280,6 +280,9 @@ class Frozen:
             loads.append(Load(ld.name, ld.type, ld.on, F, M, at))
             refs[ld.name] = (ref, None)
 
+        if not rods and not bodies:
+            raise BadInput("the structure declares no rods and no bodies; allowed: at least one rod or "
+                           "body, connected to the ground by a joint")
         fr = Frozen(gravity, tuple(rods), tuple(bodies), tuple(joints), tuple(loads), refs)
         fr._check_connected()
         return fr

@@ -129,8 +129,9 @@ def _num(what, x, lo=-math.inf, hi=math.inf, lo_open=False, allowed=None):
         v = float(x)
         if math.isfinite(v) and (lo < v or (v == lo and not lo_open)) and v <= hi:
             return v
-    if isinstance(x, bool):
-        x = "bool"
+    if isinstance(x, (str, bytes, bool)):   # one rule for every number: text is not a number ("2e6" as "8")
+        raise BadInput(f"{what}: {x!r} is {'true/false' if isinstance(x, bool) else 'text'}, not a number; allowed: "
+                       f"{allowed or _range(lo, hi, lo_open)} (a number, written without quotes)")
     try:
         v = float(x)
     except (TypeError, ValueError, OverflowError):

@@ -85,7 +85,8 @@ def frame_data(source, magnify: float = 1.0, frame: int | None = None) -> dict:
     Returns a dict: ``rods`` [{name, X (drawn nodes), X0 (undeformed), Xt (true deformed), M, V, N
     (nodal values), q (distributed load per element, N/m, global)}], ``bodies`` [{X, X0}] (outline
     polygons), ``links`` [{X, X0}] (rigid links: 2-point lines), ``joints`` [{name, type, ground,
-    X (drawn), axis, force (Fx, Fy, M), inward}], ``values`` (scalar field data: time, phi, ...),
+    X (drawn), axis, force (Fx, Fy, M), inward}], ``loads`` [{name, X (drawn), X0, force (Fx, Fy,
+    M)}] (point loads), ``values`` (scalar field data: time, phi, ...),
     ``name``.
     """
     if not (isinstance(magnify, (int, float)) and math.isfinite(magnify) and magnify >= 0):
@@ -99,10 +100,10 @@ def frame_data(source, magnify: float = 1.0, frame: int | None = None) -> dict:
         raise BadInput("plot: the result has no rods to draw (a spring-hinge or dynamic scene); "
                        "allowed: a result of femslide.solve for a declared structure, a structure file "
                        "or an FE scene, or a .vtu / .pvd file written by femslide")
-    from femslide.output.vtu import describe, joint_data, mesh_data
+    from femslide.output.vtu import describe, joint_data, load_data, mesh_data
     lv = sol.level
     points, cells, point_data, cell_data = mesh_data(lv.model, lv.y, lv.alpha, lv.arrays, lv.cuts)
-    fd = {**describe(lv.model), **joint_data(lv.model, lv.y)}
+    fd = {**describe(lv.model), **joint_data(lv.model, lv.y), **load_data(lv.model, lv.y)}
     name = getattr(source, "get", lambda *_: None)("name")
     return _from_mesh(points, cells, point_data, cell_data, fd, magnify, name)
 
@@ -130,10 +131,13 @@ def _text(fd, key):
 
 def _from_mesh(points, cells, point_data, cell_data, fd, magnify, name, where=None):
     import numpy as np
-    P = np.asarray(points, float)[:, :2]
+    from femslide.output.vtu import reference_points
+    Pin = np.asarray(points, float)[:, :2]
     disp = np.asarray(point_data["displacement"], float)[:, :2] if "displacement" in point_data \
-        else np.zeros_like(P)
-    P0 = P - disp
+        else np.zeros_like(Pin)
+    # the points are the reference configuration (files of earlier versions: the deformed one)
+    P0 = Pin if reference_points(fd) else Pin - disp
+    P = P0 + disp
     Pd = P0 + magnify * disp
     if "part" not in cell_data:
         raise BadInput(f"{where or name}: not a femslide result (no cell data 'part'); allowed: a .vtu written by "
@@ -187,12 +191,21 @@ def _from_mesh(points, cells, point_data, cell_data, fd, magnify, name, where=No
                            "symbol": kind.symbol if kind is not None else None, "ground": bool(gr[i]),
                            "X": ref[i] + magnify * (pos[i] - ref[i]), "X0": ref[i],
                            "axis": ax[i], "force": fo[i], "inward": inw[i]})
+    loads = []
+    if "load_force" in fd:
+        ln = (_text(fd, "load_names") or "").split("\n")
+        pos = np.asarray(fd["load_position"], float).reshape(-1, 3)[:, :2]
+        ref = np.asarray(fd["load_reference"], float).reshape(-1, 3)[:, :2]
+        fo = np.asarray(fd["load_force"], float).reshape(-1, 3)
+        for i in range(len(fo)):
+            loads.append({"name": ln[i] if i < len(ln) else f"load {i}", "X": ref[i] + magnify * (pos[i] - ref[i]),
+                          "X0": ref[i], "force": fo[i]})
     values = {}
     for k, v in fd.items():
         a = np.asarray(v) if not isinstance(v, str) else None
         if a is not None and a.dtype.kind == "f" and a.size == 1:
             values[k] = float(a.ravel()[0])
-    return {"name": name, "rods": out_rods, "bodies": bodies, "links": links, "joints": joints,
+    return {"name": name, "rods": out_rods, "bodies": bodies, "links": links, "joints": joints, "loads": loads,
             "values": values, "magnify": float(magnify)}
 
 
@@ -468,7 +481,8 @@ def warn_notes(found, stacklevel=3):
 # -- matplotlib ----------------------------------------------------------------------------------------
 
 def plot(result, diagram: str = "M", ax=None, scale: float | None = None, magnify: float = 1.0,
-         frame: int | None = None, labels: bool = True, title: str | None = None):
+         frame: int | None = None, labels: bool = True, title: str | None = None, units: str = "N",
+         loads: bool = True):
     """Draw the M, V or N diagram of every rod on the deformed structure (matplotlib); return the Axes.
 
     ``result``: a result of :func:`femslide.solve` with rods (declared structure, structure file, FE
@@ -479,14 +493,22 @@ def plot(result, diagram: str = "M", ax=None, scale: float | None = None, magnif
     unit of the diagram (m per N m, m per N); default: the largest absolute value drawn at 15 % of the
     structure's size, the same scale for every rod.  ``magnify``: factor on the displacements (the
     undeformed shape is drawn in thin grey).  ``ax``: an Axes to draw into (default: a new figure).
+    ``units``: "N" (N, N m, N/m) or "kN" (kN, kN m, kN/m) for every number written.  ``loads``: draw
+    the load and reaction arrows with their values (femslide.output.arrows); the moment in every
+    sliding bearing is written at the bearing.
 
     The Axes gets an attribute ``femslide_diagram``: {``polygons``: {rod: Polygon}, ``extremes``:
     {rod: [(value, Text)]}, ``scale``, ``lift_off``: [(support, reaction along the inward
-    direction, N)], ``below_ground``: m}.  A support resting on the ground that pulls the structure
+    direction, N)], ``below_ground``: m, ``arrows``: [(kind, Annotation)], ``bearings``: [Text]}.
+    A support resting on the ground that pulls the structure
     down adds a red note on the figure and a :class:`LiftOffWarning`; a structure reaching below the
     level ground of its supports a note and a :class:`BelowGroundWarning`.
     """
     import numpy as np
+
+    from femslide.output.arrows import arrows as load_arrows
+    from femslide.output.arrows import bearing_labels, check_units, unit_label, value_text
+    check_units(units)
     try:
         import matplotlib
     except ImportError:  # pragma: no cover - depends on the installation
@@ -528,7 +550,7 @@ def plot(result, diagram: str = "M", ax=None, scale: float | None = None, magnif
             d = Q - P
             nd = math.hypot(*d)
             off = d / nd * 0.02 * size if nd > 0 else np.zeros(2)
-            t = ax.annotate(fmt_value(v, unit), xy=Q, xytext=Q + off, fontsize=8, color="black",
+            t = ax.annotate(value_text(v, unit, units), xy=Q, xytext=Q + off, fontsize=8, color="black",
                             ha="left" if off[0] >= 0 else "right", va="bottom" if off[1] >= 0 else "top",
                             zorder=7, bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": colour,
                                   "lw": 0.5, "alpha": 0.85})
@@ -545,6 +567,24 @@ def plot(result, diagram: str = "M", ax=None, scale: float | None = None, magnif
             ax.plot(*P.T, color=c, lw=0.8, ls="-.", zorder=6)
         else:
             ax.plot(*P.T, color=c, lw=lw, zorder=6 if style != "ground" else 0)
+    drawn = []
+    if loads:
+        colours = {"load": "darkred", "distributed": "darkred", "reaction": "darkgreen"}
+        for a in load_arrows(fr, units):
+            c = colours[a["kind"]]
+            an = ax.annotate("", xy=a["head"], xytext=a["tail"], zorder=7,
+                             arrowprops={"arrowstyle": "-|>", "color": c, "lw": 1.3, "shrinkA": 0, "shrinkB": 0})
+            drawn.append((a["kind"], an))
+            if a["label"]:
+                ax.annotate(a["label"], xy=a["tail"], fontsize=7.5, color=c, ha="center", va="center", zorder=8,
+                            bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": c, "lw": 0.5, "alpha": 0.85})
+            ax.update_datalim(np.array([a["tail"], a["head"]]))
+    bearings = []
+    for P, text in bearing_labels(fr, units):
+        bearings.append(ax.annotate(text, xy=P, xytext=(8, -14), textcoords="offset points", fontsize=8,
+                                    color=(0.15, 0.15, 0.5), zorder=8,
+                                    bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": (0.15, 0.15, 0.5),
+                                          "lw": 0.6, "alpha": 0.9}))
     lifts = lift_off(fr)
     found = notes(fr)
     if found:
@@ -557,10 +597,12 @@ def plot(result, diagram: str = "M", ax=None, scale: float | None = None, magnif
     ax.set_ylabel("y [m]")
     side = "tension side" if diagram == "M" else "positive to the left of start -> end"
     mag = f", displacements x {magnify:g}" if magnify != 1 else ""
+    shown = unit_label(unit, units)
     ax.set_title(title if title is not None else
-                 f"{fr['name'] + ': ' if fr['name'] else ''}{what} [{unit}] ({side}; "
-                 f"scale {k:.3g} m/{unit}{mag})", fontsize=9)
+                 f"{fr['name'] + ': ' if fr['name'] else ''}{what} [{shown}] ({side}; "
+                 f"scale {k / check_units(units):.3g} m/{shown}{mag})", fontsize=9)
     ax.grid(True, lw=0.3, alpha=0.5)
     ax.femslide_diagram = {"polygons": polys, "extremes": exts, "scale": k, "lift_off": lifts,
-                           "below_ground": below_ground(fr), "matplotlib": matplotlib.__version__}
+                           "below_ground": below_ground(fr), "matplotlib": matplotlib.__version__,
+                           "arrows": drawn, "bearings": bearings}
     return ax

@@ -2,8 +2,9 @@
 
 ``femslide show RESULT.vtu|RESULT.pvd [--frame K] [--screenshot out.png]``.  Reads what
 :mod:`femslide.output.vtu` writes (cell data ``part``: 0 rod element, 1 body, 2 rigid rod; point data
-``bending_moment`` and ``displacement``); any other VTU (e.g. a scene mesh from ``femslide mesh``)
-is drawn plainly.  The undeformed configuration (points minus ``displacement``) is drawn thin and grey.
+``bending_moment`` and ``displacement``: the points are the reference configuration, points +
+``displacement`` the deformed one); any other VTU (e.g. a scene mesh from ``femslide mesh``) is drawn
+plainly.  The undeformed configuration is drawn thin and grey.
 
 ``--magnify K`` multiplies the displacements (the undeformed shape stays as it is).  The colour range
 is the same for every frame of a .pvd series (computed over all its frames); a field that is
@@ -40,7 +41,20 @@ def _check_readable(vtu, given):
     read_meshio(vtu, what)
 
 
+VIEW_MISSING = ("femslide show draws with pyvista and VTK, which are not installed; install them with "
+                "pip install 'femslide[view]' (the result files themselves are plain VTU/PVD: ParaView opens "
+                "them too)")
+
+
+def need_pyvista():
+    """BadInput naming the extra to install when pyvista (with VTK) is missing."""
+    import importlib.util
+    if importlib.util.find_spec("pyvista") is None or importlib.util.find_spec("vtkmodules") is None:
+        raise BadInput(VIEW_MISSING)
+
+
 def _import_pyvista(off_screen):
+    need_pyvista()
     if off_screen:
         os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     import pyvista
@@ -93,12 +107,15 @@ def is_constant(lo, hi):
     return hi - lo <= CONSTANT_RTOL * max(abs(lo), abs(hi)) or hi - lo <= 1e-300
 
 
-def render(path, screenshot=None, frame=None, window_size=WINDOW, diagram=None, scale=None, magnify=1.0):
+def render(path, screenshot=None, frame=None, window_size=WINDOW, diagram=None, scale=None, magnify=1.0,
+           units="N", loads=True):
     """Draw a result; save a PNG when ``screenshot`` is given (off-screen), else open a window.
 
     ``diagram``: None (rods coloured by bending moment) or "M", "V", "N" (member diagrams, see
     :func:`femslide.plot`); ``scale``: diagram scale [m per N m or m per N], default automatic;
-    ``magnify``: factor on the displacements.
+    ``magnify``: factor on the displacements; ``units``: "N" or "kN" for every number written (the
+    colour bar's ticks are round values in these units); ``loads``: draw the load and reaction arrows
+    (femslide.output.arrows; the moment in every sliding bearing is written at it either way).
 
     Returns a dict: ``file`` drawn, ``time`` (PVD frame), ``clim`` (colour range), ``scale``
     (diagram), ``lift_off`` and, after a screenshot, ``rod_pixels``: (column, row) image positions of
@@ -113,10 +130,13 @@ def render(path, screenshot=None, frame=None, window_size=WINDOW, diagram=None, 
         raise BadInput(f"--scale {scale:g}: allowed a number > 0 (m per N m for M, m per N for V, N)")
     if not (math.isfinite(magnify) and magnify >= 0):
         raise BadInput(f"--magnify {magnify:g}: allowed a number >= 0 (1: true displacements)")
+    from femslide.output.arrows import check_units
+    check_units(units)
+    need_pyvista()   # before any work: the message names the extra to install
     vtu, t = pick_file(path, frame)
     _check_readable(vtu, path)
     if diagram is not None:
-        return _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magnify)
+        return _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magnify, units, loads)
     pv = _import_pyvista(screenshot is not None)
     grid = pv.read(vtu)
     if grid.n_points == 0 or grid.n_cells == 0:
@@ -135,9 +155,9 @@ def render(path, screenshot=None, frame=None, window_size=WINDOW, diagram=None, 
     if "displacement" in grid.point_data:
         disp = np.asarray(grid.point_data["displacement"])
         ref = grid.copy()
-        ref.points = grid.points - disp
-        if magnify != 1.0:
-            grid.points = ref.points + magnify * disp
+        if "points" not in grid.field_data:   # a file of an earlier version: deformed points
+            ref.points = grid.points - disp
+        grid.points = ref.points + magnify * disp
         ref_parts = ref.extract_cells(np.nonzero(part != 3)[0])
         ref_parts.points[:, 2] -= 2 * depth  # behind everything: the picture is flat, draw order by depth
         pl.add_mesh(ref_parts, style="wireframe", color=(0.72, 0.72, 0.72), line_width=1.5, lighting=False)
@@ -146,6 +166,8 @@ def render(path, screenshot=None, frame=None, window_size=WINDOW, diagram=None, 
     clim = None
     if rods.n_cells:
         if "bending_moment" in rods.point_data:
+            from femslide.output.arrows import UNITS, unit_label
+            f = UNITS[units]
             rng = value_range(path)   # over all frames of a series
             M = np.asarray(rods.point_data["bending_moment"])
             lo, hi = rng if rng else (float(M.min()), float(M.max()))
@@ -153,14 +175,16 @@ def render(path, screenshot=None, frame=None, window_size=WINDOW, diagram=None, 
             if is_constant(lo, hi):
                 v = 0.5 * (lo + hi)
                 pl.add_mesh(rods, color=_colour_of(0.5), line_width=7, lighting=False)
-                pl.add_text(f"M = {v:.6g} N m\n(constant)", position="lower_right", font_size=11,
-                            color="black")
+                pl.add_text(f"M = {v * f:.6g} {unit_label('N m', units)}\n(constant)", position="lower_right",
+                            font_size=11, color="black")
             else:
-                pl.add_mesh(rods, scalars="bending_moment", cmap=_cmap(), clim=(lo, hi), line_width=7,
-                            scalar_bar_args={"title": "M [N m]", "color": "black",
+                rods.point_data["M_shown"] = M * f
+                pl.add_mesh(rods, scalars="M_shown", cmap=_cmap(), clim=(lo * f, hi * f), line_width=7,
+                            scalar_bar_args={"title": f"M [{unit_label('N m', units)}]", "color": "black",
                                              "vertical": True, "position_x": 0.84, "position_y": 0.15,
                                              "height": 0.7, "width": 0.06, "fmt": "%.4g"},
                             lighting=False)
+                _round_ticks(pl, lo * f, hi * f)
         else:
             pl.add_mesh(rods, color="steelblue", line_width=7, lighting=False)
     body = grid.extract_cells(np.nonzero(part == 1)[0])
@@ -180,9 +204,10 @@ def render(path, screenshot=None, frame=None, window_size=WINDOW, diagram=None, 
         from femslide.output.diagrams import frame_data
         fr = frame_data(vtu, magnify=magnify)
         _add_shapes(pv, pl, fr, depth)
+        _add_arrows(pv, pl, fr, depth, units, loads and "mode" not in grid.field_data)
         lifts = _notes(pl, fr)
 
-    pl.add_text(_title(vtu, grid, t, magnify), position="upper_left", font_size=10, color="black")
+    pl.add_text(_title(vtu, grid, t, magnify, units), position="upper_left", font_size=10, color="black")
     return _finish(pl, screenshot, window_size, {"file": vtu, "time": t, "clim": clim, "lift_off": lifts},
                    np.asarray(rods.points) if rods.n_cells else None)
 
@@ -230,6 +255,47 @@ def _add_shapes(pv, pl, fr, depth):
                         line_width=widths.get(style, 2.5), lighting=False)
 
 
+def _round_ticks(pl, lo, hi):
+    """The colour bar's labels at round values (1, 2, 2.5 or 5 times a power of ten) instead of five
+    evenly spaced ones between the range's ends (1.2e+04, 1.37e+04, ...)."""
+    from femslide.output.arrows import nice_ticks
+    bar = getattr(pl, "scalar_bar", None)
+    if bar is None or not hasattr(bar, "SetUseCustomLabels"):
+        return
+    import vtk
+    ticks = vtk.vtkDoubleArray()
+    for t in nice_ticks(lo, hi):
+        ticks.InsertNextValue(t)
+    bar.SetUseCustomLabels(True)
+    bar.SetCustomLabels(ticks)
+    bar.SetLabelFormat("%.6g")
+
+
+def _add_arrows(pv, pl, fr, depth, units, loads):
+    """Load and reaction arrows (``loads``) and the moment of every sliding bearing, with their values
+    (femslide.output.arrows)."""
+    import numpy as np
+
+    from femslide.output.arrows import arrows, bearing_labels
+    colours = {"load": (0.55, 0.0, 0.0), "distributed": (0.55, 0.0, 0.0), "reaction": (0.0, 0.4, 0.0)}
+    pts, texts = [], []
+    for a in (arrows(fr, units) if loads else []):
+        d = a["head"] - a["tail"]
+        n = float(np.hypot(*d))
+        if n > 0:
+            pl.add_mesh(pv.Arrow(start=(*a["tail"], 5 * depth), direction=(*d, 0.0), scale=n, tip_length=0.25,
+                                 tip_radius=0.06, shaft_radius=0.015), color=colours[a["kind"]], lighting=False)
+        if a["label"]:
+            pts.append([*a["tail"], 6 * depth])
+            texts.append(a["label"])
+    for P, text in bearing_labels(fr, units):
+        pts.append([*P, 6 * depth])
+        texts.append(text)
+    if pts:
+        pl.add_point_labels(np.array(pts), texts, font_size=11, point_size=1, shape_opacity=0.6,
+                            always_visible=True, text_color="black")
+
+
 def _notes(pl, fr):
     """Red notes (and Python warnings) for lift-off and parts below the ground; returns the lift-offs."""
     from femslide.output.diagrams import lift_off, notes, warn_notes
@@ -240,12 +306,12 @@ def _notes(pl, fr):
     return lift_off(fr)
 
 
-def _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magnify):
+def _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magnify, units="N", loads=True):
     """The member diagrams of femslide.plot, drawn with pyvista; one colour range and (automatic)
     scale for all frames of a series."""
     import numpy as np
 
-    from femslide.output.diagrams import DIAGRAMS, SCALE_FRACTION, diagram_geometry, fmt_value, frame_data, size_of
+    from femslide.output.diagrams import DIAGRAMS, SCALE_FRACTION, diagram_geometry, frame_data, size_of
     fr = frame_data(vtu, magnify=magnify)
     if not fr["rods"]:
         raise BadInput(f"result file {vtu}: has no rods for a --diagram; allowed: a .vtu written by "
@@ -255,7 +321,9 @@ def _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magni
     vmax = max(abs(lo), abs(hi))
     k = scale if scale is not None else (SCALE_FRACTION * size_of(fr) / vmax if vmax > 0 else 1.0)
     geo, k = diagram_geometry(fr, diagram, k)
-    unit = DIAGRAMS[diagram][1]
+    from femslide.output.arrows import UNITS, unit_label, value_text
+    f = UNITS[units]
+    unit = unit_label(DIAGRAMS[diagram][1], units)
     pv = _import_pyvista(screenshot is not None)
     pl = pv.Plotter(off_screen=screenshot is not None, window_size=list(window_size))
     pl.set_background(BACKGROUND)
@@ -286,27 +354,29 @@ def _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magni
         faces.append(np.column_stack([np.full(m - 1, 4), n0 + i, n0 + i + 1, n0 + m + i + 1, n0 + m + i]).ravel())
         n0 += 2 * m
     mesh = pv.PolyData(np.concatenate(pts), faces=np.concatenate(faces))
-    mesh.point_data[diagram] = np.concatenate(vals)
+    mesh.point_data[diagram] = np.concatenate(vals) * f
     const = is_constant(lo, hi)
     if const:
         pl.add_mesh(mesh, color=_colour_of(0.5), opacity=0.6, lighting=False)
-        pl.add_text(f"{diagram} = {0.5 * (lo + hi):.6g} {unit}\n(constant)", position="lower_right",
+        pl.add_text(f"{diagram} = {0.5 * (lo + hi) * f:.6g} {unit}\n(constant)", position="lower_right",
                     font_size=11, color="black")
     else:
-        pl.add_mesh(mesh, scalars=diagram, cmap=_cmap(), clim=(lo, hi), opacity=0.75, lighting=False,
+        pl.add_mesh(mesh, scalars=diagram, cmap=_cmap(), clim=(lo * f, hi * f), opacity=0.75, lighting=False,
                     scalar_bar_args={"title": f"{diagram} [{unit}]", "color": "black", "vertical": True,
                                      "position_x": 0.86, "position_y": 0.15, "height": 0.7, "width": 0.05,
                                      "fmt": "%.4g"})
+        _round_ticks(pl, lo * f, hi * f)
     for g in geo:
         pl.add_mesh(_polyline(pv, g["offset"], 0.2 * depth), color="black", line_width=1, lighting=False)
     for r in fr["rods"]:
         pl.add_mesh(_polyline(pv, r["X"], depth), color="black", line_width=4, lighting=False)
     _add_shapes(pv, pl, fr, depth)
+    _add_arrows(pv, pl, fr, depth, units, loads)
     lp, lt = [], []
     for g in geo:
         for v, _P, Q in g["extremes"]:
             lp.append([Q[0], Q[1], 5 * depth])
-            lt.append(fmt_value(v, unit))
+            lt.append(value_text(v, DIAGRAMS[diagram][1], units))
     if lp:
         pl.add_point_labels(np.array(lp), lt, font_size=13, point_size=1, shape_opacity=0.6,
                             always_visible=True, text_color="black")
@@ -317,7 +387,7 @@ def _render_diagram(path, vtu, t, screenshot, window_size, diagram, scale, magni
         title.append(f"t = {t:.6g} s")
     if "phi" in fd:
         title.append(f"phi = {fd['phi']:.6g} rad")
-    title.append(f"scale {k:.3g} m/{unit}" + ("  M on the tension side" if diagram == "M" else ""))
+    title.append(f"scale {k / f:.3g} m/{unit}" + ("  M on the tension side" if diagram == "M" else ""))
     if magnify != 1.0:
         title.append(f"displacements x {magnify:g}")
     pl.add_text("   ".join(title[:4]) + "\n" + "   ".join(title[4:]), position="upper_left", font_size=10,
@@ -344,7 +414,7 @@ def _cmap():
         return None
 
 
-def _title(vtu, grid, t, magnify=1.0):
+def _title(vtu, grid, t, magnify=1.0, units="N"):
     name = os.path.splitext(os.path.basename(vtu))[0]
     parts = [name]
     if t is not None:
@@ -355,7 +425,8 @@ def _title(vtu, grid, t, magnify=1.0):
     if "phi" in fd:
         parts.append(f"phi = {float(fd['phi'][0]):.6g} rad")
     if "M_max" in fd:
-        parts.append(f"M_max = {float(fd['M_max'][0]):.6g} N m")
+        from femslide.output.arrows import value_text
+        parts.append(f"M_max = {value_text(float(fd['M_max'][0]), 'N m', units)}")
     return "   ".join(parts)
 
 

@@ -3,7 +3,10 @@
 Everything written is in SI units (m, N, N m, rad), for any declared structure; this module only
 reads the model and the state, and imports meshio, never pyvista.
 
-Mesh of a static state (deformed configuration, z = 0):
+Mesh of a state (z = 0), ParaView's convention: the points are the reference (undeformed)
+configuration and the point data ``displacement`` leads to the deformed one, so that Warp By Vector
+(scale 1) draws the deformed state once (field data ``points`` says so; mode shapes: the points are
+the static equilibrium, femslide.output.files.mode_frame):
 
 - rods: one line cell per element (``part`` 0, ``rod`` = the rod's index in the declaration, in the
   order of the ``rods`` list of the sidecar);
@@ -34,10 +37,12 @@ M(xi) = (1 - xi) M_i + xi M_j - (q . n) L0^2 xi (1 - xi) / 2 (L0 the element's l
 of its deformed chord), which pictures use to draw the diagram exactly.
 
 Field data (and the sidecar ``<name>.json``): the named results of this mesh (no extrapolation),
-flattened as ``rods_NAME_M_max``, ``joints_NAME_Fx``, ...; text arrays (UTF-8 bytes in a UInt8
-array, read with :func:`text`): ``units`` (the unit of every array), ``conventions``, ``rod_names``,
-``body_names``, ``joint_names`` and ``joint_type_names`` (the joints' names and types, one a line,
-in declaration order); one row per joint: ``joint_type`` (0 pin, 1 weld, 2 slider, 3 roller, -1 any
+under the dotted names of :meth:`femslide.Result.flat` and of a time history's columns
+(``rods.NAME.M_max``, ``reactions.NAME.Fx``, ...); text as VTK String arrays (ParaView and pyvista
+show them as text; meshio 5 cannot read them, :func:`read` can): ``units`` (the unit of every
+array), ``conventions``, ``points`` (what the points are), ``rod_names``, ``body_names``,
+``joint_names`` and ``joint_type_names`` (one string per rod, body, joint, in declaration order);
+one row per joint: ``joint_type`` (0 pin, 1 weld, 2 slider, 3 roller, -1 any
 other registered kind: read the type from ``joint_type_names``), ``joint_ground`` (1: a support, b is
 the ground), ``joint_position`` and ``joint_reference`` (x, y, 0) [m]: a's joint point now and in the reference
 state, ``joint_axis`` (unit guide direction now, carried by b; zero for kinds without a guide),
@@ -62,12 +67,14 @@ from femslide.errors import BadInput
 from femslide.joints.kinds import kind_of
 
 PART_ROD, PART_BODY, PART_RIGID = 0, 1, 2
+REFERENCE_POINTS = ("reference: the points are the undeformed structure; points + displacement is the "
+                    "deformed state (ParaView: Warp By Vector with displacement, scale 1)")
 POINT_FIELDS = ("displacement", "rotation", "bending_moment", "axial_force", "shear_force")
 CELL_FIELDS = ("axial_force", "shear_force", "distributed_load", "part", "rod", "body")
 UNITS = ("displacement: m; rotation: rad; bending_moment: N m; axial_force: N; shear_force: N; "
          "distributed_load: N/m; joint_position, joint_reference: m; joint_force: N, N, N m (Fx, Fy, M); "
-         "time: s; Lref: m; Fref: N; *_M, *M_max: N m; *_Fx, *_Fy, *_N_max, *_V_max: N; "
-         "*_x, *_y, *_u, *_v, *_slide: m; *_theta, *_rotation, phi: rad")
+         "time: s; Lref: m; Fref: N; *.M, *M_max: N m; *.Fx, *.Fy, *.N_max, *.V_max: N; "
+         "*.x, *.y, *.u, *.v, *.slide: m; *.theta, *.rotation, phi: rad")
 CONVENTIONS_TEXT = ("SI units; x right, y up, z = 0; rotations and moments counter-clockwise positive; "
                     "along a rod s is the arc length from its start, t the tangent, n = t turned by +90 deg; "
                     "at a cut the part beyond exerts on the part before the force N t - V n and the moment M: "
@@ -87,10 +94,11 @@ CONVENTIONS = {
 
 
 def mesh_data(model, y, alpha, arrays=None, cuts=None):
-    """Deformed mesh of a static state in SI units.
+    """Mesh of a static state in SI units: the reference points and the state's ``displacement``.
 
     Returns (points (n, 3), cells [(type, connectivity)], point_data, cell_data) in meshio's layout
-    (cell data: one array per cell block).  ``arrays``, ``cuts``: the state's rod arrays and
+    (cell data: one array per cell block); points + ``displacement`` is the deformed state.
+    ``arrays``, ``cuts``: the state's rod arrays and
     ``end_moments(..., resultant=True)`` if already computed (a solution level has both)."""
     from femslide.results.static import end_moments, rod_arrays
     L, F = model.Lref, model.Fref
@@ -105,7 +113,7 @@ def mesh_data(model, y, alpha, arrays=None, cuts=None):
         es = model.elements
         U = model.nodal(q)
         X = (model.X0 + U[:, :2]) * L
-        pts.append(X)
+        pts.append(model.X0 * L)
         disp.append(U[:, :2] * L)
         rotn.append(U[:, 2])
         for rod in model.structure.rods:
@@ -132,7 +140,7 @@ def mesh_data(model, y, alpha, arrays=None, cuts=None):
         P0 = np.asarray(b.outline, float)
         P = model.body_point(b.name, q, P0)
         k = len(P)
-        pts.append(P)
+        pts.append(P0)
         disp.append(P - P0)
         rotn.append(np.full(k, th))
         for lst in (mom, Np, Vp):
@@ -153,7 +161,7 @@ def mesh_data(model, y, alpha, arrays=None, cuts=None):
                 z = q[link.dofs]
                 pa = link.point_a(z)[0] * L
                 at0 = link.point_a(np.zeros_like(z))[0] * L
-            pts.append(pa[None, :])
+            pts.append(np.asarray(at0, float)[None, :])
             disp.append((pa - at0)[None, :])
             rotn.append(np.full(1, th))
             for lst in (mom, Np, Vp):
@@ -247,25 +255,68 @@ def joint_data(model, y) -> dict:
                 inward[i, :2] = t if ra.end == 0 else -t
             else:   # the ground below the structure (above it when the structure hangs from the support)
                 inward[i, 1] = -1.0 if d[1] < -0.1 * abs(d[0]) else 1.0
-    return {"joint_names": "\n".join(j.name for j in fs.joints),
-            "joint_type_names": "\n".join(j.type for j in fs.joints), "joint_type": types, "joint_ground": ground,
+    return {"joint_names": [j.name for j in fs.joints],
+            "joint_type_names": [j.type for j in fs.joints], "joint_type": types, "joint_ground": ground,
             "joint_position": pos, "joint_reference": ref, "joint_axis": axis, "joint_force": force,
             "joint_inward": inward}
+
+
+def load_data(model, y) -> dict:
+    """Field data of the point loads (dead loads of type force, SI units): ``load_names``,
+    ``load_position`` and ``load_reference`` (x, y, 0) [m] (the point of application now and in the
+    reference state) and ``load_force`` (Fx [N], Fy [N], M [N m]); empty without point loads (the
+    distributed loads are the cell data ``distributed_load``)."""
+    fs = model.structure
+    L = model.Lref
+    q = y[:model.n_q]
+    names, pos, ref, force = [], [], [], []
+    for ld in fs.loads:
+        if ld.type != "force":
+            continue
+        r, _ = fs.refs[ld.name]
+        at0 = np.asarray(ld.at, float)
+        if r.kind == "body":
+            at = model.body_point(r.name, q, at0)
+        else:
+            nd = model.node(r.name, r.end)
+            at = (model.X0[nd] + model.nodal(q)[nd, :2]) * L
+        names.append(ld.name)
+        pos.append((at[0], at[1], 0.0))
+        ref.append((at0[0], at0[1], 0.0))
+        force.append((ld.force[0], ld.force[1], ld.moment))
+    if not names:
+        return {}
+    return {"load_names": names, "load_position": np.array(pos), "load_reference": np.array(ref),
+            "load_force": np.array(force)}
 
 
 def describe(model) -> dict:
     """Text field data of every VTU: units, conventions, names of the rods and bodies."""
     fs = model.structure
-    return {"units": UNITS, "conventions": CONVENTIONS_TEXT,
-            "rod_names": "\n".join(r.name for r in fs.rods), "body_names": "\n".join(b.name for b in fs.bodies)}
+    return {"units": UNITS, "conventions": CONVENTIONS_TEXT, "points": REFERENCE_POINTS,
+            "rod_names": [r.name for r in fs.rods], "body_names": [b.name for b in fs.bodies]}
 
 
 def text(field_data, name, default=None):
-    """A text field of a VTU read back (meshio or pyvista field data: UTF-8 bytes as a UInt8 array)."""
+    """A text field of a VTU read back, as one string (the entries of a list joined by new lines):
+    from :func:`read` (str or list of str), from pyvista (an array of str) or from a file of an
+    earlier femslide (UTF-8 bytes in a UInt8 array)."""
     if name not in field_data:
         return default
-    a = np.asarray(field_data[name]).ravel()
+    v = field_data[name]
+    if isinstance(v, str):
+        return v
+    a = np.asarray(v).ravel()
+    if a.dtype.kind in "USO":
+        return "\n".join(str(x) for x in a)
     return bytes(a.astype(np.uint8).tolist()).decode("utf-8")
+
+
+def reference_points(field_data) -> bool:
+    """True if a VTU's points are its reference (undeformed) configuration and ``displacement`` leads
+    to the deformed one (every file of this femslide); False for files of femslide <= 0.x that stored
+    the deformed points (then points - displacement is the reference)."""
+    return "points" in field_data
 
 
 def _inside(P, p):
@@ -284,15 +335,12 @@ def _inside(P, p):
     return inside
 
 
-def _flat_numbers(obj, prefix=""):
-    """{'reactions': {'A1': {'Fx': 1}}} -> {'reactions_A1_Fx': 1.0} for the numeric leaves."""
-    out = {}
-    if isinstance(obj, dict):
-        for k, v in obj.items():
-            out.update(_flat_numbers(v, f"{prefix}{k}_"))
-    elif isinstance(obj, (int, float, np.floating)) and not isinstance(obj, bool):
-        out[prefix[:-1]] = float(obj)
-    return out
+def _flat_numbers(obj):
+    """{'reactions': {'A1': {'Fx': 1}}} -> {'reactions.A1.Fx': 1.0} for the numeric leaves: the dotted
+    names of a result's :meth:`~femslide.app.result.Result.flat` and of a time history's columns."""
+    from femslide.results.outcome import dotted
+    return {k: float(v) for k, v in dotted(obj).items()
+            if isinstance(v, (int, float, np.floating, np.integer)) and not isinstance(v, bool)}
 
 
 def write_static(sol, out_dir, name, extra=None) -> list[str]:
@@ -316,6 +364,7 @@ def write_static(sol, out_dir, name, extra=None) -> list[str]:
         fd.update(_flat_numbers(extra))
     fd.update(describe(model))
     fd.update(joint_data(model, lv.y))
+    fd.update(load_data(model, lv.y))
     os.makedirs(out_dir, exist_ok=True)
     path = os.path.join(out_dir, f"{name}.vtu")
     _write_vtu(path, points, cells, point_data, cell_data, fd)
@@ -343,7 +392,9 @@ def _json_safe(obj):
 def _write_vtu(path, points, cells, point_data, cell_data, field_data=None):
     """meshio's VTU writer, plus a <FieldData> block (meshio 5 reads field data from VTU but does not
     write it) holding scalar values such as phi and M_max (Float64), arrays (rows x components,
-    Float64 or Int32) and text (UTF-8 bytes, UInt8: meshio cannot read VTK's String arrays)."""
+    Float64 or Int32) and text: a str or a list of str as a VTK String array (what VTK's own
+    vtkXMLWriter writes for a vtkStringArray: each string's bytes, signed, each ended by a 0; ParaView
+    and pyvista show it as text; meshio 5 cannot read it, :func:`read` can)."""
     import meshio
     meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data).write(path, file_format="vtu")
     if not field_data:
@@ -364,10 +415,15 @@ def _write_vtu(path, points, cells, point_data, cell_data, field_data=None):
 def _field_array(name, v):
     """One <DataArray> of the <FieldData> block ('' for a non-finite scalar)."""
     qn = _sx.quoteattr(str(name))
-    if isinstance(v, str):
-        data = v.encode("utf-8") or b" "
-        return (f'<DataArray type="UInt8" Name={qn} NumberOfTuples="{len(data)}" format="ascii">'
-                f'{" ".join(str(c) for c in data)}</DataArray>\n')
+    if isinstance(v, str) or (isinstance(v, (list, tuple)) and all(isinstance(x, str) for x in v) and v):
+        items = [v] if isinstance(v, str) else list(v)
+        codes = []
+        for x in items:   # VTK writes the bytes as signed chars
+            codes += [c - 256 if c > 127 else c for c in x.encode("utf-8")] + [0]
+        return (f'<Array type="String" Name={qn} NumberOfTuples="{len(items)}" format="ascii">'
+                f'{" ".join(map(str, codes))}</Array>\n')
+    if isinstance(v, (list, tuple)) and not v:
+        return ""
     a = np.asarray(v)
     if a.ndim == 0:
         x = float(a)
@@ -407,15 +463,20 @@ def write_series(frames, out_dir, name, field_data=None) -> list[str]:
         _write_vtu(path, points, cells, point_data or {}, cell_data or {}, fd)
         files.append(path)
         entries.append((float(t), fname))
-    pvd = os.path.join(out_dir, f"{name}.pvd")
-    with open(pvd, "w") as fh:
+    files.append(write_pvd(os.path.join(out_dir, f"{name}.pvd"), entries))
+    return files
+
+
+def write_pvd(path, entries) -> str:
+    """A PVD collection: [(timestep, file name relative to the PVD)] in order; returns its path.
+    ParaView steps through the files by their timestep (a time, or a mode's number)."""
+    with open(path, "w") as fh:
         fh.write('<?xml version="1.0"?>\n'
                  '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">\n<Collection>\n')
         for t, fname in entries:
             fh.write(f'<DataSet timestep="{t!r}" group="" part="0" file={_sx.quoteattr(fname)}/>\n')
         fh.write("</Collection>\n</VTKFile>\n")
-    files.append(pvd)
-    return files
+    return path
 
 
 # -- reading back what is written here ------------------------------------------------------------------
@@ -458,15 +519,61 @@ def pick_file(path, frame=None):
     return path, None
 
 
+def read(path: str):
+    """A VTU written by femslide as a ``meshio.Mesh`` whose text field data are Python strings (a
+    list of str for a list; see :func:`text`).  meshio 5 cannot read VTK String arrays (meshio issue
+    1370): they are taken out of the XML here and the rest is read by meshio."""
+    return read_meshio(path, "result file")
+
+
+def _strings(path):
+    """(text of the file without its String arrays or None when it has none, {name: str or [str]})."""
+    with open(path, "rb") as fh:
+        raw = fh.read()
+    if b'type="String"' not in raw:
+        return None, {}
+    root = ET.fromstring(raw)
+    found = {}
+    for parent in root.iter():
+        for c in list(parent):
+            if c.get("type") == "String":
+                codes = [int(x) % 256 for x in (c.text or "").split()]
+                items = bytes(codes).split(b"\0")[:int(c.get("NumberOfTuples", "1"))]
+                items = [b.decode("utf-8") for b in items]
+                found[c.get("Name")] = items[0] if len(items) == 1 and c.get("Name") in SINGLE_TEXT else items
+                parent.remove(c)
+    return ET.tostring(root, encoding="unicode"), found
+
+
+SINGLE_TEXT = ("units", "conventions", "points")   # text fields of one string; the others are lists
+
+
 def read_meshio(path: str, what: str = "mesh file"):
-    """meshio.read(path), or BadInput naming the file.  meshio reports some unreadable files by
-    printing a line and calling sys.exit(1) (meshio 5: a corrupt .vtu), which is caught here too."""
+    """meshio.read(path) (String arrays read by :func:`read`'s rules), or BadInput naming the file.
+    meshio reports some unreadable files by printing a line and calling sys.exit(1) (meshio 5: a
+    corrupt .vtu), which is caught here too."""
     import contextlib
     import io
+    import tempfile
 
     import meshio
     err = io.StringIO()
     try:
+        strings = {}
+        if path.lower().endswith(".vtu"):
+            try:
+                stripped, strings = _strings(path)
+            except (ET.ParseError, UnicodeDecodeError, ValueError):
+                stripped = None   # meshio says what is wrong with it
+            if stripped is not None:
+                with tempfile.TemporaryDirectory() as tmp:
+                    tmp_path = os.path.join(tmp, "stripped.vtu")
+                    with open(tmp_path, "w", encoding="utf-8") as fh:
+                        fh.write(stripped)
+                    with contextlib.redirect_stdout(err), contextlib.redirect_stderr(err):
+                        mesh = meshio.read(tmp_path)
+                mesh.field_data.update(strings)
+                return mesh
         with contextlib.redirect_stdout(err), contextlib.redirect_stderr(err):
             return meshio.read(path)
     except (Exception, SystemExit) as exc:

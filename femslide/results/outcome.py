@@ -13,6 +13,20 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 
+def dotted(obj: dict, prefix: str = "") -> dict:
+    """Nested dicts to one dict with dotted keys (``{"reactions": {"A1": {"Fx": 1.0}}}`` ->
+    ``{"reactions.A1.Fx": 1.0}``); lists are left out.  The one naming of flattened values
+    everywhere: a result's :meth:`~femslide.app.result.Result.flat`, a sweep's columns, the command
+    line's text output, the field data of every VTU and the columns of a time history."""
+    out = {}
+    for k, v in obj.items():
+        if isinstance(v, dict):
+            out.update(dotted(v, f"{prefix}{k}."))
+        elif not isinstance(v, (list, tuple)):
+            out[f"{prefix}{k}"] = v
+    return out
+
+
 @dataclass
 class Table:
     """A CSV file: ``header`` (one name with its unit per column), ``columns`` of equal length and

@@ -239,6 +239,20 @@ def flatten(res: dict, structure):
     return np.array(vals, float), kinds
 
 
+def flatten_names(res: dict, structure) -> list[str]:
+    """The dotted names of the values of :func:`flatten`, in its order (``rods.c0.M_max``,
+    ``joints.T2.Fy``, ...)."""
+    names = ["M_max"]
+    for r in structure.rods:
+        names += [f"rods.{r.name}.{k}" for k in ("M_max", "N_max", "V_max")]
+        names += [f"rods.{r.name}.{end}.{k}" for end in ("start", "end") for k in ("u", "v", "theta")]
+    for b in structure.bodies:
+        names += [f"bodies.{b.name}.{k}" for k in ("x", "y", "rotation")]
+    for j in structure.joints:
+        names += [f"joints.{j.name}.{k}" for k in ("Fx", "Fy", "M", "slide", "rotation") if k in res["joints"][j.name]]
+    return names
+
+
 def unflatten(template: dict, vals, structure) -> dict:
     """The inverse of :func:`flatten` on a result of the same structure."""
     it = iter(np.asarray(vals, float).tolist())
