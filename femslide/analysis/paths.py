@@ -334,6 +334,15 @@ def solve_level(model: Model, path: Path, start=None):
     interpolated coarser solution, or None (then the path's own start state, if it has one)."""
     if path.kind == "load":
         return _load_steps(model, path, start)
+    if path.kind == "linear":   # first-order theory: one linear solve (Newton converges in one step)
+        y, es = model.zero_state() if start is None else start
+        y, info = newton(model, y, es, lam=1.0)
+        if not info.converged:
+            es.revert()
+            raise SolverFailure(f"the linear system could not be solved ({info.reason}): a mechanism or a "
+                                f"structure held only by its loads' stresses, which first-order theory leaves "
+                                f"out", info.history)
+        return y, es.commit(), info.iterations
     within, maxit = 0.1, 40
     if start is None and path.start is not None and path.guess:
         start = path.start(model, path.guess)

@@ -109,6 +109,19 @@ def check_stiffness_range(fs: Frozen, L: float, F: float):
                            f"the structure's size); allowed: EA <= {EA_RATIO_MAX * EImin / (L * L):g} N")
 
 
+THEORIES = ("nonlinear", "linear")
+
+
+def model_class(theory: str):
+    """The discrete model of a theory: "nonlinear" (exact, corotational) or "linear" (first order)."""
+    if theory == "linear":
+        from femslide.model.linear import LinearModel
+        return LinearModel
+    if theory != "nonlinear":
+        raise BadInput(f"theory = {theory!r}; allowed: {', '.join(THEORIES)}")
+    return Model
+
+
 @dataclass
 class Solution:
     """A converged static solution.
@@ -146,7 +159,8 @@ class Solution:
 
 
 def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None = None,
-          Lref=None, Fref=None, cache: PatternCache | None = None, target=TARGET) -> Solution:
+          Lref=None, Fref=None, cache: PatternCache | None = None, target=TARGET, factors: dict | None = None,
+          theory: str = "nonlinear") -> Solution:
     """Principal equilibrium of a frozen structure with adaptive refinement (module docstring).
 
     ``elements``: a fixed number of elements for every rod (overrides the rods' own); ``watch``:
@@ -154,13 +168,19 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
     refinement (first: the moment the error estimate is about; default: every named result);
     ``path``: how to reach the equilibrium (default: :func:`choose_path` on the coarsest mesh);
     ``Lref``, ``Fref``: the model units (default: :func:`scales`); ``cache``: patterns shared with
-    other solves of the same topology (a sweep).
+    other solves of the same topology (a sweep); ``factors``: {load case: factor} (a combination;
+    None: every load as declared); ``theory``: "nonlinear" (exact large rotations) or "linear"
+    (first order, femslide.model.linear).
     """
     if Lref is None or Fref is None:
         L0, F0 = scales(fs)
         Lref, Fref = Lref or L0, Fref or F0
     check_stiffness_range(fs, Lref, Fref)
     cache = cache or PatternCache()
+    make = model_class(theory)
+    if theory == "linear":
+        path = Path("linear")
+
     watch = watch or default_watch
     rods = fs.rods
     uniform = elements is not None
@@ -182,7 +202,7 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
             return cache_lv[n]
         start = None
         c = level((n + 1) // 2) if adaptive and n > 1 and (n > N_DIRECT or (n + 1) // 2 in cache_lv) else None
-        model = Model(fs, counts(n), Lref, Fref, cache)
+        model = make(fs, counts(n), Lref, Fref, cache, factors=factors)
         if c is not None:
             start = prolong(c.model, c.y, c.elements, model)
         if state["path"] is None:
@@ -190,9 +210,9 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
             # mesh, and a fine mesh of a stiff rod (EA L^2/EI ~ 1e9, 64 elements) spreads the
             # tangent's eigenvalues beyond what the round-off test for a null space can separate
             cn = {r.name: min(int(c), N_START) for r, c in zip(rods, counts(n).values())}
-            state["path"] = choose_path(model if cn == counts(n) else Model(fs, cn, Lref, Fref, cache))
+            state["path"] = choose_path(model if cn == counts(n) else make(fs, cn, Lref, Fref, cache, factors=factors))
         y, es, k = solve_level(model, state["path"], start)
-        if not cache_lv:
+        if not cache_lv and theory != "linear":
             check_stable(model, y, es)
         its[0] += k
         cache_lv[n] = lv = Level(n, model, y, es)
@@ -222,7 +242,7 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
         coarse, err = None, (0.0 if not rods else None)
         half = {r.name: fixed[r.name] // 2 for r in rods}
         if rods and all(h >= 1 for h in half.values()):
-            mh = Model(fs, half, Lref, Fref, cache)
+            mh = make(fs, half, Lref, Fref, cache, factors=factors)
             y, es, k = solve_level(mh, state["path"], None)
             its[0] += k
             f1, _ = values(Level(0, mh, y, es))

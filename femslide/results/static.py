@@ -21,6 +21,11 @@ Conventions (counter-clockwise rotations and moments; forces in global x, y):
   included), the slide (sliders, rollers: displacement of a's point along the axis from the
   reference) and the rotation of a relative to b (pins);
 - reactions: the joints with the ground, as forces of the ground on the structure.
+
+A model of first-order theory (``model.linear``, femslide.model.linear) has its results recovered
+the same way on the reference geometry: equilibrium of the undeformed rod pieces, joint forces on
+the reference gradients, springs linear in the displacements, slides and body positions to first
+order.
 """
 from __future__ import annotations
 
@@ -41,8 +46,9 @@ def rod_arrays(model, y, alpha, cuts=None):
         return out
     es = model.elements
     X = model.X0 + U[:, :2]
-    qb, Gmid = end_moments(model, y, X, resultant=True) if cuts is None else cuts
-    D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
+    Xe = model.X0 if model.linear else X   # the geometry equilibrium is written on
+    qb, Gmid = end_moments(model, y, Xe, resultant=True) if cuts is None else cuts
+    D = Xe[es.conn[:, 1]] - Xe[es.conn[:, 0]]
     Ln = np.hypot(D[:, 0], D[:, 1])
     t = D / Ln[:, None]
     nrm = np.column_stack([-t[:, 1], t[:, 0]])
@@ -62,7 +68,7 @@ def rod_arrays(model, y, alpha, cuts=None):
     for k, rod in enumerate(fs.rods):
         nodes = model.rod_nodes[k]
         el = np.nonzero(model.elem_rod == k)[0]
-        ang = rod.angle + U[nodes, 2]
+        ang = rod.angle + (0.0 if model.linear else U[nodes, 2])
         tn = np.column_stack([np.cos(ang), np.sin(ang)])
         nn = np.column_stack([-tn[:, 1], tn[:, 0]])
         M = np.zeros(nodes.size)
@@ -107,7 +113,7 @@ def end_moments(model, y, X=None, resultant=False):
     if model.elements is None:
         return (np.zeros((0, 2)), np.zeros((0, 2))) if resultant else np.zeros((0, 2))
     if X is None:
-        X = model.X0 + model.nodal(y[:model.n_q])[:, :2]
+        X = model.X0 if model.linear else model.X0 + model.nodal(y[:model.n_q])[:, :2]
     g = model.applied(y)[:3 * model.n_nodes].reshape(-1, 3)
     first = model.node_first
     Xr = X - X[first]
@@ -135,7 +141,7 @@ def element_cuts(model, y, alpha):
         return np.zeros((0, 2)), np.zeros((0, 2))
     qb, _ = model.element_forces(y[:model.n_q], alpha)
     es = model.elements
-    X = model.X0 + model.nodal(y[:model.n_q])[:, :2]
+    X = model.X0 if model.linear else model.X0 + model.nodal(y[:model.n_q])[:, :2]
     D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
     ln = np.hypot(D[:, 0], D[:, 1])
     t = D / ln[:, None]
@@ -157,20 +163,26 @@ def largest_moment(model, y, alpha, cuts=None) -> float:
 
 
 def joint_forces(model, y, name):
-    """(Fx, Fy, M) [model units] that b exerts on a at the joint point, springs included."""
+    """(Fx, Fy, M) [model units] that b exerts on a at the joint point, springs (and the springs of
+    an elastic support) included."""
     link = model.joint[name]
     if link.ia is None:   # a is the ground: not allowed by the declaration layer
         raise ValueError(f"joint {name}: part a has no dofs")
-    z = y[link.dofs].tolist()
-    gen = []   # the joint's generalised forces mu . G on its dofs (then its equations g)
-    link.assemble(z, model.multipliers(y, link).tolist(), gen, None)
-    spring = model.spring.get(name)
-    if spring is not None:
-        fs = []
-        spring.assemble(z, 1.0, fs, None, [])
-        f = [-gen[i] - fs[i] for i in range(link.ia, link.ia + 3)]
-    else:
-        f = [-gen[i] for i in range(link.ia, link.ia + 3)]
+    zq = y[link.dofs]
+    z = [0.0] * zq.size if model.linear else zq.tolist()   # first order: the reference geometry
+    gen = [0.0] * link.k   # the joint's generalised forces mu . G on its dofs (then its equations g)
+    if link.size:
+        gen = []
+        link.assemble(z, model.multipliers(y, link).tolist(), gen, None)
+    f = [-gen[i] for i in range(link.ia, link.ia + 3)]
+    for spring in (model.spring.get(name), model.supports.get(name)):
+        if spring is None:
+            continue
+        fs, jv, fv = [], ([] if model.linear else None), []
+        spring.assemble(z, 0.0 if model.linear else 1.0, fs, jv, fv)
+        if model.linear:   # the spring's force linear in the displacements: H0 z + f0 (preload)
+            fs = (np.array(jv).reshape(link.k, link.k) @ zq + np.array(fv)).tolist()
+        f = [f[j] - fs[i] for j, i in enumerate(range(link.ia, link.ia + 3))]
     return at_joint_point(link, z, f)
 
 
@@ -188,7 +200,13 @@ def extract(model, y, alpha, arrays=None) -> dict:
     bodies = {}
     for b in model.structure.bodies:
         d = model.body_dof(b.name)
-        x, y_ = model.body_point(b.name, q, b.centroid)
+        if model.linear:   # to first order: the origin's displacement plus theta x (centroid - origin)
+            X = model.body_X0[model.body_index[b.name]] * L
+            th = float(q[d + 2])
+            x = b.centroid[0] + q[d] * L - th * (b.centroid[1] - X[1])
+            y_ = b.centroid[1] + q[d + 1] * L + th * (b.centroid[0] - X[0])
+        else:
+            x, y_ = model.body_point(b.name, q, b.centroid)
         bodies[b.name] = {"x": float(x), "y": float(y_), "rotation": float(q[d + 2])}
     joints, reactions = {}, {}
     for j in model.structure.joints:
@@ -196,7 +214,10 @@ def extract(model, y, alpha, arrays=None) -> dict:
         out = {"Fx": fx * F, "Fy": fy * F, "M": m * F * L}
         link = model.joint[j.name]
         free = link.joint_kind.free   # the joint's free coordinate, if its kind reports one
-        if free == "slide":
+        if free == "slide" and model.linear:   # to first order: the gradient at the reference
+            s0, ds, _ = link.slide(np.zeros(link.k))
+            out["slide"] = (float(s0) + float(ds @ q[link.dofs]) - model.slide0[j.name]) * L
+        elif free == "slide":
             out["slide"] = (float(link.slide(q[link.dofs])[0]) - model.slide0[j.name]) * L
         elif free == "rotation":
             out["rotation"] = float(link.rotation(q[link.dofs])[0])
