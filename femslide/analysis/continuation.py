@@ -94,7 +94,8 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, eleme
                     raise SolverFailure("poor start: load factor far from 1", hist_all)
             if out is None:
                 if phi - phi_lo <= 1e-12 * max(phi, 1e-300):
-                    raise SolverFailure(f"path following stalled at {phi:.6g} of the controlled dof", hist_all)
+                    raise SolverFailure(f"path following stalled at {phi:.6g} of the controlled dof", hist_all,
+                                        critical=True)
                 phi = phi_lo + 0.5 * (phi - phi_lo)
                 pred = z_c
                 continue
@@ -126,7 +127,7 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, eleme
                 elif lam > 0.05 and slope <= 0:
                     raise SolverFailure(f"limit point: the load factor reaches its maximum {lam:.6g} < 1 at "
                                         f"{phi:.6g} of the controlled dof; the loads cannot be ramped to full "
-                                        f"value on the principal branch", hist_all)
+                                        f"value on the principal branch", hist_all, critical=True)
                 else:
                     new = phi + min(0.1, phi)  # not yet loaded (lam <= 0): keep marching
                 if phi_hi is not None and not new < phi_hi:
@@ -134,13 +135,13 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, eleme
                 if new >= phi_max:
                     raise SolverFailure(f"no equilibrium on the principal branch up to {phi_max:g} of the "
                                         f"controlled dof (rad or model lengths)",
-                                        hist_all)
+                                        hist_all, critical=True)
             if abs(new - phi) <= 1e-15 * phi:
                 break
             pred = z + dz * (new - phi) if abs(new - phi) < 0.1 else z.copy()
             phi = new
         else:
-            raise SolverFailure("path following did not reach the full load in 200 steps", hist_all)
+            raise SolverFailure("path following did not reach the full load in 200 steps", hist_all, critical=True)
         y, info = newton(model, z_c[:model.n], es, lam=1.0, tol=tol)
         total_it += info.iterations
         if not info.converged:

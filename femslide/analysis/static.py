@@ -132,7 +132,9 @@ class Solution:
     ``error_estimate``: relative, of the largest rod moment (None for a single fixed element);
     ``level``: the finest mesh (``model``, ``y``, ``elements`` (``alpha`` their committed chord
     rotations), ``arrays``: its raw per-rod arrays);
-    ``path``: how the equilibrium was reached."""
+    ``path``: how the equilibrium was reached; an arc-length solve also has the ``trace`` of the
+    path on the first mesh (femslide.analysis.arclength.Trace) and its refined ``critical`` points
+    (femslide.analysis.limits.Critical) with the ``meshes`` they were refined on."""
 
     error_estimate: float | None
     iterations: int
@@ -142,6 +144,8 @@ class Solution:
     watched: np.ndarray
     raw_values: bool = False
     _result: dict | None = None
+    trace: object = None
+    critical: list | None = None
 
     @property
     def model(self):
@@ -158,6 +162,31 @@ class Solution:
         return self._result
 
 
+class Meshes:
+    """The meshes of a solve: ``meshes(n)`` is the model with n elements per (shortest adaptive) rod
+    - each rod n times its length over the shortest adaptive rod's, a rod with its own ``elements``
+    (or every rod, given ``elements``) fixed - in the solve's theory, units and load factors."""
+
+    def __init__(self, fs, elements, theory, Lref, Fref, cache, factors):
+        self.fs, self.Lref, self.Fref, self.cache, self.factors = fs, Lref, Fref, cache, factors
+        self.make = model_class(theory)
+        rods = fs.rods
+        self.uniform = elements is not None
+        self.fixed = {} if self.uniform else {r.name: r.elements for r in rods if r.elements}
+        adaptive = [r for r in rods if r.name not in self.fixed]
+        self.adaptive = bool(adaptive) and not self.uniform
+        self.n_fixed = elements
+        hmin = min((r.length for r in adaptive), default=1.0)
+        self.mult = {r.name: (1 if self.uniform else max(1, round(r.length / hmin))) for r in adaptive}
+        self.first = elements if self.uniform else (N_START if adaptive else 1)
+
+    def counts(self, n):
+        return {r.name: self.fixed.get(r.name) or n * self.mult[r.name] for r in self.fs.rods}
+
+    def __call__(self, n, counts=None):
+        return self.make(self.fs, counts or self.counts(n), self.Lref, self.Fref, self.cache, factors=self.factors)
+
+
 def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None = None,
           Lref=None, Fref=None, cache: PatternCache | None = None, target=TARGET, factors: dict | None = None,
           theory: str = "nonlinear") -> Solution:
@@ -166,34 +195,54 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
     ``elements``: a fixed number of elements for every rod (overrides the rods' own); ``watch``:
     ``watch(level, structure) -> (values, kinds)``, the results whose accuracy decides the
     refinement (first: the moment the error estimate is about; default: every named result);
-    ``path``: how to reach the equilibrium (default: :func:`choose_path` on the coarsest mesh);
+    ``path``: how to reach the equilibrium (default: :func:`choose_path` on the coarsest mesh;
+    ``Path("arc-length")``: arc-length continuation through limit points, femslide.analysis.arclength);
     ``Lref``, ``Fref``: the model units (default: :func:`scales`); ``cache``: patterns shared with
     other solves of the same topology (a sweep); ``factors``: {load case: factor} (a combination;
     None: every load as declared); ``theory``: "nonlinear" (exact large rotations) or "linear"
     (first order, femslide.model.linear).
+
+    A principal branch that ends before full load fails (SolverFailure) naming its first critical
+    point - a limit point located on the refined meshes (femslide.analysis.limits) or a
+    bifurcation - and its load factor.
     """
     if Lref is None or Fref is None:
         L0, F0 = scales(fs)
         Lref, Fref = Lref or L0, Fref or F0
     check_stiffness_range(fs, Lref, Fref)
     cache = cache or PatternCache()
-    make = model_class(theory)
+    meshes = Meshes(fs, elements, theory, Lref, Fref, cache, factors)
     if theory == "linear":
         path = Path("linear")
+    elif path is not None and path.kind == "arc-length":
+        path = Path("arc-length")   # its own trace
+    try:
+        sol = _solve(fs, meshes, watch or default_watch, path, target, theory)
+    except SolverFailure as exc:
+        if theory == "linear" or not getattr(exc, "critical", False):
+            raise
+        from femslide.analysis.limits import explain
+        raise explain(meshes, exc) from None
+    if sol.path.kind == "arc-length":
+        from femslide.analysis.limits import limit_points
+        sol.trace = sol.path.trace
+        sol.critical = limit_points(meshes, sol.trace)
+    return sol
 
-    watch = watch or default_watch
+
+def _solve(fs, meshes, watch, path, target, theory) -> Solution:
+    """:func:`solve` on the meshes of ``meshes`` (the refinement itself)."""
+    Lref, Fref, cache, factors = meshes.Lref, meshes.Fref, meshes.cache, meshes.factors
+    make = meshes.make
     rods = fs.rods
-    uniform = elements is not None
-    fixed = {} if uniform else {r.name: r.elements for r in rods if r.elements}
+    uniform = meshes.uniform
+    fixed = meshes.fixed
     adaptive = [r for r in rods if r.name not in fixed]
-    hmin = min((r.length for r in adaptive), default=1.0)
-    mult = {r.name: (1 if uniform else max(1, round(r.length / hmin))) for r in adaptive}
+    counts = meshes.counts
+    elements = meshes.n_fixed
     cache_lv: dict[int, Level] = {}
     its = [0]
     state = {"path": path}
-
-    def counts(n):
-        return {r.name: fixed.get(r.name) or n * mult[r.name] for r in rods}
 
     def level(n: int) -> Level:
         """The solution with n elements per (shortest adaptive) rod; meshes finer than N_DIRECT, or
@@ -212,7 +261,7 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
             cn = {r.name: min(int(c), N_START) for r, c in zip(rods, counts(n).values())}
             state["path"] = choose_path(model if cn == counts(n) else make(fs, cn, Lref, Fref, cache, factors=factors))
         y, es, k = solve_level(model, state["path"], start)
-        if not cache_lv and theory != "linear":
+        if not cache_lv and state["path"].kind not in ("linear", "arc-length"):
             check_stable(model, y, es)
         its[0] += k
         cache_lv[n] = lv = Level(n, model, y, es)
