@@ -83,6 +83,8 @@ def _run(command, target, params):
         from femslide.app.structfile import apply
         s = target if isinstance(target, Structure) else None
         elements = params.pop("elements", None)
+        options = {k: params.pop(k) for k in ("path", "theory", "plot") if k in params}
+        options.update({k.split(".", 1)[1]: params.pop(k) for k in list(params) if k.startswith("solve.")})
         if params:
             if s is None:
                 raise BadInput("overrides need a Structure, not a frozen one")
@@ -96,7 +98,7 @@ def _run(command, target, params):
         from femslide.app.cases import statics
         from femslide.app.result import Result
         t0 = time.perf_counter()
-        res = Result.of(statics(fs, elements=elements))
+        res = Result.of(statics(fs, elements=elements, options=options))
         res["wall_time_s"] = time.perf_counter() - t0
         res["import_time_s"] = t0 - t_imp
         return res
@@ -105,6 +107,10 @@ def _run(command, target, params):
     scene = tgt.scene
     if scene.command != command:
         raise BadInput(f"{target} is a '{scene.command}' scene")
+    if command == "solve" and getattr(scene, "solve_options", None):   # a structure file: solve options
+        for k in ("path", "theory", "plot"):
+            if k in params:
+                params[f"solve.{k}"] = params.pop(k)
     return run_case(scene, tgt.resolve(params))
 
 
@@ -119,15 +125,20 @@ def solve(target: Target, **params: Any) -> Result:
     **params
         Overrides.  Scenes: their parameters (``EI=1e8``, SI units).  Structures and structure
         files: fields by name, ``**{"right.EI": 1e8, "wind.force": [0, -500]}``, ``gravity``,
-        and ``elements=32`` (a fixed mesh for every rod instead of adaptive refinement).
+        ``elements=32`` (a fixed mesh for every rod instead of adaptive refinement), and the solve
+        options ``path="arc-length"`` (through limit points; default "principal"), ``theory="linear"``
+        (first order; default "nonlinear"), ``plot="bodies.deck.rotation"`` (the output of an
+        arc-length path's picture).
 
     Returns
     -------
     Result
         A dict of named values (SI units): for declared structures ``converged``, ``M_max``,
         ``bodies``, ``rods``, ``joints``, ``reactions``, ``iterations``, ``error_estimate``,
-        ``wall_time_s``; for scenes the keys of ``femslide solve SCENE --json``.  FE results also
-        give arrays along the rods (:meth:`Result.rod`) and a table (:meth:`Result.to_dataframe`).
+        ``wall_time_s`` (with load combinations: ``combinations`` {name: those values} and their
+        ``envelope``, :meth:`Result.combination`; with ``path="arc-length"``: ``limit_points``,
+        ``path``, ``stable``); for scenes the keys of ``femslide solve SCENE --json``.  FE results
+        also give arrays along the rods (:meth:`Result.rod`) and a table (:meth:`Result.to_dataframe`).
 
     Raises
     ------

@@ -54,8 +54,11 @@ def critical_points(meshes, lam_end=1.0, first_only=False, target=TARGET, trace=
     coarsest n) and ``meshes.adaptive`` (False: the mesh is fixed, nothing is refined); ``trace``: a
     Trace of the first mesh already computed.  Returns (critical points in path order, the trace of
     the first mesh)."""
-    n0 = meshes.first
-    m0 = meshes(n0)
+    if trace is not None and getattr(trace, "model", None) is not None:
+        n0, m0 = trace.n, trace.model
+    else:
+        n0 = meshes.first
+        m0 = meshes(n0)
     if trace is None:
         trace = Tracer(m0, lam_end).trace(stop_at_limit=first_only, **({"max_steps": max_steps} if max_steps else {}))
     out = []

@@ -200,6 +200,17 @@ def _load_path(model: Model) -> Path:
     return Path("load", load_steps=min(steps, 64))
 
 
+def is_stable(model: Model, y, elements) -> bool | None:
+    """Whether an equilibrium is stable: its reduced tangent positive definite (dense models up to
+    DENSE_CHECK unknowns; None above)."""
+    if model.n > DENSE_CHECK or model.n_q == 0:
+        return None
+    _, A, _ = model.system(y, elements, 1.0, dense=True)
+    elements.revert()
+    _, w, _ = _reduced(A, model.n_q)
+    return not (w.size and w[0] < -1e-9 * (1.0 + 1e-3 * float(np.abs(w).max())))
+
+
 def check_stable(model: Model, y, elements):
     """Raise SolverFailure if the equilibrium (coarse mesh) has a negative reduced-tangent eigenvalue.
 
@@ -376,6 +387,7 @@ def _arc_length(model: Model, path: Path, start=None):
             return y, start[1].commit(), info.iterations
         start[1].revert()
     tr = Tracer(model).trace()
+    tr.model = model
     if path.trace is None:
         path.trace = tr
     return tr.end.y, ElementState(tr.end.alpha.copy()), tr.iterations

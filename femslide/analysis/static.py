@@ -110,6 +110,7 @@ def check_stiffness_range(fs: Frozen, L: float, F: float):
 
 
 THEORIES = ("nonlinear", "linear")
+ARC_FIRST = 8     # elements per shortest rod of the mesh an arc-length path is traced on
 
 
 def model_class(theory: str):
@@ -215,7 +216,8 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
     if theory == "linear":
         path = Path("linear")
     elif path is not None and path.kind == "arc-length":
-        path = Path("arc-length")   # its own trace
+        # its own trace, on a first mesh fine enough for the reported path (8 elements per rod)
+        path = Path("arc-length", first_n=ARC_FIRST)
     try:
         sol = _solve(fs, meshes, watch or default_watch, path, target, theory)
     except SolverFailure as exc:
@@ -261,6 +263,9 @@ def _solve(fs, meshes, watch, path, target, theory) -> Solution:
             cn = {r.name: min(int(c), N_START) for r, c in zip(rods, counts(n).values())}
             state["path"] = choose_path(model if cn == counts(n) else make(fs, cn, Lref, Fref, cache, factors=factors))
         y, es, k = solve_level(model, state["path"], start)
+        tr = state["path"].trace
+        if tr is not None and getattr(tr, "n", None) is None:
+            tr.n = n   # the mesh the path was traced on
         if not cache_lv and state["path"].kind not in ("linear", "arc-length"):
             check_stable(model, y, es)
         its[0] += k

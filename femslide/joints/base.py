@@ -273,6 +273,10 @@ class RotationalSpring:
             jv += [c * (x * w) for x in d for w in d]
         fv += [0.0] * len(d)
 
+    def stress_hessian(self, z, lam=1.0, linear=None):
+        """A linear spring on a linear coordinate: no stress part."""
+        return np.zeros((self.link.k, self.link.k))
+
 
 @dataclass
 class SlideSpring:
@@ -307,6 +311,18 @@ class SlideSpring:
             n = len(ds)
             jv += [k * (ds[i] * ds[j]) + f * Hs[i * n + j] for i in range(n) for j in range(n)]
         fv += [-self.F0 * x for x in ds]
+
+    def stress_hessian(self, z, lam=1.0, linear=None):
+        """The spring force times the slide's curvature, f Hs (the guide turning with b), at ``z``;
+        ``linear``: the joint's displacements of a first-order state, the force then linear in them
+        and the curvature at the reference."""
+        if linear is None:
+            s, _, Hs = self.link.slide(np.asarray(z, float))
+            f = self.k * (s - self.s0) - lam * self.F0
+        else:
+            s0, ds, Hs = self.link.slide(np.zeros(self.link.k))
+            f = self.k * (s0 - self.s0 + float(ds @ linear)) - lam * self.F0
+        return f * Hs
 
 
 @dataclass
@@ -363,11 +379,16 @@ class ElasticSupport:
             jv += H
         fv += [0.0] * n
 
-    def stress_hessian(self, z, lam=1.0):
-        """The springs' stress part of the Hessian, sum_i k g_i H_i (k x k), ``z`` a list."""
+    def stress_hessian(self, z, lam=1.0, linear=None):
+        """The springs' stress part of the Hessian, sum_i k g_i H_i (k x k); ``linear``: the
+        displacements of a first-order state (g_i linear in them, H_i at the reference)."""
         n = self.link.k
         H = np.zeros((n, n))
-        terms, hess = self._terms(z)
+        if linear is None:
+            terms, hess = self._terms(list(map(float, z)))
+        else:
+            terms, hess = self._terms([0.0] * n)
+            terms = [(i, k, gi + float(np.dot(Gi, linear)), Gi) for i, k, gi, Gi in terms]
         for i, k, gi, _ in terms:
             for e, a, b, v in hess:
                 if e == i:
