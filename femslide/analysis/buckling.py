@@ -49,6 +49,7 @@ from femslide.results.outcome import Buckling, Outcome
 DENSE_LIMIT = 900    # frame dofs: dense generalized eigenproblem up to here
 TARGET = 1e-6        # estimated relative error of the reported load factors
 N_MAX = 1024
+NOISE = 1e-9         # 1/lam below this fraction of the largest |1/lam| is round-off (no buckling)
 ABOUT = ("equilibrium", "reference")
 
 
@@ -231,8 +232,12 @@ def _eigen(model, lin_model, y, es, count):
             m = Ke.shape[0]
             k = min(m, 2 * count + 4)
             nu, V = eigh(-Kg, Ke, subset_by_index=[m - k, m - 1])
+            # (1/lam at the round-off level of the largest |1/lam| is no buckling: a rod in tension)
+            # (the scale of 1/lam: the largest ratio of the two parts' diagonals)
+            scale = max(float(np.max(np.abs(np.diag(Kg)) / np.maximum(np.abs(np.diag(Ke)), 1e-300))),
+                        float(np.abs(nu).max()), 1e-300)
             with np.errstate(divide="ignore"):
-                lam = np.where(nu > 1e-14 * max(np.abs(nu).max(), 1e-300), 1.0 / nu, np.inf)
+                lam = np.where(nu > NOISE * scale, 1.0 / nu, np.inf)
         except np.linalg.LinAlgError:   # K_E not definite (a mechanism held by the loads): general form
             w, V = eig(Ke, -Kg)
             lam = np.where(np.isfinite(w) & (np.abs(w.imag) <= 1e-9 * np.abs(w)), w.real, np.inf)
@@ -265,7 +270,7 @@ def _eigen_sparse(model, KE, KG, G, count):
     except spla.ArpackNoConvergence as exc:
         raise SolverFailure(f"buckling: the eigen-solver did not converge ({exc})") from None
     nu, V = nu.real, V.real
-    keep = nu > 1e-14 * max(np.abs(nu).max(), 1e-300)
+    keep = nu > NOISE * max(np.abs(nu).max(), 1e-300)
     lam = 1.0 / nu[keep]
     order = np.argsort(lam)
     return lam[order], V[:, keep][:, order].T
