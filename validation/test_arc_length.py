@@ -148,7 +148,7 @@ def test_arc_length_through_a_snap_back():
     """The truss loaded through a soft spring: limit points +-Pmax (1e-6), the snap-back passed, the
     inverted state at P = 2 Pmax (w within 1e-8 of the closed form)."""
     res = minimize_scalar(lambda w: -bar_load(w), bounds=(0.0, H0), method="bounded", options={"xatol": 1e-12})
-    Pmax, wmax = -res.fun, res.x
+    Pmax = -res.fun
     k = 0.5 * Pmax / H0    # soft: the plate's v = w + P/k turns back
     P = 2.0 * Pmax
     r = femslide.solve(truss_with_spring(P, k), path="arc-length", elements=4)

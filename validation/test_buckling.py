@@ -27,7 +27,6 @@ import sys
 import pytest
 from scipy.optimize import brentq
 
-import femslide
 from femslide.analysis.buckling import buckling
 from femslide.model.structure import Structure
 
