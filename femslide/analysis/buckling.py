@@ -44,7 +44,7 @@ from femslide.analysis.static import Meshes, check_stiffness_range, scales
 from femslide.elements import corotational
 from femslide.errors import BadInput, SolverFailure
 from femslide.model.discrete import PatternCache
-from femslide.results.outcome import Buckling, Outcome
+from femslide.results.outcome import Buckling, Figure, Outcome
 
 DENSE_LIMIT = 900    # frame dofs: dense generalized eigenproblem up to here
 TARGET = 1e-6        # estimated relative error of the reported load factors
@@ -137,8 +137,24 @@ def buckling(fs, count=4, about="equilibrium", elements=None, combination=None, 
                        "reversed loads may buckle it")
     res["wall_time_s"] = time.perf_counter() - t0
     base = y if about == "equilibrium" else np.zeros(model.n)
-    return Outcome(res, name, buckling=Buckling(model, base, es.committed if about == "equilibrium"
-                                                else np.zeros_like(es.committed), vals, shapes[:len(vals)]))
+    out = Outcome(res, name, buckling=Buckling(model, base, es.committed if about == "equilibrium"
+                                               else np.zeros_like(es.committed), vals, shapes[:len(vals)]))
+    if vals:
+        out.figures.append(Figure("buckling_modes.png", "buckling", _figure(model, base, vals, shapes, name, about)))
+    return out
+
+
+def _figure(model, base, lams, shapes, name, about):
+    """The picture's data: per mode, the rods' node positions [m] of the base state and displaced
+    along the mode (largest translation 10 % of the structure's size)."""
+    L = model.Lref
+    X = model.X0 + model.nodal(base[:model.n_q])[:, :2]
+    modes = []
+    for lam, phi in zip(lams, shapes):
+        D = X + 0.1 * model.nodal(phi)[:, :2]
+        modes.append({"load_factor": lam, "rods": [(D[nd] * L).tolist() for nd in model.rod_nodes]})
+    return {"base": [(X[nd] * L).tolist() for nd in model.rod_nodes], "modes": modes,
+            "title": f"{name}: buckling modes about the {about}"}
 
 
 def _linear_path():

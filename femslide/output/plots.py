@@ -4,7 +4,9 @@
   every load combination, thin, and their envelope (the minimum and maximum at each s), shaded,
   with the governing extremes labelled;
 - ``path``: a traced load path, the load factor against one output (its name and unit on the axis),
-  limit points marked, full load dashed.
+  limit points marked, full load dashed;
+- ``buckling``: the rods of the base state (grey) and displaced along each buckling mode, one panel
+  per mode with its load factor.
 
 :func:`draw` draws a :class:`femslide.results.outcome.Figure` into a folder and returns its path.
 """
@@ -31,7 +33,7 @@ def draw(fig, out_dir) -> str | None:
     if plt is None:
         return None
     path = os.path.join(out_dir, fig.file)
-    {"envelope": _envelope, "path": _path}[fig.kind](plt, fig.data, path)
+    {"envelope": _envelope, "path": _path, "buckling": _buckling}[fig.kind](plt, fig.data, path)
     return path
 
 
@@ -80,6 +82,27 @@ def _path(plt, data, path):
     ax.set_ylabel("load factor")
     ax.set_title(data.get("title", "load path"))
     ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _buckling(plt, data, path):
+    """data: {"base": [rod node positions], "modes": [{"load_factor", "rods": [...]}], "title"}."""
+    modes = data["modes"]
+    n = len(modes)
+    fig, axes = plt.subplots(1, n, figsize=(2.8 * n + 0.6, 4.0), squeeze=False)
+    for ax, m in zip(axes[0], modes):
+        for rod in data["base"]:
+            p = np.asarray(rod)
+            ax.plot(p[:, 0], p[:, 1], color="0.7", lw=1.0)
+        for rod in m["rods"]:
+            p = np.asarray(rod)
+            ax.plot(p[:, 0], p[:, 1], color="tab:red", lw=1.6)
+        ax.set_title(f"load factor {m['load_factor']:.6g}", fontsize=9)
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.axis("off")
+    fig.suptitle(data.get("title", "buckling modes"), fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
