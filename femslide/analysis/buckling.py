@@ -46,7 +46,7 @@ from femslide.errors import BadInput, SolverFailure
 from femslide.model.discrete import PatternCache
 from femslide.results.outcome import Buckling, Figure, Outcome
 
-DENSE_LIMIT = 900    # frame dofs: dense generalized eigenproblem up to here
+DENSE_LIMIT = 150    # frame dofs: dense generalized eigenproblem up to here (ARPACK above: O(n) per step)
 TARGET = 1e-6        # estimated relative error of the reported load factors
 N_MAX = 1024
 NOISE = 1e-9         # 1/lam below this fraction of the largest |1/lam| is round-off (no buckling)
