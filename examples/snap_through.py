@@ -37,11 +37,11 @@ def main(out: Path) -> None:
         print("principal branch:", exc.reason)
     r = femslide.solve(s, path="arc-length")
     for lp in r["limit_points"]:
-        print(f"{lp['kind']:8s} of the load factor: {lp['load_factor']:.7f} (estimated error {lp['error_estimate']:.0e}),"
-              f" head at y = {lp['bodies']['head']['y']:.4f} m")
+        print(f"{lp['kind']:8s} of the load factor: {lp['load_factor']:.7f} "
+              f"(estimated error {lp['error_estimate']:.0e}), head at y = {lp['bodies']['head']['y']:.4f} m")
     head = r["bodies"]["head"]
-    print(f"after the snap at full load: head at ({head['x']:.4f}, {head['y']:.4f}) m, turned {head['rotation']:.4f} rad;"
-          f" stable: {r['stable']}")
+    print(f"after the snap at full load: head at ({head['x']:.4f}, {head['y']:.4f}) m, "
+          f"turned {head['rotation']:.4f} rad; stable: {r['stable']}")
     for path in r.write(out):
         print(path)
     ax = femslide.plot(r, diagram="M")

@@ -56,7 +56,7 @@ def test_default_names_the_limit_point(reference):
     assert p.returncode == 1, p.stderr
     r = json.loads(p.stdout)
     assert r["converged"] is False and "limit point" in r["reason"]
-    lam = float(r["reason"].split("load factor ")[1].split(",")[0])
+    lam = float(r["reason"].split("load factor ")[1].split()[0])
     assert abs(lam - reference["limit"]) <= 1e-4
     assert abs(r["limit_point"]["load_factor"] - reference["limit"]) <= 1e-6 * reference["limit"]
     assert r["limit_point"]["error_estimate"] <= 1e-7

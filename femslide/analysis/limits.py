@@ -129,7 +129,7 @@ def explain(meshes, exc: SolverFailure) -> SolverFailure:
                f"stiffness turns singular while the load still grows; another branch crosses the principal "
                f"one there and the loads cannot be ramped to full value on it")
     else:
-        est = "" if c.error is None else f", estimated error {c.error:.1g}"
+        est = "" if c.error is None else f" (estimated error {c.error:.1g})"
         msg = (f"limit point at load factor {c.lam:.7g}{est}: the load factor reaches its maximum there and "
                f"the loads cannot be ramped to full value on the principal branch (it would snap to another "
                f"equilibrium; `[solve] path = \"arc-length\"` follows the path through it)")
