@@ -42,7 +42,7 @@ def main():
         s = portal()
         t_all, r = timed(lambda s=s, theory=theory: femslide.solve(s, theory=theory))
         t_sep = 0.0
-        for name, c in s.combinations.items():
+        for c in s.combinations.values():
             one = portal()
             one.combinations.clear()
             f = dict(c.factors)
