@@ -37,8 +37,8 @@ if TYPE_CHECKING:
 #: what solve and sweep take: a Structure, a structure or scene file path, or a built-in scene name
 Target = Union[Structure, "Frozen", str, os.PathLike]
 
-__all__ = ["Structure", "Table", "solve", "simulate", "sweep", "load", "list_scenes", "plot", "Result", "BadInput",
-           "SolverFailure"]
+__all__ = ["Structure", "Table", "solve", "simulate", "sweep", "buckling", "load", "list_scenes", "plot", "Result",
+           "BadInput", "SolverFailure"]
 
 
 def list_scenes() -> list[str]:
@@ -93,6 +93,8 @@ def _run(command, target, params):
         from femslide.app.structfile import apply
         s = target if isinstance(target, Structure) else None
         elements = params.pop("elements", None)
+        options = {k: params.pop(k) for k in ("path", "theory", "plot") if k in params}
+        options.update({k.split(".", 1)[1]: params.pop(k) for k in list(params) if k.startswith("solve.")})
         if params:
             if s is None:
                 raise BadInput("overrides need a Structure, not a frozen one")
@@ -106,7 +108,7 @@ def _run(command, target, params):
         from femslide.app.cases import statics
         from femslide.app.result import Result
         t0 = time.perf_counter()
-        res = Result.of(statics(fs, elements=elements))
+        res = Result.of(statics(fs, elements=elements, options=options))
         res["wall_time_s"] = time.perf_counter() - t0
         res["import_time_s"] = t0 - t_imp
         return res
@@ -115,6 +117,10 @@ def _run(command, target, params):
     scene = tgt.scene
     if scene.command != command:
         raise BadInput(f"{target} is a '{scene.command}' scene")
+    if command == "solve" and getattr(scene, "solve_options", None):   # a structure file: solve options
+        for k in ("path", "theory", "plot"):
+            if k in params:
+                params[f"solve.{k}"] = params.pop(k)
     return run_case(scene, tgt.resolve(params))
 
 
@@ -129,15 +135,20 @@ def solve(target: Target, **params: Any) -> Result:
     **params
         Overrides.  Scenes: their parameters (``EI=1e8``, SI units).  Structures and structure
         files: fields by name, ``**{"right.EI": 1e8, "wind.force": [0, -500]}``, ``gravity``,
-        and ``elements=32`` (a fixed mesh for every rod instead of adaptive refinement).
+        ``elements=32`` (a fixed mesh for every rod instead of adaptive refinement), and the solve
+        options ``path="arc-length"`` (through limit points; default "principal"), ``theory="linear"``
+        (first order; default "nonlinear"), ``plot="bodies.deck.rotation"`` (the output of an
+        arc-length path's picture).
 
     Returns
     -------
     Result
         A dict of named values (SI units): for declared structures ``converged``, ``M_max``,
         ``bodies``, ``rods``, ``joints``, ``reactions``, ``iterations``, ``error_estimate``,
-        ``wall_time_s``; for scenes the keys of ``femslide solve SCENE --json``.  FE results also
-        give arrays along the rods (:meth:`Result.rod`) and a table (:meth:`Result.to_dataframe`).
+        ``wall_time_s`` (with load combinations: ``combinations`` {name: those values} and their
+        ``envelope``, :meth:`Result.combination`; with ``path="arc-length"``: ``limit_points``,
+        ``path``, ``stable``); for scenes the keys of ``femslide solve SCENE --json``.  FE results
+        also give arrays along the rods (:meth:`Result.rod`) and a table (:meth:`Result.to_dataframe`).
 
     Raises
     ------
@@ -187,6 +198,62 @@ def simulate(target: Target, **params: Any) -> Result:
         from femslide.app.api import run_api
         return run_api(target if not isinstance(target, os.PathLike) else str(target), dict(params))
     return _run("simulate", target, dict(params))
+
+
+def buckling(target: Target, count: int = 4, about: str = "equilibrium", combination: str | None = None,
+             **params: Any) -> Result:
+    """Linear buckling: the lowest load factors at which the structure under its loads loses stability.
+
+    Parameters
+    ----------
+    target : Structure or str
+        A :class:`Structure` or a structure file.
+    count : int, default 4
+        How many of the lowest positive load factors.
+    about : {"equilibrium", "reference"}
+        The state whose stresses are scaled: the equilibrium under the loads (default; its
+        deformation and the loads' stiffness included) or the reference state with the stresses of
+        first-order theory (classic linear buckling).
+    combination : str, optional
+        The loads of this load combination (default: every load as declared).
+    **params
+        ``NAME.FIELD`` overrides and ``elements=N`` (a fixed mesh), as for :func:`solve`.
+
+    Returns
+    -------
+    Result
+        ``load_factors`` (ascending; times the loads they are the critical loads), their
+        ``error_estimates`` (relative, from the mesh refinement), ``error_estimate`` (the largest),
+        ``about``, ``elements``; :meth:`Result.write` writes the mode shapes (a PVD series, the
+        mode number as its time) and ``buckling_modes.png``.
+
+    Raises
+    ------
+    BadInput
+        Not a structure, an unknown combination, ``about`` or a field out of range.
+    SolverFailure
+        The equilibrium under the loads cannot be reached (about the equilibrium).
+    """
+    from femslide.analysis.buckling import buckling as _buckling
+    from femslide.app.structfile import apply, load as _load
+    from femslide.model.frozen import Frozen
+    if isinstance(target, (str, os.PathLike)):
+        sf = _load(os.fspath(target))
+        target, name = sf.structure, sf.name
+    else:
+        name = "structure"
+    if isinstance(target, Frozen):
+        if params:
+            raise BadInput("overrides need a Structure, not a frozen one")
+        fs, elements = target, None
+    elif isinstance(target, Structure):
+        s, elements = apply(target, params)
+        fs = s.freeze()
+    else:
+        raise BadInput(f"buckling: {target!r} is not a Structure or a structure file")
+    if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 50:
+        raise BadInput(f"buckling: count = {count!r}; allowed: an integer in [1, 50]")
+    return Result.of(_buckling(fs, count=count, about=about, elements=elements, combination=combination, name=name))
 
 
 def _is_structure_file(path):

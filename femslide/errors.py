@@ -10,13 +10,15 @@ class SolverFailure(RuntimeError):
     """A solve or simulation that did not converge (exit status 1).
 
     ``reason`` says why in one line; ``history`` holds the residual norms (or other per-iteration
-    diagnostics) of the failed attempt so that a caller can see how it failed.
+    diagnostics) of the failed attempt so that a caller can see how it failed; ``critical`` is true
+    when the load path ended at a limit point or bifurcation (the statics then locate it).
     """
 
-    def __init__(self, reason: str, history=None):
+    def __init__(self, reason: str, history=None, critical=False):
         super().__init__(reason)
         self.reason = reason
         self.history = list(history or [])
+        self.critical = critical
 
     def __str__(self):
         if not self.history:

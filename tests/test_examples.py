@@ -16,6 +16,9 @@ EXAMPLES = sorted((ROOT / "examples").glob("*.py"))
 EXPECTED = {
     "paper_ei_sweep.py": ["ei_sweep.csv", "M_max_vs_EI.png"],
     "friction_hysteresis.py": ["history.csv", "hysteresis.png", "run/result.json", "run/history.csv"],
+    "load_combinations.py": ["combinations.csv", "envelope_M.csv", "envelope_M.png", "structure_SLS.vtu"],
+    "column_buckling.py": ["buckling_modes.png", "structure_buckling.pvd", "structure_buckling_0000.vtu"],
+    "snap_through.py": ["path.csv", "path.png", "snapped-M.png", "structure.vtu"],
 }
 
 

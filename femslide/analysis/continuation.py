@@ -85,16 +85,24 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, eleme
         # factor can be undetermined (a + d = 0: the weight has no moment about A1, a singular Jacobian)
         pred[theta_dof] = sign * phi
         phi_lo, phi_hi = 0.0, None
+        last = None   # the last accepted point marching forward: (phi, z, d z / d phi)
         for _ in range(200):
             # a good start converges in a few iterations: do not spend long on a poor one
+            committed = es.committed
             out = controlled(phi, pred, es, maxit=12 if trial else 40)
             if trial:
                 trial = False
                 if out is None or not 0.25 <= out[-1] <= 2.0:
                     raise SolverFailure("poor start: load factor far from 1", hist_all)
+            if out is not None and last is not None and phi_hi is None and _jumped(model, last, phi, out):
+                # a step that lands far from its tangent's prediction has jumped past a limit point (a
+                # fold of the path between the two points): refuse it, as a failed step
+                es.committed = es.trial = committed
+                out = None
             if out is None:
                 if phi - phi_lo <= 1e-12 * max(phi, 1e-300):
-                    raise SolverFailure(f"path following stalled at {phi:.6g} of the controlled dof", hist_all)
+                    raise SolverFailure(f"path following stalled at {phi:.6g} of the controlled dof", hist_all,
+                                        critical=True)
                 phi = phi_lo + 0.5 * (phi - phi_lo)
                 pred = z_c
                 continue
@@ -112,6 +120,8 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, eleme
                 es.revert()
             dz = tangent(z, es)
             slope = dz[-1]
+            if phi_hi is None and lam <= 1.0:
+                last = (phi, z, dz)
             if lam > 1.0:
                 phi_hi = phi
                 new = phi - (lam - 1.0) / slope if slope > 0 else 0.5 * (phi + phi_lo)
@@ -126,7 +136,7 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, eleme
                 elif lam > 0.05 and slope <= 0:
                     raise SolverFailure(f"limit point: the load factor reaches its maximum {lam:.6g} < 1 at "
                                         f"{phi:.6g} of the controlled dof; the loads cannot be ramped to full "
-                                        f"value on the principal branch", hist_all)
+                                        f"value on the principal branch", hist_all, critical=True)
                 else:
                     new = phi + min(0.1, phi)  # not yet loaded (lam <= 0): keep marching
                 if phi_hi is not None and not new < phi_hi:
@@ -134,13 +144,13 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, eleme
                 if new >= phi_max:
                     raise SolverFailure(f"no equilibrium on the principal branch up to {phi_max:g} of the "
                                         f"controlled dof (rad or model lengths)",
-                                        hist_all)
+                                        hist_all, critical=True)
             if abs(new - phi) <= 1e-15 * phi:
                 break
             pred = z + dz * (new - phi) if abs(new - phi) < 0.1 else z.copy()
             phi = new
         else:
-            raise SolverFailure("path following did not reach the full load in 200 steps", hist_all)
+            raise SolverFailure("path following did not reach the full load in 200 steps", hist_all, critical=True)
         y, info = newton(model, z_c[:model.n], es, lam=1.0, tol=tol)
         total_it += info.iterations
         if not info.converged:
@@ -154,3 +164,14 @@ def principal_branch(model, theta_dof, sign=-1.0, phi_guess=None, y0=None, eleme
             pass  # a poor or failing start: the march from the undeformed state decides
     y, a = model.zero_state()
     return follow(y, a, min(phi_guess, 0.1) if phi_guess else 0.01, 0.0, trial=False)
+
+
+def _jumped(model, last, phi, z):
+    """Whether the controlled state z at phi left the neighbourhood of the tangent prediction from the
+    last accepted point (its frame dofs off by more than the predicted increment itself): a step over
+    a fold of the path (a limit point and the snap after it) lands on another branch, O(1) away,
+    while a step along a smooth path is off by its curvature, small against the increment."""
+    phi0, z0, dz0 = last
+    n_q = model.n_q
+    inc = dz0[:n_q] * (phi - phi0)
+    return float(np.abs(z[:n_q] - z0[:n_q] - inc).max()) > max(float(np.abs(inc).max()), 1e-12)

@@ -66,7 +66,9 @@ class Path:
     """How to reach the principal equilibrium: ``kind`` "load" (load stepping) or "control"
     (displacement control of ``control`` in direction ``sign``); ``guess`` a first value of the
     controlled dof's magnitude, ``start(model, value)`` an optional start state at that value,
-    ``load_steps`` the first number of load steps."""
+    ``load_steps`` the first number of load steps.  Also "linear" (first-order theory: one linear
+    solve) and "arc-length" (the first equilibrium at full load along the path traced by arc-length
+    continuation, through limit points; ``trace`` keeps the path traced on the first mesh)."""
 
     kind: str
     control: Control | None = None
@@ -77,6 +79,7 @@ class Path:
     phi_max: float = math.pi
     first_n: int = N_START
     note: str = ""
+    trace: object = None
 
 
 def _reduced(A, n_q):
@@ -203,6 +206,17 @@ def _load_path(model: Model) -> Path:
     return Path("load", load_steps=min(steps, 64))
 
 
+def is_stable(model: Model, y, elements) -> bool | None:
+    """Whether an equilibrium is stable: its reduced tangent positive definite (dense models up to
+    DENSE_CHECK unknowns; None above)."""
+    if model.n > DENSE_CHECK or model.n_q == 0:
+        return None
+    _, A, _ = model.system(y, elements, 1.0, dense=True)
+    elements.revert()
+    _, w, _ = _reduced(A, model.n_q)
+    return not (w.size and w[0] < -1e-9 * (1.0 + 1e-3 * float(np.abs(w).max())))
+
+
 def check_stable(model: Model, y, elements):
     """Raise SolverFailure if the equilibrium (coarse mesh) has a negative reduced-tangent eigenvalue.
 
@@ -225,7 +239,7 @@ def check_stable(model: Model, y, elements):
         part = _mode_part(model, Z @ V[:, 0])
         raise SolverFailure(f"the equilibrium reached at full load is unstable (reduced tangent eigenvalue "
                             f"{w[0]:.3g}; softest: {part.describe(model.structure)}): the load path crossed a "
-                            f"bifurcation or limit point before full load")
+                            f"bifurcation or limit point before full load", critical=True)
 
 
 def _load_steps(model: Model, path: Path, start=None):
@@ -239,7 +253,7 @@ def _load_steps(model: Model, path: Path, start=None):
     with the load factor."""
     if start is not None:
         y, info = newton(model, start[0], start[1], lam=1.0)
-        if info.converged:
+        if info.converged and near(model, y, start[0]):
             return y, start[1].commit(), info.iterations
         start[1].revert()
     dense = model.n <= DENSE_CHECK
@@ -266,7 +280,7 @@ def _load_steps(model: Model, path: Path, start=None):
         elif dlam < 1e-6:
             why = "the response to the loads grows without bound" if dlam < step else reason
             raise SolverFailure(f"load stepping stalled at load factor {lam:.6g}: a limit point or a "
-                                f"bifurcation of the loaded structure ({why})", hist)
+                                f"bifurcation of the loaded structure ({why})", hist, critical=True)
         target = lam + dlam
         y_new, info = newton(model, y, es, lam=target)
         its += info.iterations
@@ -298,8 +312,17 @@ def _load_steps(model: Model, path: Path, start=None):
                 raise SolverFailure(f"load stepping stalled at load factor {lam:.6g}: a limit point of the "
                                     f"loaded structure (its stiffness against the loads fell to "
                                     f"{compliance0 / compliance if math.isfinite(compliance) else 0.0:.2g} of "
-                                    f"the initial)", hist)
+                                    f"the initial)", hist, critical=True)
     return y, es, its
+
+
+def near(model: Model, y, y0, within=0.25) -> bool:
+    """Whether the equilibrium y, solved from the interpolated coarser solution y0, is the same
+    equilibrium refined: its frame dofs moved by at most ``within`` of y0's largest (a finer mesh
+    changes a solution by its discretisation error; a Newton solve that lands on another branch -
+    past a limit point the finer mesh no longer reaches - moves it by order one)."""
+    dq = float(np.abs(y[:model.n_q] - y0[:model.n_q]).max()) if model.n_q else 0.0
+    return dq <= within * (float(np.abs(y0[:model.n_q]).max()) if model.n_q else 0.0) + 1e-12
 
 
 def _load_tangent(model: Model, y, elements, lam):
@@ -340,8 +363,37 @@ def solve_level(model: Model, path: Path, start=None):
     interpolated coarser solution, or None (then the path's own start state, if it has one)."""
     if path.kind == "load":
         return _load_steps(model, path, start)
+    if path.kind == "arc-length":
+        return _arc_length(model, path, start)
+    if path.kind == "linear":   # first-order theory: one linear solve (Newton converges in one step)
+        y, es = model.zero_state() if start is None else start
+        y, info = newton(model, y, es, lam=1.0)
+        if not info.converged:
+            es.revert()
+            raise SolverFailure(f"the linear system could not be solved ({info.reason}): a mechanism or a "
+                                f"structure held only by its loads' stresses, which first-order theory leaves "
+                                f"out", info.history)
+        return y, es.commit(), info.iterations
     within, maxit = 0.1, 40
     if start is None and path.start is not None and path.guess:
         start = path.start(model, path.guess)
         within, maxit = 0.05, 15  # a good prediction converges in a few iterations
     return _controlled(model, path, start, within, maxit)
+
+
+def _arc_length(model: Model, path: Path, start=None):
+    """The first equilibrium at full load along the path traced by arc-length continuation
+    (femslide.analysis.arclength), or - on a finer mesh - the equilibrium refined from the
+    interpolated coarser one (kept if it stays near it, else the path is traced on this mesh too)."""
+    from femslide.analysis.arclength import Tracer
+    from femslide.model.state import ElementState
+    if start is not None:
+        y, info = newton(model, start[0], start[1], lam=1.0)
+        if info.converged and near(model, y, start[0]):
+            return y, start[1].commit(), info.iterations
+        start[1].revert()
+    tr = Tracer(model).trace()
+    tr.model = model
+    if path.trace is None:
+        path.trace = tr
+    return tr.end.y, ElementState(tr.end.alpha.copy()), tr.iterations

@@ -118,6 +118,20 @@ def check_stiffness_range(fs: Frozen, L: float, F: float):
                            f"the structure's size); allowed: EA <= {EA_RATIO_MAX * EImin / (L * L):g} N")
 
 
+THEORIES = ("nonlinear", "linear")
+ARC_FIRST = 8     # elements per shortest rod of the mesh an arc-length path is traced on
+
+
+def model_class(theory: str):
+    """The discrete model of a theory: "nonlinear" (exact, corotational) or "linear" (first order)."""
+    if theory == "linear":
+        from femslide.model.linear import LinearModel
+        return LinearModel
+    if theory != "nonlinear":
+        raise BadInput(f"theory = {theory!r}; allowed: {', '.join(THEORIES)}")
+    return Model
+
+
 @dataclass
 class Solution:
     """A converged static solution.
@@ -128,7 +142,9 @@ class Solution:
     ``error_estimate``: relative, of the largest rod moment (None for a single fixed element);
     ``level``: the finest mesh (``model``, ``y``, ``elements`` (``alpha`` their committed chord
     rotations), ``arrays``: its raw per-rod arrays);
-    ``path``: how the equilibrium was reached."""
+    ``path``: how the equilibrium was reached; an arc-length solve also has the ``trace`` of the
+    path on the first mesh (femslide.analysis.arclength.Trace) and its refined ``critical`` points
+    (femslide.analysis.limits.Critical) with the ``meshes`` they were refined on."""
 
     error_estimate: float | None
     iterations: int
@@ -139,6 +155,8 @@ class Solution:
     raw_values: bool = False
     _result: dict | None = None
     notes: list = None      # what the user must know about its accuracy (an output at its round-off floor)
+    trace: object = None
+    critical: list | None = None
 
     @property
     def model(self):
@@ -155,37 +173,91 @@ class Solution:
         return self._result
 
 
+class Meshes:
+    """The meshes of a solve: ``meshes(n)`` is the model with n elements per (shortest adaptive) rod
+    - each rod n times its length over the shortest adaptive rod's, a rod with its own ``elements``
+    (or every rod, given ``elements``) fixed - in the solve's theory, units and load factors."""
+
+    def __init__(self, fs, elements, theory, Lref, Fref, cache, factors):
+        self.fs, self.Lref, self.Fref, self.cache, self.factors = fs, Lref, Fref, cache, factors
+        self.make = model_class(theory)
+        rods = fs.rods
+        self.uniform = elements is not None
+        self.fixed = {} if self.uniform else {r.name: r.elements for r in rods if r.elements}
+        adaptive = [r for r in rods if r.name not in self.fixed]
+        self.adaptive = bool(adaptive) and not self.uniform
+        self.n_fixed = elements
+        hmin = min((r.length for r in adaptive), default=1.0)
+        # elements of about one length on every rod, up to MULT_MAX times as many on a long rod as on the
+        # shortest (a rod 1e-12 of the others' length would otherwise ask for 1e12 elements per level)
+        self.mult = {r.name: (1 if self.uniform else min(MULT_MAX, max(1, round(r.length / hmin))))
+                     for r in adaptive}
+        self.first = elements if self.uniform else (N_START if adaptive else 1)
+
+    def counts(self, n):
+        return {r.name: self.fixed.get(r.name) or n * self.mult[r.name] for r in self.fs.rods}
+
+    def __call__(self, n, counts=None):
+        return self.make(self.fs, counts or self.counts(n), self.Lref, self.Fref, self.cache, factors=self.factors)
+
+
 def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None = None,
-          Lref=None, Fref=None, cache: PatternCache | None = None, target=TARGET) -> Solution:
+          Lref=None, Fref=None, cache: PatternCache | None = None, target=TARGET, factors: dict | None = None,
+          theory: str = "nonlinear") -> Solution:
     """Principal equilibrium of a frozen structure with adaptive refinement (module docstring).
 
     ``elements``: a fixed number of elements for every rod (overrides the rods' own); ``watch``:
     ``watch(level, structure) -> (values, kinds)``, the results whose accuracy decides the
     refinement (first: the moment the error estimate is about; default: every named result);
-    ``path``: how to reach the equilibrium (default: :func:`choose_path` on the coarsest mesh);
+    ``path``: how to reach the equilibrium (default: :func:`choose_path` on the coarsest mesh;
+    ``Path("arc-length")``: arc-length continuation through limit points, femslide.analysis.arclength);
     ``Lref``, ``Fref``: the model units (default: :func:`scales`); ``cache``: patterns shared with
-    other solves of the same topology (a sweep).
+    other solves of the same topology (a sweep); ``factors``: {load case: factor} (a combination;
+    None: every load as declared); ``theory``: "nonlinear" (exact large rotations) or "linear"
+    (first order, femslide.model.linear).
+
+    A principal branch that ends before full load fails (SolverFailure) naming its first critical
+    point - a limit point located on the refined meshes (femslide.analysis.limits) or a
+    bifurcation - and its load factor.
     """
     if Lref is None or Fref is None:
         L0, F0 = scales(fs)
         Lref, Fref = Lref or L0, Fref or F0
     check_stiffness_range(fs, Lref, Fref)
     cache = cache or PatternCache()
-    watch = watch or default_watch
+    meshes = Meshes(fs, elements, theory, Lref, Fref, cache, factors)
+    if theory == "linear":
+        path = Path("linear")
+    elif path is not None and path.kind == "arc-length":
+        # its own trace, on a first mesh fine enough for the reported path (8 elements per rod)
+        path = Path("arc-length", first_n=ARC_FIRST)
+    try:
+        sol = _solve(fs, meshes, watch or default_watch, path, target, theory)
+    except SolverFailure as exc:
+        if theory == "linear" or not getattr(exc, "critical", False):
+            raise
+        from femslide.analysis.limits import explain
+        raise explain(meshes, exc) from None
+    if sol.path.kind == "arc-length":
+        from femslide.analysis.limits import limit_points
+        sol.trace = sol.path.trace
+        sol.critical = limit_points(meshes, sol.trace)
+    return sol
+
+
+def _solve(fs, meshes, watch, path, target, theory) -> Solution:
+    """:func:`solve` on the meshes of ``meshes`` (the refinement itself)."""
+    Lref, Fref, cache, factors = meshes.Lref, meshes.Fref, meshes.cache, meshes.factors
+    make = meshes.make
     rods = fs.rods
-    uniform = elements is not None
-    fixed = {} if uniform else {r.name: r.elements for r in rods if r.elements}
+    uniform = meshes.uniform
+    fixed = meshes.fixed
     adaptive = [r for r in rods if r.name not in fixed]
-    hmin = min((r.length for r in adaptive), default=1.0)
-    # elements of about one length on every rod, up to MULT_MAX times as many on a long rod as on the
-    # shortest (a rod 1e-12 of the others' length would otherwise ask for 1e12 elements per level)
-    mult = {r.name: (1 if uniform else min(MULT_MAX, max(1, round(r.length / hmin)))) for r in adaptive}
+    counts = meshes.counts
+    elements = meshes.n_fixed
     cache_lv: dict[int, Level] = {}
     its = [0]
     state = {"path": path}
-
-    def counts(n):
-        return {r.name: fixed.get(r.name) or n * mult[r.name] for r in rods}
 
     def level(n: int) -> Level:
         """The solution with n elements per (shortest adaptive) rod; meshes finer than N_DIRECT, or
@@ -194,7 +266,7 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
             return cache_lv[n]
         start = None
         c = level((n + 1) // 2) if adaptive and n > 1 and (n > N_DIRECT or (n + 1) // 2 in cache_lv) else None
-        model = Model(fs, counts(n), Lref, Fref, cache)
+        model = make(fs, counts(n), Lref, Fref, cache, factors=factors)
         if c is not None:
             start = prolong(c.model, c.y, c.elements, model)
         if state["path"] is None:
@@ -202,11 +274,14 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
             # mesh, and a fine mesh of a stiff rod (EA L^2/EI ~ 1e9, 64 elements) spreads the
             # tangent's eigenvalues beyond what the round-off test for a null space can separate
             cn = {r.name: min(int(c), N_START) for r, c in zip(rods, counts(n).values())}
-            coarse = model if cn == counts(n) else Model(fs, cn, Lref, Fref, cache)
+            coarse = model if cn == counts(n) else make(fs, cn, Lref, Fref, cache, factors=factors)
             redundancy.check(coarse)
             state["path"] = choose_path(coarse)
         y, es, k = solve_level(model, state["path"], start)
-        if not cache_lv:
+        tr = state["path"].trace
+        if tr is not None and getattr(tr, "n", None) is None:
+            tr.n = n   # the mesh the path was traced on
+        if not cache_lv and state["path"].kind not in ("linear", "arc-length"):
             check_stable(model, y, es)
         its[0] += k
         cache_lv[n] = lv = Level(n, model, y, es)
@@ -237,7 +312,7 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
         coarse, err = None, (0.0 if not rods else None)
         half = {r.name: fixed[r.name] // 2 for r in rods}
         if rods and all(h >= 1 for h in half.values()):
-            mh = Model(fs, half, Lref, Fref, cache)
+            mh = make(fs, half, Lref, Fref, cache, factors=factors)
             y, es, k = solve_level(mh, state["path"], None)
             its[0] += k
             f1, _ = values(Level(0, mh, y, es))

@@ -6,6 +6,8 @@
     femslide sweep SCENE --vary NAME=V1,V2,... [--set NAME=VALUE]... [--json] [--out DIR]
                    [--jobs N] [--dask ADDRESS] [--resume] [--plot FILE]
     femslide modes FILE.toml [--count N] [--set NAME=VALUE]... [--json] [--out DIR]
+    femslide buckling FILE.toml [--count N] [--about equilibrium|reference] [--combination NAME]
+                      [--set NAME=VALUE]... [--json] [--out DIR]
     femslide mesh SCENE [--set NAME=VALUE]... [--out FILE]
     femslide show RESULT.vtu|RESULT.pvd [--frame K] [--screenshot FILE.png]
                   [--diagram M|V|N] [--scale K] [--magnify K] [--units N|kN] [--no-loads]
@@ -93,6 +95,15 @@ def _build_parser() -> argparse.ArgumentParser:
                        "stream rows to DIR/sweep.jsonl and write each case's files to DIR/case_NNN; "
                        "rerunning with the same DIR skips the cases already done")
         s.add_argument("--quiet", action="store_true", help="no progress bar (it is drawn on a terminal only)")
+        if name == "solve":
+            s.add_argument("--path", choices=("principal", "arc-length"),
+                           help="principal: the equilibrium reached by ramping the loads (exit 1 at a limit "
+                           "point, named with its load factor); arc-length: follow the path through limit "
+                           "points to the first equilibrium at full load (structure files; also "
+                           "--set solve.path=...)")
+            s.add_argument("--theory", choices=("nonlinear", "linear"),
+                           help="nonlinear: exact large rotations (default); linear: first-order theory, "
+                           "equilibrium on the undeformed structure (structure files)")
         if name == "sweep":
             s.add_argument("--vary", required=True, metavar="NAME=V1,V2,...",
                            help="the varied parameter and its values (commas inside [...] belong to a value)")
@@ -119,6 +130,24 @@ def _build_parser() -> argparse.ArgumentParser:
     mo.add_argument("--json", action="store_true", help="print the result as one JSON object")
     mo.add_argument("--out", metavar="DIR", help="write one VTU per mode shape and result.json here")
     mo.add_argument("--quiet", action="store_true", help="no progress bar")
+    bu = sub.add_parser("buckling", help="linear buckling load factors and mode shapes of a structure file",
+                        description="The lowest load factors at which the structure under its loads loses "
+                        "stability (linear buckling: the tangent's elastic and geometric parts about the "
+                        "loaded equilibrium, or about the reference state with --about reference), refined "
+                        "with the mesh, with the mode shapes (VTU files and a PVD series with --out).",
+                        epilog=EPILOG)
+    bu.add_argument("scene", metavar="FILE.toml", help="a structure file")
+    bu.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                    help="change a field of the file, e.g. right.EI=1e8, or elements=N (a fixed mesh)")
+    bu.add_argument("--count", type=int, default=4, help="how many of the lowest load factors (default 4)")
+    bu.add_argument("--about", choices=("equilibrium", "reference"), default="equilibrium",
+                    help="the state whose stresses are scaled: the equilibrium under the loads (default) or "
+                    "the reference state with the stresses of first-order theory (classic linear buckling)")
+    bu.add_argument("--combination", metavar="NAME", help="the loads of this load combination (default: every "
+                    "load as declared)")
+    bu.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    bu.add_argument("--out", metavar="DIR", help="write the mode shapes (VTU, PVD) and result.json here")
+    bu.add_argument("--quiet", action="store_true", help="no progress bar")
     m = sub.add_parser("mesh", help="write the reference mesh of an FE scene (meshio format by extension)",
                        description="Write the reference mesh of a built-in FE statics scene: the undeformed "
                        "rods as line cells in named groups (rod:NAME), supports, rigid rods and the body.")
@@ -215,12 +244,18 @@ def _solve(args, command):
         tgt = scene = scene.for_simulate()   # a structure file (target and scene): its [simulate] table
     if scene.command != command:
         raise BadInput(f"scene {scene.name} is a '{scene.command}' scene; run: femslide {scene.command} {args.scene}")
-    values = tgt.resolve(parse_assignments(args.set))
+    given = parse_assignments(args.set)
+    for opt in ("path", "theory"):
+        if getattr(args, opt, None) is not None:
+            if not getattr(scene, "solve_options", None):
+                raise BadInput(f"--{opt} is for structure files (rods, bodies, joints); {args.scene} is a scene")
+            given[f"solve.{opt}"] = getattr(args, opt)
+    values = tgt.resolve(given)
     try:
         res = run_case(scene, values, out=args.out, quiet=args.quiet)
     except SolverFailure as exc:
         if args.json:
-            print(json.dumps({"converged": False, "reason": exc.reason,
+            print(json.dumps({"converged": False, "reason": exc.reason, **_critical(exc),
                               "history": _clean(exc.history)}))
         print(f"femslide: {scene.name} failed to converge: {exc}", file=sys.stderr)
         return 1
@@ -228,7 +263,18 @@ def _solve(args, command):
         print(json.dumps(_clean(res)))
     else:
         _print_result(_clean(res))
+    if not res.get("converged", True) and res.get("reason"):
+        print(f"femslide: {scene.name}: {res['reason']}", file=sys.stderr)
     return 0 if res.get("converged", True) else 1
+
+
+def _critical(exc) -> dict:
+    """The critical point a failed statics named (femslide.analysis.limits), for the JSON."""
+    c = getattr(exc, "critical", None)
+    if c is None or isinstance(c, bool):
+        return {}
+    rel = None if c.error is None else c.error / max(abs(c.lam), 1e-300)
+    return {"limit_point": {"kind": c.kind, "load_factor": c.lam, "error_estimate": rel}}
 
 
 def _parse_vary(text):
@@ -268,6 +314,28 @@ def _modes(args):
     scene = tgt.scene.for_modes()
     values = scene.resolve(parse_assignments(args.set))
     res = run_case(scene, {**values, "_count": args.count}, out=args.out, quiet=args.quiet)
+    if args.json:
+        print(json.dumps(_clean(res)))
+    else:
+        _print_result(_clean(res))
+    return 0
+
+
+def _buckling(args):
+    tgt = _target(args.scene)
+    if not getattr(tgt.scene, "spec", None) or not hasattr(tgt.scene, "for_buckling"):
+        raise BadInput(f"{args.scene}: `femslide buckling` takes a structure file (rods, bodies, joints)")
+    if not 1 <= args.count <= 50:
+        raise BadInput(f"--count = {args.count}; allowed: an integer in [1, 50]")
+    scene = tgt.scene.for_buckling()
+    values = scene.resolve(parse_assignments(args.set))
+    if args.combination is not None:
+        names = [c.name for c in scene.structure.combinations.values()]
+        if args.combination not in names:
+            raise BadInput(f"--combination {args.combination}: no such combination; combinations: "
+                           f"{', '.join(names) or 'none'}")
+    res = run_case(scene, {**values, "_count": args.count, "_about": args.about, "_combination": args.combination},
+                   out=args.out, quiet=args.quiet)
     if args.json:
         print(json.dumps(_clean(res)))
     else:
@@ -336,6 +404,8 @@ def main(argv=None) -> int:
             return _mesh(args)
         if args.cmd == "modes":
             return _modes(args)
+        if args.cmd == "buckling":
+            return _buckling(args)
         if args.cmd == "show":
             return _show(args)
         if args.cmd == "init":

@@ -77,7 +77,7 @@ def check(args) -> None:
     """Check every output path of a parsed command line (argparse namespace); BadInput otherwise."""
     cmd = getattr(args, "cmd", None)
     out = getattr(args, "out", None)
-    if cmd in ("solve", "simulate", "sweep", "modes") and out is not None:
+    if cmd in ("solve", "simulate", "sweep", "modes", "buckling") and out is not None:
         check_out_dir(out)
     if cmd == "mesh" and out is not None:
         check_out_file(out, "--out", what="a mesh file")

@@ -66,6 +66,24 @@ class Result(dict):
     def solution(self) -> Solution | None:
         return self._outcome.solution if self._outcome is not None else None
 
+    def combination(self, name: str) -> "Result":
+        """The result of one load combination (structures with combinations): the values of
+        ``self["combinations"][name]`` with its solution behind them (:meth:`rod`, :meth:`write`...).
+
+        Raises
+        ------
+        femslide.BadInput
+            An unknown combination, or a result without combinations.
+        """
+        from femslide.results.outcome import Outcome
+        combos = self.get("combinations")
+        if not isinstance(combos, dict) or name not in combos:
+            raise BadInput(f"no combination named {name!r}; combinations: "
+                           f"{', '.join(combos) if isinstance(combos, dict) else '(none)'}")
+        sol = self._outcome.solutions.get(name) if self._outcome is not None else None
+        base = self._outcome.name if self._outcome is not None else "structure"
+        return Result.of(Outcome(dict(combos[name]), f"{base}_{name}", solution=sol))
+
     # -- FE statics: values by name --------------------------------------------------------------
     def _named(self) -> dict:
         """The section-8 values (bodies, rods, joints, reactions) of an FE statics result."""

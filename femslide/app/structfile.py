@@ -7,17 +7,24 @@
     start = [2.0, 0.0]              #    elements from a meshio line group, straight, equally spaced)
     end = [2.0, 3.0]
     EI = 1e6                        # N m^2, or {s = [0.0, 3.0], value = [2e6, 1e6]}
+                                    #   (or the section: E [Pa], I [m^4], A [m^2])
 
     [[body]]                        # name; optional mass, centroid, inertia, outline
     [[joint]]                       # name, type (pin|weld|slider|roller), a, b; optional at, axis,
-                                    #   c, k, preload, mu, mu0, bearing
-    [[load]]                        # name, type (force|distributed), on; force, moment, at
+                                    #   c, k, preload, mu, mu0, bearing; with b = "ground" also
+                                    #   kx, ky, kr (an elastic support)
+    [[load]]                        # name, type (force|distributed), on; force, moment, at, case
+    [[combination]]                 # name, factors = {dead = 1.35, wind = 1.5}
+    [solve]                         # path = "principal" | "arc-length", theory = "nonlinear" |
+                                    #   "linear", plot = "bodies.deck.rotation"
 
 The fields and their meaning are those of the Python API (:mod:`femslide.model.structure`); every error
 is bad input naming the file, the entry and the field.  Fields of a file can be overridden by name,
 ``NAME.FIELD=VALUE`` (``right.EI=1e8``, ``wind.force=[100, 0]``, ``gravity=[0, -9.81]``), which is how
 ``--set`` and sweeps (``--vary right.EI=1e4,1e6``) address them; ``elements=N`` fixes every rod's mesh
-(also of rods that declare their own ``elements``; ``ROD.elements=M`` overrides it for one rod).
+(also of rods that declare their own ``elements``; ``ROD.elements=M`` overrides it for one rod);
+``solve.KEY=VALUE`` a key of the ``[solve]`` table (femslide.app.cases), ``ULS.factors={dead = 1.35}``
+a combination's factors.
 """
 from __future__ import annotations
 
@@ -36,7 +43,7 @@ except ModuleNotFoundError:  # Python 3.10
     import tomli as tomllib
 
 TABLES = {"rod": Rod, "body": Body, "joint": Joint, "load": Load}
-TOP_KEYS = ("gravity", "description", "rod", "body", "joint", "load", "simulate")
+TOP_KEYS = ("gravity", "description", "rod", "body", "joint", "load", "combination", "solve", "simulate")
 MESH_KEYS = ("mesh", "group")
 
 
@@ -99,7 +106,9 @@ def parse(data: dict, path: str = "<structure>") -> Structure:
                 if kind == "rod":
                     if "mesh" in e:
                         e.update(_rod_from_mesh(e, base, where))
-                    missing = [k for k in ("start", "end", "EI") if k not in e]
+                    missing = [k for k in ("start", "end") if k not in e]
+                    if "EI" not in e and not ("E" in e and "I" in e):
+                        missing.append("EI")
                     if missing:
                         raise BadInput(f"missing field {missing[0]!r}")
                     s.rod(**e)
@@ -118,8 +127,8 @@ def parse(data: dict, path: str = "<structure>") -> Structure:
                     if typ == "force":
                         s.force(**e)
                     elif typ == "distributed":
-                        if set(e) - {"name", "on", "force"}:
-                            raise BadInput("a distributed load has only name, on and force")
+                        if set(e) - {"name", "on", "force", "case"}:
+                            raise BadInput("a distributed load has only name, on, force and case")
                         s.distributed(**e)
                     else:
                         raise BadInput(f"type {typ!r}; allowed: force, distributed")
@@ -127,6 +136,23 @@ def parse(data: dict, path: str = "<structure>") -> Structure:
                 raise BadInput(f"{where}: {exc}") from None
             except TypeError as exc:
                 raise BadInput(f"{where}: {exc}") from None
+    combos = data.get("combination", [])
+    if not isinstance(combos, list) or not all(isinstance(e, dict) for e in combos):
+        raise BadInput(f"structure file {path}: combination must be an array of tables ([[combination]])")
+    for i, e in enumerate(combos):
+        if "name" not in e:
+            raise BadInput(f"structure file {path}: [[combination]] #{i + 1}: missing `name`")
+        bad = [k for k in e if k not in ("name", "factors")]
+        if bad or "factors" not in e:
+            raise BadInput(f"structure file {path}: combination {e['name']!r}: "
+                           + (f"unknown field {bad[0]!r}" if bad else "missing field 'factors'")
+                           + "; allowed: name, factors")
+        try:
+            s.combination(e["name"], e["factors"])
+        except BadInput as exc:
+            raise BadInput(f"structure file {path}: combination {e['name']!r}: {exc}") from None
+    if "solve" in data and not isinstance(data["solve"], dict):
+        raise BadInput(f"structure file {path}: solve must be a table ([solve])")
     return s
 
 
@@ -218,6 +244,7 @@ class StructureFile:
     command: str = "solve"
     _frozen_ok: dict = field(default_factory=dict)
     simulate_table: dict | None = None   # the file's [simulate] table (femslide/analysis/simulate.py)
+    solve_table: dict | None = None      # the file's [solve] table (femslide/app/cases.py)
 
     def _sim_elements(self, default):
         """The [simulate] table's elements (checked as simulate checks them), else ``default``."""
@@ -228,12 +255,17 @@ class StructureFile:
     def for_modes(self) -> "StructureFile":
         """The same file as a `modes` target."""
         return StructureFile(self.path, self.structure, self.description, "modes",
-                             simulate_table=self.simulate_table)
+                             simulate_table=self.simulate_table, solve_table=self.solve_table)
 
     def for_simulate(self) -> "StructureFile":
         """The same file as a `simulate` target (its [simulate] table is checked by :meth:`resolve`)."""
         return StructureFile(self.path, self.structure, self.description, "simulate",
-                             simulate_table=self.simulate_table)
+                             simulate_table=self.simulate_table, solve_table=self.solve_table)
+
+    def for_buckling(self) -> "StructureFile":
+        """The same file as a `buckling` target."""
+        return StructureFile(self.path, self.structure, self.description, "buckling",
+                             simulate_table=self.simulate_table, solve_table=self.solve_table)
 
     @property
     def name(self):
@@ -256,7 +288,7 @@ class StructureFile:
         """Overrides checked now (applied to a copy and frozen), before any run.  A `simulate`
         target also takes ``simulate.KEY=VALUE`` (a key of the [simulate] table)."""
         values = {k: parse_value(v) for k, v in given.items()}
-        s, _ = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("simulate.")})
+        s, _ = apply(self.structure, {k: v for k, v in values.items() if not k.startswith(("simulate.", "solve."))})
         try:
             s.freeze()
         except BadInput as exc:
@@ -266,7 +298,19 @@ class StructureFile:
         elif any(k.startswith("simulate.") for k in values):
             raise BadInput(f"{next(k for k in values if k.startswith('simulate.'))}: [simulate] keys are for "
                            f"`femslide simulate`")
+        if self.command == "solve":
+            self.solve_options(values)
+        elif any(k.startswith("solve.") for k in values):
+            raise BadInput(f"{next(k for k in values if k.startswith('solve.'))}: [solve] keys are for "
+                           f"`femslide solve`")
         return values
+
+    def solve_options(self, values) -> dict:
+        """The [solve] table with the ``solve.KEY`` overrides, checked (femslide.app.cases)."""
+        from femslide.app.cases import solve_options
+        table = dict(self.solve_table or {})
+        table.update({k.split(".", 1)[1]: v for k, v in values.items() if k.startswith("solve.")})
+        return solve_options(table, f"structure file {self.path}: [solve]")
 
     def _spec(self, values):
         """The [simulate] table with the ``simulate.KEY`` overrides, checked."""
@@ -285,6 +329,11 @@ class StructureFile:
             from femslide.analysis import simulate as simulation  # noqa: F401
 
     def run(self, values: dict) -> dict:
+        if self.command == "buckling":
+            from femslide.analysis.buckling import buckling
+            s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
+            return buckling(s.freeze(), count=values.get("_count") or 4, about=values.get("_about", "equilibrium"),
+                            elements=elements, combination=values.get("_combination"), name=self.name)
         if self.command == "modes":
             from femslide.analysis.simulate import DEFAULT_ELEMENTS, MODES, natural_modes
             s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
@@ -304,8 +353,9 @@ class StructureFile:
             finally:
                 bar.close()
         from femslide.app.cases import statics
-        s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
-        return statics(s.freeze(), elements=elements, name=self.name, cache=values.get("_cache"))
+        s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith(("_", "solve."))})
+        return statics(s.freeze(), elements=elements, name=self.name, cache=values.get("_cache"),
+                       options=self.solve_options(values))
 
 
 def _toml_value(x):
@@ -330,8 +380,13 @@ def dumps(structure: Structure, header: str = "") -> str:
     lines = [f"# {h}" if h else "#" for h in header.splitlines()] if header else []
     lines.append(f"gravity = {_toml_value([float(g) for g in structure.gravity])}")
     for kind, objs in (("rod", structure.rods), ("body", structure.bodies), ("joint", structure.joints),
-                       ("load", structure.loads)):
-        cls = TABLES[kind]
+                       ("load", structure.loads), ("combination", getattr(structure, "combinations", {}))):
+        cls = TABLES.get(kind)
+        if cls is None:   # combinations: name and the factors as a table
+            for obj in objs.values():
+                lines += ["", f"[[{kind}]]", f"name = {_toml_value(obj.name)}",
+                          f"factors = {_toml_value(dict(obj.factors))}"]
+            continue
         defaults = {f.name: f.default for f in fields(cls)}
         for obj in objs.values():
             lines += ["", f"[[{kind}]]"]
@@ -351,4 +406,7 @@ def load(path: str, data: dict | None = None) -> StructureFile:
         s.freeze()
     except BadInput as exc:
         raise BadInput(f"structure file {path}: {exc}") from None
-    return StructureFile(path, s, desc if isinstance(desc, str) else "", simulate_table=data.get("simulate"))
+    sf = StructureFile(path, s, desc if isinstance(desc, str) else "", simulate_table=data.get("simulate"),
+                       solve_table=data.get("solve"))
+    sf.solve_options({})   # the [solve] table checked now
+    return sf

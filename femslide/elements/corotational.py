@@ -220,3 +220,25 @@ def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent:
     K = P.T @ _K_MAP7
     K += es.K_bend
     return F, K, NM, alpha, noise
+
+
+def geometric_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, NM: np.ndarray) -> np.ndarray:
+    """The geometric (stress) part (n, 36) of the elements' tangents at the nodal state ``x`` (as
+    :func:`element_terms`) carrying the basic forces ``NM`` (3, n) = (N, M1, M2): the terms of the
+    tangent that scale with the forces, N z z^T / Ln + (M1 + M2) / Ln^2 (r z^T + z r^T), without the
+    material part B^T kb B.  With the element's own forces, element tangent = material + this; with
+    other forces (those of a linear solution at the reference state) it is the initial-stress matrix
+    of linear buckling."""
+    _, _, D, Ln, _, _, _ = _kinematics(es, x, alpha_ref)
+    n = Ln.size
+    inv = 1.0 / Ln
+    p = D * inv
+    a_ww = NM[0] * inv
+    b_pw = (NM[1] + NM[2]) * inv * inv
+    pp = p * p
+    cs = p[0] * p[1]
+    b2 = 2.0 * b_pw * cs
+    P = np.zeros((7, n))
+    np.add(a_ww * pp[::-1], b2 * _SIGN[::-1], out=P[0:3:2])
+    np.add(-a_ww * cs, b_pw * (pp[0] - pp[1]), out=P[1])
+    return P.T @ _K_MAP7

@@ -53,6 +53,16 @@ class PointForce:
             jv.append(lam * (Fx * Rx + Fy * Ry))
         fv += g0
 
+    def stress_hessian(self, z, lam=1.0, linear=None):
+        """The Hessian's part that scales with the load (all of it: a load turning with its body),
+        at ``z`` (``linear``: at the reference, z = 0)."""
+        H = np.zeros((3, 3))
+        t = 0.0 if linear is not None else float(z[2])
+        c, s = math.cos(t), math.sin(t)
+        rx, ry = self.r
+        H[2, 2] = lam * (self.F[0] * (c * rx - s * ry) + self.F[1] * (s * rx + c * ry))
+        return H
+
 
 def distributed_nodal_loads(X, q):
     """Nodal loads (n_nodes, 3) = (Fx, Fy, Mz) of a dead load q (2,) per unit reference length on a

@@ -66,10 +66,13 @@ class Link:
     or a :class:`JointKind`; ``axis`` the guide direction e0 (unit, reference configuration) of a
     kind with a guide.  ``link.kind`` is the type name, ``link.joint_kind`` the kind."""
 
-    def __init__(self, name: str, kind: str | JointKind, a: Carrier, b: Carrier, axis=None):
+    def __init__(self, name: str, kind: str | JointKind, a: Carrier, b: Carrier, axis=None, keep=None):
         jk = kind if isinstance(kind, JointKind) else kind_of(kind, f"joint {name}")
         self.name, self.kind, self.joint_kind, self.a, self.b = name, jk.name, jk, a, b
-        self.size = jk.size
+        # the kind's equations this link holds exactly (an elastic support turns the others into
+        # springs, ElasticSupport); None: all of them
+        self.keep = None if keep is None or tuple(keep) == tuple(range(jk.size)) else tuple(keep)
+        self.size = jk.size if self.keep is None else len(self.keep)
         self.ia = 0 if a.dof0 is not None else None
         self.ib = (3 if a.dof0 is not None else 0) if b.dof0 is not None else None
         self.dofs = np.array([c.dof0 + i for c in (a, b) if c.dof0 is not None for i in range(3)], np.intp)
@@ -113,8 +116,14 @@ class Link:
         return co * ex - si * ey, si * ex + co * ey, co * nx - si * ny, si * nx + co * ny
 
     def _parts(self, z):
-        """(g, G, hess) of the joint's kind at ``z`` (a list; :meth:`JointKind.equations`)."""
-        return self.joint_kind.equations(self, z)
+        """(g, G, hess) of the joint's kind at ``z`` (a list; :meth:`JointKind.equations`), the
+        equations it holds exactly (``keep``) only."""
+        g, G, hess = self.joint_kind.equations(self, z)
+        if self.keep is None:
+            return g, G, hess
+        new = {old: i for i, old in enumerate(self.keep)}
+        return ([g[i] for i in self.keep], [G[i] for i in self.keep],
+                [(new[i], a, b, v) for i, a, b, v in hess if i in new])
 
     def _linear(self):
         """The constant parts of a linear joint (g = G z + g(0), no Hessian) as Python floats, built
@@ -165,7 +174,7 @@ class Link:
             if jv is not None:
                 jv += const
             return
-        g, G, hess = self.joint_kind.equations(self, z)
+        g, G, hess = self._parts(z)
         f = [0.0] * k
         for mi, row in zip(mu, G):
             for j in range(k):
@@ -264,6 +273,10 @@ class RotationalSpring:
             jv += [c * (x * w) for x in d for w in d]
         fv += [0.0] * len(d)
 
+    def stress_hessian(self, z, lam=1.0, linear=None):
+        """A linear spring on a linear coordinate: no stress part."""
+        return np.zeros((self.link.k, self.link.k))
+
 
 @dataclass
 class SlideSpring:
@@ -298,6 +311,89 @@ class SlideSpring:
             n = len(ds)
             jv += [k * (ds[i] * ds[j]) + f * Hs[i * n + j] for i in range(n) for j in range(n)]
         fv += [-self.F0 * x for x in ds]
+
+    def stress_hessian(self, z, lam=1.0, linear=None):
+        """The spring force times the slide's curvature, f Hs (the guide turning with b), at ``z``;
+        ``linear``: the joint's displacements of a first-order state, the force then linear in them
+        and the curvature at the reference."""
+        if linear is None:
+            s, _, Hs = self.link.slide(np.asarray(z, float))
+            f = self.k * (s - self.s0) - lam * self.F0
+        else:
+            s0, ds, Hs = self.link.slide(np.zeros(self.link.k))
+            f = self.k * (s0 - self.s0 + float(ds @ linear)) - lam * self.F0
+        return f * Hs
+
+
+@dataclass
+class ElasticSupport:
+    """The springs of an elastic support: equations of its link's kind (``springs``: (index,
+    stiffness) pairs, model units) turned into the energies (k/2) g_i(z)^2 - a pin's w_x = 0 into a
+    spring kx along x, a weld's rotation into kr, a guide's w . n = 0 into a spring across it.  Their
+    generalised force is k g_i G_i, as a multiplier k g_i would give; the stresses of the springs
+    (k g_i times the equations' curvature) are its geometric part (:meth:`stress_hessian`)."""
+
+    link: Link
+    springs: tuple
+    name: str = "support"
+
+    @property
+    def dofs(self):
+        return self.link.dofs
+
+    def _terms(self, z):
+        g, G, hess = self.link.joint_kind.equations(self.link, z)
+        return [(i, k, g[i], G[i]) for i, k in self.springs], hess
+
+    def eval(self, z, lam=1.0):
+        rv, jv, fv = [], [], []
+        self.assemble(z.tolist(), lam, rv, jv, fv)
+        n = len(rv)
+        force = np.array(rv)
+        E = 0.0
+        for _, k, gi, _ in self._terms(z.tolist())[0]:
+            E += 0.5 * k * gi * gi
+        return E, force, np.array(jv).reshape(n, n), np.zeros(n)
+
+    def assemble(self, z, lam, rv, jv, fv):
+        """:meth:`eval` as Python floats for the model's assembly (see RotationalSpring.assemble)."""
+        n = self.link.k
+        terms, hess = self._terms(z)
+        f = [0.0] * n
+        H = [0.0] * (n * n) if jv is not None else None
+        for i, k, gi, Gi in terms:
+            kg = k * gi
+            for a in range(n):
+                f[a] += kg * Gi[a]
+            if H is not None:
+                for a in range(n):
+                    ka = k * Gi[a]
+                    if ka:
+                        for b in range(n):
+                            H[a * n + b] += ka * Gi[b]
+                for e, a, b, v in hess:
+                    if e == i:
+                        H[a * n + b] += kg * v
+        rv += f
+        if jv is not None:
+            jv += H
+        fv += [0.0] * n
+
+    def stress_hessian(self, z, lam=1.0, linear=None):
+        """The springs' stress part of the Hessian, sum_i k g_i H_i (k x k); ``linear``: the
+        displacements of a first-order state (g_i linear in them, H_i at the reference)."""
+        n = self.link.k
+        H = np.zeros((n, n))
+        if linear is None:
+            terms, hess = self._terms(list(map(float, z)))
+        else:
+            terms, hess = self._terms([0.0] * n)
+            terms = [(i, k, gi + float(np.dot(Gi, linear)), Gi) for i, k, gi, Gi in terms]
+        for i, k, gi, _ in terms:
+            for e, a, b, v in hess:
+                if e == i:
+                    H[a, b] += k * gi * v
+        return H
 
 
 def at_joint_point(link, z, f):

@@ -31,6 +31,11 @@ line in :mod:`femslide.joints.kinds`, or a :func:`femslide.joints.kinds.register
 - :meth:`JointKind.normal_force`: friction's normal force from the joint's multipliers;
 - ``symbol``: the picture of the joint (:mod:`femslide.output.diagrams` draws "hinge", "clamp",
   "sleeve" and "roller"; any other name is drawn as a plain marker);
+- ``springs``: which of its equations an elastic support (a joint with the ground carrying ``kx``,
+  ``ky``, ``kr``) may turn into springs, by name: "kx", "ky" (the x and y components of w = 0),
+  "kn" (w . n = 0 across a guide: a declaration's kx for a guide along y, ky for one along x),
+  "kr" (theta_a - theta_b = 0) -> the index of that equation in :meth:`JointKind.equations`; an
+  equation so turned is replaced by the energy (k/2) g^2 (femslide.joints.base.ElasticSupport);
 - ``code``: its integer in the VTU field data ``joint_type`` (0 pin, 1 weld, 2 slider, 3 roller, as
   in files written before the type names were; -1 for every other kind: files name all kinds in
   ``joint_type_names``).
@@ -61,6 +66,7 @@ class JointKind:
     pivot: bool = False
     symbol: str = "marker"
     code: int = -1
+    springs: dict = {}
 
     @property
     def guide(self) -> bool:

@@ -17,6 +17,7 @@ class Pin(JointKind):
     pivot = True
     symbol = "hinge"
     code = 0
+    springs = {"kx": 0, "ky": 1}
 
     def equations(self, link, z):
         w = link.w(z)

@@ -18,6 +18,7 @@ class Roller(JointKind):
     stuck = "pin"
     symbol = "roller"
     code = 3
+    springs = {"kn": 0}
 
     def equations(self, link, z):
         w = link.w(z)

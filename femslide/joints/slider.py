@@ -22,6 +22,7 @@ class Slider(JointKind):
     stuck = "weld"
     symbol = "sleeve"
     code = 2
+    springs = {"kn": 0, "kr": 1}
 
     def equations(self, link, z):
         w = link.w(z)

@@ -13,6 +13,7 @@ class Weld(JointKind):
     linear = True
     symbol = "clamp"
     code = 1
+    springs = {"kx": 0, "ky": 1, "kr": 2}
 
     def equations(self, link, z):
         w = link.w(z)

@@ -21,12 +21,12 @@ import numpy as np
 
 from femslide.elements import corotational
 from femslide.elements.loads import PointForce, distributed_nodal_loads
-from femslide.joints.base import Carrier, Link, RotationalSpring, SlideSpring
+from femslide.joints.base import Carrier, ElasticSupport, Link, RotationalSpring, SlideSpring
 from femslide.joints.kinds import kind_of
-from femslide.model.frozen import Frozen
+from femslide.model.frozen import Frozen, support_springs
 from femslide.model.linalg import Banded, _unique
 from femslide.model.state import ElementState
-from femslide.model.parts import Table
+from femslide.model.parts import DEAD, Table
 from femslide.model.patterns import PatternCache
 
 DENSE_LIMIT = 100  # unknowns; above it a banded LU is faster when the band is narrow
@@ -174,19 +174,41 @@ class _Mesh:
 
 
 class _JointPlan:
-    __slots__ = ("name", "kind", "ra", "rb", "at", "axis", "k", "preload", "c")   # kind: a JointKind
+    __slots__ = ("name", "kind", "ra", "rb", "at", "axis", "k", "preload", "c", "springs")   # kind: a JointKind
+
+
+def _factor_of(factors):
+    """The load factor of a case: None (the loads used as declared) without ``factors``, else the
+    case's factor (0 for a case not named)."""
+    if factors is None:
+        return lambda case: None
+    return lambda case: float(factors.get(case, 0.0))
+
+
+def _times(f, x):
+    """x times the factor f (None: x itself, untouched)."""
+    return x if f is None else f * x
 
 
 class _Plan:
-    """What a frozen structure's models share whatever their meshes, in model units."""
+    """What a frozen structure's models share whatever their meshes, in model units.
 
-    def __init__(self, fs: Frozen, L: float, F: float):
+    ``factors``: {case: factor} of the load cases (a combination, a step of a load history), None
+    for every load at its declared value; a case not named has factor 0.  Gravity and the slider
+    springs' preloads are case "dead"."""
+
+    def __init__(self, fs: Frozen, L: float, F: float, factors: dict | None = None):
         rods = fs.rods
+        fac = _factor_of(factors)
+        dead = fac(DEAD)
         body_w, rod_w = fs.weights()
+        if dead is not None:
+            body_w = {k: (dead * v[0], dead * v[1]) for k, v in body_w.items()}
+            rod_w = {k: (dead * v[0], dead * v[1]) for k, v in rod_w.items()}
         dist = {r.name: np.zeros(2) for r in rods}
         for ld in fs.loads:
             if ld.type == "distributed":
-                dist[ld.on] += np.asarray(ld.force)
+                dist[ld.on] += _times(fac(ld.case), np.asarray(ld.force))
         self.rods = []
         self.rod_index = {}
         self.geometry = tuple((r.start, r.end) for r in rods) + (L,)
@@ -216,7 +238,7 @@ class _Plan:
             if ld.type != "force":
                 continue
             ref, _ = fs.refs[ld.name]
-            vec = np.array([ld.force[0] / F, ld.force[1] / F, ld.moment / (F * L)])
+            vec = _times(fac(ld.case), np.array([ld.force[0] / F, ld.force[1] / F, ld.moment / (F * L)]))
             if ref.kind == "rod_end":
                 self.node_loads.append((ref.name, ref.end, -vec))
                 continue
@@ -234,14 +256,17 @@ class _Plan:
             jp.name, jp.kind, jp.axis = j.name, kind_of(j.type), j.axis
             jp.ra, jp.rb = fs.refs[j.name]
             jp.at = (j.at[0] / L, j.at[1] / L)
-            jp.k, jp.preload, jp.c = j.k * L / F, j.preload / F, j.c / (F * L)
+            jp.k, jp.preload, jp.c = j.k * L / F, _times(dead, j.preload / F), j.c / (F * L)
+            # elastic support springs: (equation index, stiffness in model units: k L / F, kr / (F L))
+            jp.springs = tuple((i, k / (F * L) if rot else k * L / F) for i, k, rot in support_springs(j, jp.kind))
             self.joints.append(jp)
         # everything a model's frames, joints, springs and loads depend on, not the rods' stiffness:
         # models of one key and mesh share them (the cases of a sweep over EI, Model._share)
         self.key = (L, F, self.geometry, tuple((rp.name, tuple(rp.q.tolist())) for rp in self.rods),
                     tuple(self.body_index), self.body_X0.tobytes(), self.body_p.tobytes(),
                     tuple((r, e, tuple(v.tolist())) for r, e, v in self.node_loads), tuple(self.point_forces),
-                    tuple((j.name, j.kind, j.ra, j.rb, j.at, j.axis, j.k, j.preload, j.c) for j in self.joints))
+                    tuple((j.name, j.kind, j.ra, j.rb, j.at, j.axis, j.k, j.preload, j.c, j.springs)
+                          for j in self.joints))
 
 
 def body_origin(fs: Frozen, body) -> tuple:
@@ -254,12 +279,13 @@ def body_origin(fs: Frozen, body) -> tuple:
     return tuple(body.centroid)
 
 
-def _plan(fs: Frozen, L: float, F: float) -> _Plan:
-    """The structure's plan for these model units (kept on the frozen structure)."""
-    key = ("plan", L, F)
+def _plan(fs: Frozen, L: float, F: float, factors: dict | None = None) -> _Plan:
+    """The structure's plan for these model units and load-case factors (kept on the frozen
+    structure)."""
+    key = ("plan", L, F) if factors is None else ("plan", L, F, tuple(sorted(factors.items())))
     plan = fs.derived.get(key)
     if plan is None:
-        plan = fs.derived[key] = _Plan(fs, L, F)
+        plan = fs.derived[key] = _Plan(fs, L, F, factors)
     return plan
 
 
@@ -268,13 +294,23 @@ class Model:
 
     Built complete (joints, springs, loads) and finalized; callers that add constraints or terms
     of their own (the dynamics) pass ``finalize=False`` and call :meth:`finalize` themselves.
+
+    ``factors``: {load case: factor} (a combination, a step of a load history; a case not named has
+    factor 0), or None: every load as declared.  The load factor ``lam`` of :meth:`system` scales
+    the loads so combined.  (A load history that ramps from one set of factors f0 to the next f1
+    builds the model of the difference f1 - f0 and holds the loads of f0 with a constant term, or
+    builds the model of f0 + lam (f1 - f0) for each lam: the cases' loads are linear in the factors.)
     """
 
+    linear = False   # geometrically exact (corotational); femslide.model.linear.LinearModel: first order
+    theory = "nonlinear"
+
     def __init__(self, structure: Frozen, elements: dict, Lref: float, Fref: float,
-                 cache: PatternCache | None = None, finalize: bool = True):
+                 cache: PatternCache | None = None, finalize: bool = True, factors: dict | None = None):
         self.structure, self.Lref, self.Fref = structure, Lref, Fref
         self.cache = cache or PatternCache()
-        plan = _plan(structure, Lref, Fref)
+        self.factors = factors
+        plan = _plan(structure, Lref, Fref, factors)
         self.rod_index = plan.rod_index
         counts = tuple(int(elements[rp.name]) for rp in plan.rods)
         mesh = self.cache.mesh((plan.geometry, counts), lambda: _Mesh(plan, counts))
@@ -315,10 +351,16 @@ class Model:
             p[d:d + 3] += vec
         self.p_lin = p
         self.constraints, self.terms = [], []
-        self.joint, self.spring, self.slide0 = {}, {}, {}
+        self.joint, self.spring, self.slide0, self.supports = {}, {}, {}, {}
         for jp in plan.joints:
-            link = Link(jp.name, jp.kind, self._carrier(jp.ra, jp.at), self._carrier(jp.rb, jp.at), jp.axis)
-            self.joint[jp.name] = self.add_constraint(link)
+            # an elastic support holds only the equations its springs do not replace
+            keep = [i for i in range(jp.kind.size) if i not in dict(jp.springs)] if jp.springs else None
+            link = Link(jp.name, jp.kind, self._carrier(jp.ra, jp.at), self._carrier(jp.rb, jp.at), jp.axis, keep)
+            self.joint[jp.name] = link
+            if link.size:
+                self.add_constraint(link)
+            if jp.springs:
+                self.supports[jp.name] = self.add_term(ElasticSupport(link, jp.springs, jp.name))
             if jp.kind.free == "slide":
                 # reference slide: a's point (a rod end may sit anywhere on the line) past ``at``
                 pa = (link.a.X[0] + link.a.r[0] - jp.at[0], link.a.X[1] + link.a.r[1] - jp.at[1])
@@ -334,8 +376,8 @@ class Model:
             self.finalize()
             self.cache.frames((plan.key, counts), self)
 
-    _OWN = frozenset(("structure", "Lref", "Fref", "cache", "rod_index", "X0", "rod_nodes", "n_nodes", "node_first",
-                      "mesh", "elements", "elem_rod", "last_tangent"))
+    _OWN = frozenset(("structure", "Lref", "Fref", "cache", "factors", "rod_index", "X0", "rod_nodes", "n_nodes",
+                      "node_first", "mesh", "elements", "elem_rod", "last_tangent"))
 
     def _share(self, other: "Model"):
         """Take the frames, joints, terms, loads and dof layout of a finalized model of the same
@@ -419,6 +461,8 @@ class Model:
         return self._rot
 
     def multipliers(self, y, link):
+        if link.size == 0:   # an elastic support with every constraint turned into a spring
+            return y[:0]
         i = self.constraints.index(link)
         return y[self.n_q + self.c_off[i]:self.n_q + self.c_off[i + 1]]
 

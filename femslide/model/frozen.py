@@ -14,11 +14,13 @@ from dataclasses import dataclass, field, replace
 from femslide.errors import BadInput
 from femslide.joints.kinds import kind_of, listed
 from femslide.model.parts import (
+    DEAD,
     EA_PER_EI,
     GROUND,
     LOAD_TYPES,
     MAX_ELEMENTS,
     Body,
+    Combination,
     Joint,
     Load,
     Rod,
@@ -50,6 +52,7 @@ class Frozen:
     joints: tuple
     loads: tuple
     refs: dict = field(default_factory=dict)   # joint/load name -> (PointRef a, PointRef b or None)
+    combinations: tuple = ()                   # Combination records, factors checked
     derived: dict = field(default_factory=dict, compare=False, repr=False)  # data derived by solvers
 
     # -- lookup -------------------------------------------------------------------------------------
@@ -79,6 +82,15 @@ class Frozen:
         ext = max(max(xs) - min(xs), max(ys) - min(ys)) if pts else 1.0
         return ext if ext > 0 else max((r.length for r in self.rods), default=1.0)
 
+    @property
+    def cases(self) -> tuple:
+        """The load cases: "dead" (gravity's) first, then those of the loads in declaration order."""
+        out = [DEAD]
+        for ld in self.loads:
+            if ld.case not in out:
+                out.append(ld.case)
+        return tuple(out)
+
     def weights(self):
         """Gravity force [N] of each body (x, y) and per unit length of each rod."""
         gx, gy = self.gravity
@@ -97,11 +109,7 @@ class Frozen:
             L = math.hypot(end[0] - start[0], end[1] - start[1])
             if not L > 0:
                 raise BadInput(f"{w}: start and end coincide; a rod needs a positive length")
-            EI = _stiffness(f"{w}: EI", r.EI, L)
-            if r.EA is None:
-                EA = EI.scaled(EA_PER_EI) if isinstance(EI, Table) else EA_PER_EI * EI
-            else:
-                EA = _stiffness(f"{w}: EA", r.EA, L)
+            EI, EA = _section(w, r, L)
             rhoA = _num(f"{w}: rhoA", r.rhoA, 0.0)
             n = r.elements
             if n is not None:
@@ -110,6 +118,7 @@ class Frozen:
                                    f"(or absent: adaptive)")
                 n = int(n)
             rods.append(Rod(r.name, start, end, EI, EA, rhoA, n))
+        # (the frozen rod keeps EI and EA only: E, I, A are folded into them)
         rodnames = {r.name for r in rods}
         bodies = []
         for b in s.bodies.values():
@@ -251,7 +260,8 @@ class Frozen:
                 if "bearing" not in kind.accepts:
                     raise BadInput(f"{w}: bearing is for {accepting('bearing')}")
                 bearing = _num(f"{w}: bearing", j.bearing, 0.0, lo_open=True)
-            joints.append(Joint(j.name, j.type, j.a, j.b, at, axis, c, k, pre, mu, mu0, bearing))
+            springs = _support_springs(w, j, kind, rb, axis, mu is not None)
+            joints.append(Joint(j.name, j.type, j.a, j.b, at, axis, c, k, pre, mu, mu0, bearing, *springs))
 
         loads = []
         for ld in s.loads.values():
@@ -265,7 +275,7 @@ class Frozen:
                     raise BadInput(f"{w}: a distributed load acts on a rod; on = {ld.on!r} is not a rod")
                 if ld.moment or ld.at is not None:
                     raise BadInput(f"{w}: a distributed load has no moment or at")
-                loads.append(Load(ld.name, ld.type, ld.on, F))
+                loads.append(Load(ld.name, ld.type, ld.on, F, case=_case(w, ld.case)))
                 refs[ld.name] = (ref, None)
                 continue
             ref = resolve(f"{w}: on", ld.on, allow_ground=False)
@@ -277,13 +287,28 @@ class Frozen:
                     raise BadInput(f"{w}: at = {list(at)} is not the position of the rod end {ld.on}")
             if at is None:
                 at = pos(ref)
-            loads.append(Load(ld.name, ld.type, ld.on, F, M, at))
+            loads.append(Load(ld.name, ld.type, ld.on, F, M, at, _case(w, ld.case)))
             refs[ld.name] = (ref, None)
 
         if not rods and not bodies:
             raise BadInput("the structure declares no rods and no bodies; allowed: at least one rod or "
                            "body, connected to the ground by a joint")
-        fr = Frozen(gravity, tuple(rods), tuple(bodies), tuple(joints), tuple(loads), refs)
+        cases = {DEAD} | {ld.case for ld in loads}
+        combos = []
+        for cb in getattr(s, "combinations", {}).values():
+            w = f"combination {cb.name}"
+            factors = []
+            for case, f in cb.factors:
+                if case not in cases:
+                    raise BadInput(f"{w}: factors name the load case {case!r}, which no load has; cases: "
+                                   f"{', '.join(sorted(cases))} (gravity is case {DEAD!r})")
+                factors.append((case, _num(f"{w}: factor of {case}", f)))
+            if not factors:
+                raise BadInput(f"{w}: factors is empty; allowed: a table {{case = factor, ...}} naming at least "
+                               f"one case")
+            combos.append(Combination(cb.name, tuple(factors)))
+
+        fr = Frozen(gravity, tuple(rods), tuple(bodies), tuple(joints), tuple(loads), refs, tuple(combos))
         fr._check_connected()
         return fr
 
@@ -304,3 +329,83 @@ class Frozen:
             what = ", ".join(loose)
             raise BadInput(f"part(s) {what} not connected to the ground by any chain of joints; "
                            f"add a joint with b = \"ground\" (a support) or to a supported part")
+
+
+def _case(what, case):
+    """A load case name: a non-empty string."""
+    if not isinstance(case, str) or not case.strip():
+        raise BadInput(f"{what}: case = {case!r}; allowed: a non-empty name (default {DEAD!r})")
+    return case
+
+
+def _section(w, r, L):
+    """(EI, EA) of a declared rod: given, or from its section E, I, A (EI = E I, EA = E A)."""
+    section = (r.E, r.I, r.A)
+    if any(v is not None for v in section):
+        if r.EI is not None or (r.EA is not None and r.A is not None):
+            raise BadInput(f"{w}: give EI (and EA) or the section E, I (and A), not both")
+        if r.E is None or r.I is None:
+            raise BadInput(f"{w}: a section needs E [Pa] and I [m^4] (and optionally A [m^2]); missing "
+                           f"{'E' if r.E is None else 'I'}")
+        E = _num(f"{w}: E", r.E, 0.0, lo_open=True, allowed="a positive number [Pa]")
+        EI = E * _num(f"{w}: I", r.I, 0.0, lo_open=True, allowed="a positive number [m^4]")
+        if r.A is not None:
+            EA = E * _num(f"{w}: A", r.A, 0.0, lo_open=True, allowed="a positive number [m^2]")
+        elif r.EA is not None:
+            EA = _stiffness(f"{w}: EA", r.EA, L)
+        else:
+            EA = EA_PER_EI * EI
+        return EI, EA
+    if r.EI is None:
+        raise BadInput(f"{w}: missing EI [N m^2] (or the section E, I, A)")
+    EI = _stiffness(f"{w}: EI", r.EI, L)
+    if r.EA is None:
+        EA = EI.scaled(EA_PER_EI) if isinstance(EI, Table) else EA_PER_EI * EI
+    else:
+        EA = _stiffness(f"{w}: EA", r.EA, L)
+    return EI, EA
+
+
+def _support_springs(w, j, kind, rb, axis, friction):
+    """(kx, ky, kr) of a joint, checked: positive, on a joint with the ground, each in a direction
+    the kind constrains (``kind.springs``: a guide's constraint across it is x for a guide along y
+    and y for a guide along x)."""
+    given = {n: getattr(j, n) for n in ("kx", "ky", "kr") if getattr(j, n) is not None}
+    if not given:
+        return None, None, None
+    if rb.kind != "ground":
+        raise BadInput(f"{w}: {', '.join(given)} make an elastic support: only for a joint with b = \"ground\"")
+    if friction:
+        raise BadInput(f"{w}: an elastic support ({', '.join(given)}) cannot carry friction (mu); give one or "
+                       f"the other")
+    out = {}
+    for n, v in given.items():
+        out[n] = _num(f"{w}: {n}", v, 0.0, lo_open=True,
+                      allowed=f"a positive spring stiffness [{'N m/rad' if n == 'kr' else 'N/m'}] (absent: rigid)")
+        if _spring_equation(kind, n, axis) is None:
+            ok = [m for m in ("kx", "ky", "kr") if _spring_equation(kind, m, axis) is not None]
+            raise BadInput(f"{w}: a {j.type} {'with this guide ' if axis else ''}has no rigid constraint that "
+                           f"{n} could replace; allowed here: {', '.join(ok) or 'none'}")
+    return out.get("kx"), out.get("ky"), out.get("kr")
+
+
+def _spring_equation(kind, name, axis):
+    """The index of the kind's equation that the spring ``name`` (kx, ky, kr) replaces, or None."""
+    if name in kind.springs:
+        return kind.springs[name]
+    if "kn" in kind.springs and axis is not None and name in ("kx", "ky"):
+        along = 1 if name == "kx" else 0   # kx: the guide along y (its normal along x)
+        if abs(axis[1 - along]) <= 1e-12:
+            return kind.springs["kn"]
+    return None
+
+
+def support_springs(joint, kind):
+    """((equation index, stiffness, rotational), ...) of a frozen joint's elastic support springs:
+    stiffness in N/m (kx, ky) or N m/rad (kr, rotational True)."""
+    out = []
+    for n in ("kx", "ky", "kr"):
+        v = getattr(joint, n)
+        if v is not None:
+            out.append((_spring_equation(kind, n, joint.axis), v, n == "kr"))
+    return tuple(out)

@@ -63,13 +63,19 @@ class Table:
 
 @dataclass(frozen=True)
 class Rod:
+    """A flexible rod as declared: EI [N m^2] and EA [N], or the section's E [Pa], I [m^4] and A
+    [m^2] instead (EI = E I, EA = E A; the frozen rod holds EI and EA only)."""
+
     name: str
     start: tuple
     end: tuple
-    EI: object
+    EI: object = None
     EA: object = None
     rhoA: float = 0.0
     elements: int | None = None
+    E: float | None = None
+    I: float | None = None  # noqa: E741 - the second moment of area, as engineers write it
+    A: float | None = None
 
     @property
     def length(self) -> float:
@@ -94,7 +100,8 @@ class Body:
 class Joint:
     """A joint as declared: ``type`` names a registered kind (:mod:`femslide.joints.kinds`), which
     says what it holds and which of the optional fields (axis, c, k, preload, mu, mu0, bearing) it
-    takes."""
+    takes.  A joint with the ground may carry elastic springs ``kx``, ``ky`` [N/m] and ``kr``
+    [N m/rad] instead of its rigid constraints in those directions (an elastic support)."""
 
     name: str
     type: str
@@ -108,16 +115,38 @@ class Joint:
     mu: float | None = None
     mu0: float | None = None
     bearing: float | None = None
+    kx: float | None = None
+    ky: float | None = None
+    kr: float | None = None
+
+
+#: the load case of gravity and of loads declared without one
+DEAD = "dead"
 
 
 @dataclass(frozen=True)
 class Load:
+    """A load as declared; ``case`` names its load case (default "dead", the case of gravity)."""
+
     name: str
     type: str
     on: str
     force: tuple = (0.0, 0.0)
     moment: float = 0.0
     at: tuple | None = None
+    case: str = DEAD
+
+
+@dataclass(frozen=True)
+class Combination:
+    """A load combination: a factor per load case (``factors``: (case, factor) pairs; cases not
+    named have factor 0), solved as its own equilibrium."""
+
+    name: str
+    factors: tuple = ()
+
+    def factor_dict(self) -> dict:
+        return dict(self.factors)
 
 
 _JOINT_FIELDS = frozenset(f.name for f in fields(Joint))

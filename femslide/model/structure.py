@@ -32,7 +32,11 @@ Parts and points:
   in dynamics, Coulomb friction ``mu``/``mu0`` with bearings ``bearing`` [m] apart;
 - loads: gravity (vector, on bodies and rod mass), ``force`` (a force [N] and moment [N m] on a body
   at ``at`` or on a rod end) and ``distributed`` (force per unit reference length [N/m], global
-  components, on a whole rod).  All loads are dead loads, applied together with gravity.
+  components, on a whole rod).  All loads are dead loads; each belongs to a load ``case`` (default
+  ``"dead"``, the case of gravity).  Without combinations every case is applied at once; a
+  :meth:`Structure.combination` gives a factor per case and is solved as its own equilibrium.
+- elastic supports: a joint with the ground may carry springs ``kx``, ``ky`` [N/m] and ``kr``
+  [N m/rad] instead of its rigid constraints in those directions.
 """
 from __future__ import annotations
 
@@ -42,7 +46,7 @@ from typing import Any
 
 from femslide.errors import BadInput
 from femslide.model.frozen import Frozen
-from femslide.model.parts import _JOINT_FIELDS, GROUND, Body, Field, Joint, Load, Rod, Vec
+from femslide.model.parts import _JOINT_FIELDS, DEAD, GROUND, Body, Combination, Field, Joint, Load, Rod, Vec
 
 
 class Structure:
@@ -77,18 +81,21 @@ class Structure:
         self.bodies: dict[str, Body] = {}
         self.joints: dict[str, Joint] = {}
         self.loads: dict[str, Load] = {}
+        self.combinations: dict[str, Combination] = {}
 
     # -- declaring ----------------------------------------------------------------------------------
     def _name(self, name):
         if not isinstance(name, str) or not name or "." in name or name == GROUND:
             raise BadInput(f"name {name!r}: a non-empty string without '.', not {GROUND!r}")
-        for kind in (self.rods, self.bodies, self.joints, self.loads):
+        for kind in (self.rods, self.bodies, self.joints, self.loads, self.combinations):
             if name in kind:
-                raise BadInput(f"name {name!r} is used twice; every rod, body, joint and load needs its own name")
+                raise BadInput(f"name {name!r} is used twice; every rod, body, joint, load and combination "
+                               f"needs its own name")
         return name
 
-    def rod(self, name: str, start: Vec, end: Vec, EI: Field, EA: Field | None = None, rhoA: Field = 0.0,
-            elements: int | None = None) -> Rod:
+    def rod(self, name: str, start: Vec, end: Vec, EI: Field | None = None, EA: Field | None = None,
+            rhoA: Field = 0.0, elements: int | None = None, E: float | None = None, I: float | None = None,  # noqa: E741
+            A: float | None = None) -> Rod:
         """Declare a flexible rod: a mesh of corotational Euler-Bernoulli beams from ``start`` to ``end``.
 
         Parameters
@@ -107,8 +114,11 @@ class Structure:
         elements : int, optional
             A fixed number of elements; absent: the mesh is refined until the results are
             accurate to about 1e-7 and the result reports its ``error_estimate``.
+        E, I, A : float, optional
+            The section instead of EI and EA: Young's modulus [Pa], second moment of area [m^4]
+            and area [m^2]; EI = E I and EA = E A (without A: the default EA above).
         """
-        r = Rod(self._name(name), tuple(start), tuple(end), EI, EA, rhoA, elements)
+        r = Rod(self._name(name), tuple(start), tuple(end), EI, EA, rhoA, elements, E, I, A)
         self.rods[name] = r
         return r
 
@@ -153,7 +163,10 @@ class Structure:
             is reported as a reaction).
         **options
             ``at``, ``axis``, ``c``, ``k``, ``preload``, ``mu``, ``mu0``, ``bearing`` as in the
-            methods of each type.
+            methods of each type; on a joint with the ground also ``kx``, ``ky`` [N/m] and ``kr``
+            [N m/rad]: elastic springs instead of its rigid constraints in x, y and rotation (a pin
+            or weld takes kx and ky, a weld or slider kr, a slider or roller the k across its guide
+            when the guide is along y (kx) or x (ky)).
         """
         unknown = set(options) - _JOINT_FIELDS
         if unknown:
@@ -163,7 +176,8 @@ class Structure:
         self.joints[name] = j
         return j
 
-    def pin(self, name: str, a: str, b: str, at: Vec | None = None, c: float = 0.0) -> Joint:
+    def pin(self, name: str, a: str, b: str, at: Vec | None = None, c: float = 0.0, kx: float | None = None,
+            ky: float | None = None) -> Joint:
         """A pin: a's point and b's point stay together; rotations are free relative to each other.
 
         Parameters
@@ -174,10 +188,14 @@ class Structure:
             The joint point [m]; default: the position of the rod end a (or of the rod end b).
         c : float, default 0
             A rotational spring [N m/rad] between a and b (a spring hinge).
+        kx, ky : float, optional
+            With b = "ground": an elastic support, springs [N/m] in x and y instead of the rigid
+            constraints there (default: rigid).
         """
-        return self.joint(name, "pin", a, b, at=at, c=c)
+        return self.joint(name, "pin", a, b, at=at, c=c, kx=kx, ky=ky)
 
-    def weld(self, name: str, a: str, b: str, at: Vec | None = None) -> Joint:
+    def weld(self, name: str, a: str, b: str, at: Vec | None = None, kx: float | None = None,
+             ky: float | None = None, kr: float | None = None) -> Joint:
         """A weld: a's point and rotation stay those of b.
 
         Parameters
@@ -186,12 +204,19 @@ class Structure:
             Its name and parts (see :meth:`joint`).
         at : (float, float), optional
             The joint point [m]; default: the position of the rod end a (or of the rod end b).
+        kx, ky : float, optional
+            With b = "ground": an elastic support, springs [N/m] in x and y instead of the rigid
+            constraints there (default: rigid).
+        kr : float, optional
+            With b = "ground": a rotational spring [N m/rad] instead of the rigid rotation (a
+            cantilever on an elastic foundation; default: rigid).
         """
-        return self.joint(name, "weld", a, b, at=at)
+        return self.joint(name, "weld", a, b, at=at, kx=kx, ky=ky, kr=kr)
 
     def slider(self, name: str, a: str, b: str, axis: Vec, at: Vec | None = None, k: float = 0.0,
                preload: float = 0.0, mu: float | None = None, mu0: float | None = None,
-               bearing: float | None = None) -> Joint:
+               bearing: float | None = None, kx: float | None = None, ky: float | None = None,
+               kr: float | None = None) -> Joint:
         """A slider (a sliding clamp, a prismatic joint): a's point stays on the line through ``at``
         along ``axis``, carried by b, and a's rotation equals b's; the slide along the line is free.
 
@@ -212,12 +237,16 @@ class Structure:
             dynamics; the statics treat sliders as frictionless.
         bearing : float, optional
             Distance [m] between the guide's two bearings, for friction's normal force.
+        kx, ky, kr : float, optional
+            With b = "ground": springs [N/m, N m/rad] instead of the rigid constraint across a guide
+            along y (kx) or along x (ky), and of the rigid rotation (kr).
         """
         return self.joint(name, "slider", a, b, at=at, axis=axis, k=k, preload=preload, mu=mu, mu0=mu0,
-                          bearing=bearing)
+                          bearing=bearing, kx=kx, ky=ky, kr=kr)
 
     def roller(self, name: str, a: str, b: str, axis: Vec, at: Vec | None = None, k: float = 0.0,
-               preload: float = 0.0, mu: float | None = None, mu0: float | None = None) -> Joint:
+               preload: float = 0.0, mu: float | None = None, mu0: float | None = None,
+               kx: float | None = None, ky: float | None = None) -> Joint:
         """A roller: a's point stays on the line through ``at`` along ``axis``, carried by b; the
         rotation is free.
 
@@ -231,11 +260,15 @@ class Structure:
             A point of the line [m]; default: the position of the rod end a (or of the rod end b).
         k, preload, mu, mu0 : float, optional
             Spring, preload and friction along the line, as for :meth:`slider`.
+        kx, ky : float, optional
+            With b = "ground": a spring [N/m] instead of the rigid constraint across a line along y
+            (kx) or along x (ky).
         """
-        return self.joint(name, "roller", a, b, at=at, axis=axis, k=k, preload=preload, mu=mu, mu0=mu0)
+        return self.joint(name, "roller", a, b, at=at, axis=axis, k=k, preload=preload, mu=mu, mu0=mu0,
+                          kx=kx, ky=ky)
 
     def force(self, name: str, on: str, force: Vec = (0.0, 0.0), moment: float = 0.0,
-              at: Vec | None = None) -> Load:
+              at: Vec | None = None, case: str = DEAD) -> Load:
         """A dead force (and moment) on a body or a rod end, applied together with gravity.
 
         Parameters
@@ -250,12 +283,14 @@ class Structure:
             Moment [N m], counter-clockwise positive.
         at : (float, float), optional
             Point of application [m] on a body; default: its centroid (or the rod end).
+        case : str, default "dead"
+            Its load case (gravity is case "dead"); combinations give factors per case.
         """
-        ld = Load(self._name(name), "force", on, tuple(force), moment, None if at is None else tuple(at))
+        ld = Load(self._name(name), "force", on, tuple(force), moment, None if at is None else tuple(at), case)
         self.loads[name] = ld
         return ld
 
-    def distributed(self, name: str, on: str, force: Vec) -> Load:
+    def distributed(self, name: str, on: str, force: Vec, case: str = DEAD) -> Load:
         """A dead load distributed uniformly along a whole rod.
 
         Parameters
@@ -266,10 +301,30 @@ class Structure:
             The rod's name.
         force : (float, float)
             Force per unit reference length [N/m], global components.
+        case : str, default "dead"
+            Its load case.
         """
-        ld = Load(self._name(name), "distributed", on, tuple(force))
+        ld = Load(self._name(name), "distributed", on, tuple(force), case=case)
         self.loads[name] = ld
         return ld
+
+    def combination(self, name: str, factors: dict) -> Combination:
+        """A load combination: a factor per load case, e.g. ``{"dead": 1.35, "wind": 1.5}`` (cases
+        not named have factor 0).  With combinations declared, :func:`femslide.solve` solves each
+        one as its own equilibrium and reports them with their envelope.
+
+        Parameters
+        ----------
+        name : str
+            Its name.
+        factors : dict
+            {case: factor}; every case must be the case of some load, or "dead" (gravity).
+        """
+        if not isinstance(factors, dict):
+            raise BadInput(f"combination {name}: factors = {factors!r}; allowed: a table {{case = factor, ...}}")
+        c = Combination(self._name(name), tuple(factors.items()))
+        self.combinations[name] = c
+        return c
 
     def set(self, path: str, value: Any) -> None:
         """Change one declared field by its dotted name.
@@ -277,7 +332,8 @@ class Structure:
         Parameters
         ----------
         path : str
-            ``"NAME.FIELD"`` (``"right.EI"``, ``"wind.force"``, ``"clamp.k"``) or ``"gravity"``.
+            ``"NAME.FIELD"`` (``"right.EI"``, ``"wind.force"``, ``"clamp.k"``, ``"ULS.factors"``) or
+            ``"gravity"``.
         value
             The new value (checked by :meth:`freeze`).
 
@@ -290,20 +346,25 @@ class Structure:
             self.gravity = value
             return
         name, _, fld = path.partition(".")
-        for kind in (self.rods, self.bodies, self.joints, self.loads):
+        for kind in (self.rods, self.bodies, self.joints, self.loads, self.combinations):
             if name in kind:
                 obj = kind[name]
                 names = {f.name for f in fields(obj)} - {"name"}
                 if fld not in names:
                     raise BadInput(f"{path}: {name} has no field {fld!r}; fields: {', '.join(sorted(names))}")
+                if isinstance(obj, Combination):
+                    if not isinstance(value, dict):
+                        raise BadInput(f"{path} = {value!r}; allowed: a table {{case = factor, ...}}")
+                    value = tuple(value.items())
                 kind[name] = replace(obj, **{fld: value})
                 return
-        raise BadInput(f"{path}: no rod, body, joint or load is named {name!r}")
+        raise BadInput(f"{path}: no rod, body, joint, load or combination is named {name!r}")
 
     def copy(self) -> Structure:
         """An independent copy of the declaration (the declared objects themselves are immutable)."""
         s = Structure(self.gravity)
         s.rods, s.bodies, s.joints, s.loads = dict(self.rods), dict(self.bodies), dict(self.joints), dict(self.loads)
+        s.combinations = dict(self.combinations)
         return s
 
     def freeze(self) -> Frozen:

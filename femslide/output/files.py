@@ -11,6 +11,9 @@
   equilibrium and the mode as ``displacement`` (largest translation 5 % of the structure's size), its
   linearised forces, the frequency as field data (:func:`mode_frame`);
 - hysteresis loops: ``hysteresis_JOINT.png`` (friction force against slide; nothing without
+  matplotlib);
+- more static solutions (load combinations): ``NAME_<key>.vtu`` and their sidecar JSON each;
+- figures (femslide.output.plots: a moment envelope, a traced load path): PNG files (nothing without
   matplotlib).
 """
 from __future__ import annotations
@@ -38,13 +41,23 @@ def write(outcome: Outcome, out_dir: str) -> list[str]:
         files += write_modes(outcome.modes, out_dir, outcome.name)
     if outcome.loops:
         files += write_loops(outcome.loops, out_dir, outcome.name)
+    if outcome.buckling is not None:
+        files += write_buckling(outcome.buckling, out_dir, outcome.name)
+    for key, sol in outcome.solutions.items():
+        files += write_static(sol, out_dir, f"{outcome.name}_{key}")
+    if outcome.figures:
+        from femslide.output.plots import draw
+        files += [p for p in (draw(fig, out_dir) for fig in outcome.figures) if p]
     return files
 
 
 def write_table(table, out_dir) -> str:
     """One CSV file of a :class:`femslide.results.outcome.Table`; returns its path."""
     path = os.path.join(out_dir, table.file)
-    data = np.column_stack([np.asarray(c) for c in table.columns]) if table.columns else np.zeros((0, 0))
+    cols = [np.asarray(c) for c in table.columns]
+    if any(c.dtype == object for c in cols):   # text columns (names) among numbers: keep each as it is
+        cols = [c.astype(object) for c in cols]
+    data = np.column_stack(cols) if cols else np.zeros((0, 0))
     np.savetxt(path, data, delimiter=",", header=",".join(table.header), fmt=table.fmt, comments="")
     return path
 
@@ -172,6 +185,25 @@ MODE_POINTS = ("equilibrium: the points are the static equilibrium the modes are
 MODE_CONVENTIONS = ("; mode shapes: displacement scaled to a largest translation of 5 % of the structure's "
                     "size, forces, moments and joint forces the linearised increments of that displacement "
                     "(the static ones not included); time = the mode's number")
+
+
+def write_buckling(modes, out_dir, name) -> list[str]:
+    """The buckling mode shapes as a PVD series ``NAME_buckling.pvd`` of VTU frames, the mode number as
+    its time: the state displaced along each mode (largest translation 5 % of the structure's size),
+    with its load factor as field data ``load_factor`` and ``mode``."""
+    from femslide.output.vtu import describe, joint_data, mesh_data, write_series
+    model, y = modes.model, modes.y
+    names = describe(model)
+
+    def series():
+        for k, (lam, phi) in enumerate(zip(modes.load_factors, modes.shapes)):
+            yk = y.copy()
+            yk[:model.n_q] += 0.05 * phi
+            _, alpha_k = model.element_forces(yk[:model.n_q], modes.alpha)
+            points, cells, pdata, cdata = mesh_data(model, yk, alpha_k, cuts=element_cuts(model, yk, alpha_k))
+            yield (k + 1, points, cells, pdata, cdata,
+                   {**names, **joint_data(model, y), "mode": k + 1, "load_factor": float(lam)})
+    return write_series(series(), out_dir, f"{name}_buckling")
 
 
 def write_loops(loops, out_dir, name) -> list[str]:

@@ -61,6 +61,18 @@ class ModeShapes:
 
 
 @dataclass
+class Buckling:
+    """Buckling modes about a state (y, alpha) of a discrete model: load factors and shapes over the
+    frame dofs (model units, largest translation 1)."""
+
+    model: object
+    y: object
+    alpha: object
+    load_factors: list
+    shapes: object
+
+
+@dataclass
 class Loop:
     """A friction joint's hysteresis loop: its slide [m] against the friction force on a along the
     axis [N]."""
@@ -68,6 +80,17 @@ class Loop:
     joint: str
     slide: object
     force: object
+
+
+@dataclass
+class Figure:
+    """A picture to draw into ``file`` (PNG, with matplotlib; nothing without it): ``kind`` names the
+    drawing (femslide.output.plots: "envelope" the bending-moment envelope of load combinations,
+    "path" a traced load path), ``data`` what it draws."""
+
+    file: str
+    kind: str
+    data: dict
 
 
 @dataclass
@@ -79,7 +102,8 @@ class Outcome:
     run, ``static_values`` extra global values for its VTU; ``history``: the time history
     {column: array} (``t`` first) or a function computing it when first asked for; ``tables``: the
     CSV files, or a function computing them; ``frames``, ``modes``, ``loops``: a PVD series, mode
-    shapes and hysteresis loops to write."""
+    shapes and hysteresis loops to write; ``solutions``: more static solutions, each written as its
+    own VTU ``NAME_<key>.vtu`` (the combinations of a structure); ``figures``: pictures to draw."""
 
     values: dict
     name: str = "structure"
@@ -90,6 +114,9 @@ class Outcome:
     frames: Frames | None = None
     modes: ModeShapes | None = None
     loops: list = field(default_factory=list)
+    solutions: dict = field(default_factory=dict)
+    figures: list = field(default_factory=list)
+    buckling: Buckling | None = None
 
     def __getitem__(self, key):
         """A value of the contract: ``outcome["peaks"]`` is ``outcome.values["peaks"]``."""

@@ -21,6 +21,11 @@ Conventions (counter-clockwise rotations and moments; forces in global x, y):
   included), the slide (sliders, rollers: displacement of a's point along the axis from the
   reference) and the rotation of a relative to b (pins);
 - reactions: the joints with the ground, as forces of the ground on the structure.
+
+A model of first-order theory (``model.linear``, femslide.model.linear) has its results recovered
+the same way on the reference geometry: equilibrium of the undeformed rod pieces, joint forces on
+the reference gradients, springs linear in the displacements, slides and body positions to first
+order.
 """
 from __future__ import annotations
 
@@ -29,10 +34,11 @@ import numpy as np
 from femslide.joints.base import at_joint_point
 
 
-def rod_arrays(model, y, alpha, cuts=None):
+def rod_arrays(model, y, alpha, cuts=None, lam=1.0):
     """Per rod (by name): node arrays s, x, y, u, v, theta, N, V, M (SI) and the largest |M| along
     the rod including interior extrema (``M_max``).  ``cuts``: ``end_moments(model, y,
-    resultant=True)`` of this state if already computed."""
+    resultant=True)`` of this state if already computed; ``lam``: the load factor of the state (an
+    equilibrium on a load path; 1 = full load)."""
     L, F = model.Lref, model.Fref
     q = y[:model.n_q]
     U = model.nodal(q)
@@ -41,13 +47,14 @@ def rod_arrays(model, y, alpha, cuts=None):
         return out
     es = model.elements
     X = model.X0 + U[:, :2]
-    qb, Gmid = end_moments(model, y, X, resultant=True) if cuts is None else cuts
-    D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
+    Xe = model.X0 if model.linear else X   # the geometry equilibrium is written on
+    qb, Gmid = end_moments(model, y, Xe, resultant=True, lam=lam) if cuts is None else cuts
+    D = Xe[es.conn[:, 1]] - Xe[es.conn[:, 0]]
     Ln = np.hypot(D[:, 0], D[:, 1])
     t = D / Ln[:, None]
     nrm = np.column_stack([-t[:, 1], t[:, 0]])
     L0 = es.L0
-    qe = model.elem_q
+    qe = model.elem_q if lam == 1.0 else lam * model.elem_q
     qp = np.einsum("ij,ij->i", qe, nrm)
     fem = qp * L0 * L0 / 12.0
     Ms = -qb[:, 0] + fem
@@ -62,7 +69,7 @@ def rod_arrays(model, y, alpha, cuts=None):
     for k, rod in enumerate(fs.rods):
         nodes = model.rod_nodes[k]
         el = np.nonzero(model.elem_rod == k)[0]
-        ang = rod.angle + U[nodes, 2]
+        ang = rod.angle + (0.0 if model.linear else U[nodes, 2])
         tn = np.column_stack([np.cos(ang), np.sin(ang)])
         nn = np.column_stack([-tn[:, 1], tn[:, 0]])
         M = np.zeros(nodes.size)
@@ -88,7 +95,34 @@ def rod_arrays(model, y, alpha, cuts=None):
     return out
 
 
-def end_moments(model, y, X=None, resultant=False):
+def moment_samples(model, y, alpha, k=8, cuts=None, lam=1.0):
+    """Per rod: the bending moment [N m] at k points inside every element and at the nodes, on the
+    continuous solution (the end moments from equilibrium plus the parabola of a distributed load, as
+    :func:`rod_arrays`): {rod: (s [m], M [N m])}, for diagrams that show interior extrema."""
+    if model.elements is None:
+        return {}
+    L, F = model.Lref, model.Fref
+    es = model.elements
+    X = model.X0 if model.linear else model.X0 + model.nodal(y[:model.n_q])[:, :2]
+    qb, _ = end_moments(model, y, X, resultant=True, lam=lam) if cuts is None else cuts
+    D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
+    t = D / np.hypot(D[:, 0], D[:, 1])[:, None]
+    qp = np.einsum("ij,ij->i", lam * model.elem_q, np.column_stack([-t[:, 1], t[:, 0]]))
+    L0 = es.L0
+    fem = qp * L0 * L0 / 12.0
+    Ms, Me = -qb[:, 0] + fem, qb[:, 1] + fem
+    xi = np.linspace(0.0, 1.0, k + 2)[:-1]
+    out = {}
+    for r, rod in enumerate(model.structure.rods):
+        el = np.nonzero(model.elem_rod == r)[0]
+        s0 = np.concatenate([[0.0], np.cumsum(L0[el])])
+        M = (1 - xi) * Ms[el, None] + xi * Me[el, None] - (qp[el] * L0[el] ** 2)[:, None] * xi * (1 - xi) / 2
+        s = s0[:-1, None] + xi * L0[el, None]
+        out[rod.name] = (np.append(s.ravel(), s0[-1]) * L, np.append(M.ravel(), Me[el[-1]]) * F * L)
+    return out
+
+
+def end_moments(model, y, X=None, resultant=False, lam=1.0):
     """End moments (n_elements, 2) [model units] of every element, in the sign of the elements' basic
     forces (M1 at the start node, M2 at the end; a beam's M(s) is -M1 at its start, +M2 at its end),
     from the equilibrium of the rod piece up to the element: at node i of a rod the element starting
@@ -107,8 +141,8 @@ def end_moments(model, y, X=None, resultant=False):
     if model.elements is None:
         return (np.zeros((0, 2)), np.zeros((0, 2))) if resultant else np.zeros((0, 2))
     if X is None:
-        X = model.X0 + model.nodal(y[:model.n_q])[:, :2]
-    g = model.applied(y)[:3 * model.n_nodes].reshape(-1, 3)
+        X = model.X0 if model.linear else model.X0 + model.nodal(y[:model.n_q])[:, :2]
+    g = model.applied(y, lam)[:3 * model.n_nodes].reshape(-1, 3)
     first = model.node_first
     Xr = X - X[first]
     rows = g.copy()      # forces and moments about each rod's start node
@@ -135,7 +169,7 @@ def element_cuts(model, y, alpha):
         return np.zeros((0, 2)), np.zeros((0, 2))
     qb, _ = model.element_forces(y[:model.n_q], alpha)
     es = model.elements
-    X = model.X0 + model.nodal(y[:model.n_q])[:, :2]
+    X = model.X0 if model.linear else model.X0 + model.nodal(y[:model.n_q])[:, :2]
     D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
     ln = np.hypot(D[:, 0], D[:, 1])
     t = D / ln[:, None]
@@ -156,29 +190,35 @@ def largest_moment(model, y, alpha, cuts=None) -> float:
     return float(np.abs(cuts[0]).max()) * model.Fref * model.Lref
 
 
-def joint_forces(model, y, name):
-    """(Fx, Fy, M) [model units] that b exerts on a at the joint point, springs included."""
+def joint_forces(model, y, name, lam=1.0):
+    """(Fx, Fy, M) [model units] that b exerts on a at the joint point, springs (and the springs of
+    an elastic support) included; ``lam`` the load factor of the state (a preload is ramped)."""
     link = model.joint[name]
     if link.ia is None:   # a is the ground: not allowed by the declaration layer
         raise ValueError(f"joint {name}: part a has no dofs")
-    z = y[link.dofs].tolist()
-    gen = []   # the joint's generalised forces mu . G on its dofs (then its equations g)
-    link.assemble(z, model.multipliers(y, link).tolist(), gen, None)
-    spring = model.spring.get(name)
-    if spring is not None:
-        fs = []
-        spring.assemble(z, 1.0, fs, None, [])
-        f = [-gen[i] - fs[i] for i in range(link.ia, link.ia + 3)]
-    else:
-        f = [-gen[i] for i in range(link.ia, link.ia + 3)]
+    zq = y[link.dofs]
+    z = [0.0] * zq.size if model.linear else zq.tolist()   # first order: the reference geometry
+    gen = [0.0] * link.k   # the joint's generalised forces mu . G on its dofs (then its equations g)
+    if link.size:
+        gen = []
+        link.assemble(z, model.multipliers(y, link).tolist(), gen, None)
+    f = [-gen[i] for i in range(link.ia, link.ia + 3)]
+    for spring in (model.spring.get(name), model.supports.get(name)):
+        if spring is None:
+            continue
+        fs, jv, fv = [], ([] if model.linear else None), []
+        spring.assemble(z, 0.0 if model.linear else lam, fs, jv, fv)
+        if model.linear:   # the spring's force linear in the displacements: H0 z + f0 (preload)
+            fs = (np.array(jv).reshape(link.k, link.k) @ zq + lam * np.array(fv)).tolist()
+        f = [f[j] - fs[i] for j, i in enumerate(range(link.ia, link.ia + 3))]
     return at_joint_point(link, z, f)
 
 
-def extract(model, y, alpha, arrays=None) -> dict:
-    """The named results of SPEC section 8 (SI units) of a converged state."""
+def extract(model, y, alpha, arrays=None, lam=1.0) -> dict:
+    """The named results of SPEC section 8 (SI units) of a converged state (at load factor ``lam``)."""
     L, F = model.Lref, model.Fref
     q = y[:model.n_q]
-    arrays = rod_arrays(model, y, alpha) if arrays is None else arrays
+    arrays = rod_arrays(model, y, alpha, lam=lam) if arrays is None else arrays
     rods = {}
     for rod in model.structure.rods:
         a = arrays[rod.name]
@@ -188,15 +228,24 @@ def extract(model, y, alpha, arrays=None) -> dict:
     bodies = {}
     for b in model.structure.bodies:
         d = model.body_dof(b.name)
-        x, y_ = model.body_point(b.name, q, b.centroid)
+        if model.linear:   # to first order: the origin's displacement plus theta x (centroid - origin)
+            X = model.body_X0[model.body_index[b.name]] * L
+            th = float(q[d + 2])
+            x = b.centroid[0] + q[d] * L - th * (b.centroid[1] - X[1])
+            y_ = b.centroid[1] + q[d + 1] * L + th * (b.centroid[0] - X[0])
+        else:
+            x, y_ = model.body_point(b.name, q, b.centroid)
         bodies[b.name] = {"x": float(x), "y": float(y_), "rotation": float(q[d + 2])}
     joints, reactions = {}, {}
     for j in model.structure.joints:
-        fx, fy, m = joint_forces(model, y, j.name)
+        fx, fy, m = joint_forces(model, y, j.name, lam)
         out = {"Fx": fx * F, "Fy": fy * F, "M": m * F * L}
         link = model.joint[j.name]
         free = link.joint_kind.free   # the joint's free coordinate, if its kind reports one
-        if free == "slide":
+        if free == "slide" and model.linear:   # to first order: the gradient at the reference
+            s0, ds, _ = link.slide(np.zeros(link.k))
+            out["slide"] = (float(s0) + float(ds @ q[link.dofs]) - model.slide0[j.name]) * L
+        elif free == "slide":
             out["slide"] = (float(link.slide(q[link.dofs])[0]) - model.slide0[j.name]) * L
         elif free == "rotation":
             out["rotation"] = float(link.rotation(q[link.dofs])[0])

@@ -1,0 +1,138 @@
+"""First-order (geometrically linear) theory: the discrete model linearised about the reference state.
+
+``[solve] theory = "linear"`` solves the problem of hand calculations and linear frame codes: small
+displacements, equilibrium written on the undeformed structure.  :class:`LinearModel` is the
+:class:`femslide.model.discrete.Model` of the same structure with its equations replaced by their
+linearisation at the reference state (y = 0, no stresses, no loads):
+
+    A0 y + lam f = 0,
+
+A0 the Jacobian there - the rods' elastic stiffness (the corotational tangent at zero stress is the
+linear beam's), the springs', the joints' gradients G0 (their curvature enters only with
+multipliers, which are zero there) - and f the dead loads.  Nothing of the geometric stiffness (axial
+forces, joint forces, loads turning with bodies) is left: a linear structure's results are linear in
+its loads, so that combinations superpose exactly.  Newton converges in one step.
+
+Results come from the same recovery as the exact theory's (femslide.results.static), on the
+reference geometry: cut forces from the equilibrium of the undeformed rod pieces, joint forces from
+the multipliers on the reference gradients, spring forces linear in the displacements; displacements
+and rotations are reported as computed (and drawn on the deformed shape).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from femslide.elements import corotational
+from femslide.model.discrete import Model, _Info
+from femslide.model.linalg import BandMatrix
+
+
+class LinearModel(Model):
+    """The linearised model (module docstring); same constructor as :class:`Model`."""
+
+    linear = True
+    theory = "linear"
+    _OWN = Model._OWN | {"_lin"}
+
+    # -- the constant parts ---------------------------------------------------------------------------
+    def _parts(self, control=None):
+        """(sparse Jacobian at the reference for this control (csc), d r / d lam over the frame dofs,
+        the elements' reference tangents (n, 6, 6), their dof indices (n, 6)), built once."""
+        lin = self.__dict__.setdefault("_lin", {})
+        key = None if control is None else int(control.dof)
+        if key not in lin:
+            z0, es0 = self._reference(control)
+            r, A, info = Model.system(self, z0, es0, 0.0, control)
+            S = _to_csc(self, A, control)
+            if "elements" not in lin:
+                lin["elements"] = _element_tangents(self)
+                lin["fl"] = np.array(info["fl"])
+            lin[key] = S
+        return lin[key], lin["fl"], lin["elements"]
+
+    def _reference(self, control=None):
+        """The reference state (zero, with a zero load factor when it is an unknown)."""
+        z0, es0 = Model.zero_state(self)
+        if control is not None:
+            z0 = np.zeros(self.n + 1)
+        return z0, es0
+
+    def element_forces_linear(self, q):
+        """Generalised forces (n_q) of the rod elements, linear in q (model units)."""
+        _, _, (K, ed) = self._parts()
+        if K is None:
+            return np.zeros(self.n_q)
+        d = q[ed]
+        F = np.einsum("eij,ej->ei", K, d)
+        return np.bincount(ed.ravel(), weights=F.ravel(), minlength=self.n_q)
+
+    # -- the model's interface ------------------------------------------------------------------------
+    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False):
+        """Residual and Jacobian of the linear equations (same interface and storage as
+        :meth:`Model.system`; the Jacobian is the same at every state)."""
+        S, fl, _ = self._parts(control)
+        r = S @ y
+        n_q = self.n_q
+        if control is None:
+            r[:n_q] += lam * fl
+        else:
+            lam = y[-1]
+            r[-1] -= control.target
+        info = _Info(lam=lam)
+        fe = self.element_forces_linear(y[:n_q])
+        info["fmax"] = float(np.abs(fe).max()) if fe.size else 0.0
+        info["noise"] = 0.0
+        info["fl"] = fl
+        elements.trial = elements.committed
+        if not jacobian:
+            return r, None, info
+        z0, es0 = self._reference(control)
+        _, A, _ = Model.system(self, z0, es0, 0.0, control, True, dense)
+        return r, A, info
+
+    def applied(self, y, lam=1.0):
+        """The generalised forces of everything but the rod elements - loads, springs, joint
+        multipliers on the reference gradients - linear in y (see :meth:`Model.applied`)."""
+        S, fl, _ = self._parts()
+        n_q = self.n_q
+        return (S @ y)[:n_q] + lam * fl - self.element_forces_linear(y[:n_q])
+
+    def element_forces(self, q, alpha_ref):
+        """Basic forces (N, M1, M2) of every element, linear in q, and the chord rotations."""
+        es = self.elements
+        if es is None:
+            return np.zeros((0, 3)), np.zeros(0)
+        U = self.nodal(q)
+        d = U[es.j, :2] - U[es.i, :2]
+        c, s = np.cos(es.beta0), np.sin(es.beta0)
+        u_bar = c * d[:, 0] + s * d[:, 1]
+        alpha = (-s * d[:, 0] + c * d[:, 1]) / es.L0
+        t = np.column_stack([U[es.i, 2] - alpha, U[es.j, 2] - alpha])
+        kb = es.kb
+        N = kb[:, 0, 0] * u_bar
+        M = np.einsum("eij,ej->ei", kb[:, 1:, 1:], t)
+        return np.column_stack([N, M]), alpha
+
+
+def _element_tangents(model):
+    """(K (n, 6, 6), dof indices (n, 6)) of the elements at the reference state, or (None, None)."""
+    es = model.elements
+    if es is None:
+        return None, None
+    U0 = np.zeros((model.n_nodes, 3))
+    _, K, _, _, _ = corotational.evaluate(es, U0, np.zeros(es.size))
+    c = es.conn
+    ed = np.concatenate([3 * c[:, :1] + np.arange(3), 3 * c[:, 1:] + np.arange(3)], axis=1)
+    return K, ed
+
+
+def _to_csc(model, A, control):
+    """A Jacobian of :meth:`Model.system` (dense, banded or sparse) as a scipy CSC matrix."""
+    import scipy.sparse as sp
+    if isinstance(A, np.ndarray):
+        return sp.csc_matrix(A)
+    if isinstance(A, BandMatrix):
+        rows, cols, size, band, _, _ = model._pattern(None if control is None else control.dof)
+        flat, idx = np.unique(band.flat, return_index=True)
+        return sp.csc_matrix((A.ab.ravel()[flat], (rows[idx], cols[idx])), shape=(size, size))
+    return sp.csc_matrix(A)

@@ -1,0 +1,108 @@
+"""Pictures of engineering analyses (matplotlib, off-screen; nothing is drawn without matplotlib).
+
+- ``envelope``: per rod, the bending moment M [N m] along the rod (arc length s [m] from its start) of
+  every load combination, thin, and their envelope (the minimum and maximum at each s), shaded,
+  with the governing extremes labelled;
+- ``path``: a traced load path, the load factor against one output (its name and unit on the axis),
+  limit points marked, full load dashed;
+- ``buckling``: the rods of the base state (grey) and displaced along each buckling mode, one panel
+  per mode with its load factor.
+
+:func:`draw` draws a :class:`femslide.results.outcome.Figure` into a folder and returns its path.
+"""
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+
+def _pyplot():
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return None
+    return plt
+
+
+def draw(fig, out_dir) -> str | None:
+    """Draw ``fig`` (a Figure) into ``out_dir``; its path, or None without matplotlib."""
+    plt = _pyplot()
+    if plt is None:
+        return None
+    path = os.path.join(out_dir, fig.file)
+    {"envelope": _envelope, "path": _path, "buckling": _buckling}[fig.kind](plt, fig.data, path)
+    return path
+
+
+def _envelope(plt, data, path):
+    """data: {"rods": moment_envelope(...) result, "title": str}."""
+    rods = data["rods"]
+    n = max(len(rods), 1)
+    fig, axes = plt.subplots(n, 1, figsize=(7, 2.6 * n + 0.6), squeeze=False)
+    for ax, (rod, env) in zip(axes[:, 0], rods.items()):
+        s = env["s"]
+        ax.fill_between(s, env["M_min"], env["M_max"], color="tab:blue", alpha=0.18, lw=0,
+                        label="envelope")
+        for k, (combo, M) in enumerate(env["M"].items()):
+            ax.plot(s, M, lw=0.9, label=combo, color=f"C{k % 10}")
+        ax.plot(s, env["M_max"], color="k", lw=1.4)
+        ax.plot(s, env["M_min"], color="k", lw=1.4)
+        for arr, va in ((env["M_max"], "bottom"), (env["M_min"], "top")):
+            i = int(np.argmax(np.abs(arr)))
+            ax.annotate(f"{arr[i]:.4g}", (s[i], arr[i]), fontsize=8, ha="center", va=va)
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.set_ylabel(f"M of {rod} [N m]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, loc="best")
+    axes[-1, 0].set_xlabel("s: arc length from the rod's start [m]")
+    axes[0, 0].set_title(data.get("title", "bending moment envelope of the load combinations"))
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _path(plt, data, path):
+    """data: {"x": output values, "lam": load factors, "label": the output's name and unit,
+    "limits": [(x, refined lam)], "limits_at": the limit points' load factors on the traced path,
+    "end": (x, lam) or None, "title": str}."""
+    fig, ax = plt.subplots(figsize=(6, 4.2))
+    ax.plot(data["x"], data["lam"], "-", lw=1.3, color="tab:blue", marker=".", ms=3)
+    at = data.get("limits_at") or [lam for _, lam in data.get("limits", [])]
+    for (x, lam), lam_path in zip(data.get("limits", []), at):
+        ax.plot([x], [lam_path], "o", color="tab:red", ms=6)
+        ax.annotate(f"limit {lam:.7g}", (x, lam_path), textcoords="offset points", xytext=(6, 4), fontsize=8)
+    end = data.get("end")
+    if end is not None:
+        ax.plot([end[0]], [end[1]], "s", color="k", ms=5)
+    ax.axhline(1.0, color="0.5", lw=0.8, ls="--")
+    ax.set_xlabel(data["label"])
+    ax.set_ylabel("load factor")
+    ax.set_title(data.get("title", "load path"))
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _buckling(plt, data, path):
+    """data: {"base": [rod node positions], "modes": [{"load_factor", "rods": [...]}], "title"}."""
+    modes = data["modes"]
+    n = len(modes)
+    fig, axes = plt.subplots(1, n, figsize=(2.8 * n + 0.6, 4.0), squeeze=False)
+    for ax, m in zip(axes[0], modes):
+        for rod in data["base"]:
+            p = np.asarray(rod)
+            ax.plot(p[:, 0], p[:, 1], color="0.7", lw=1.0)
+        for rod in m["rods"]:
+            p = np.asarray(rod)
+            ax.plot(p[:, 0], p[:, 1], color="tab:red", lw=1.6)
+        ax.set_title(f"load factor {m['load_factor']:.6g}", fontsize=9)
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.axis("off")
+    fig.suptitle(data.get("title", "buckling modes"), fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
