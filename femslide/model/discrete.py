@@ -24,6 +24,7 @@ from femslide.elements.loads import PointForce, distributed_nodal_loads
 from femslide.joints.base import Carrier, Link, RotationalSpring, SlideSpring
 from femslide.joints.kinds import kind_of
 from femslide.model.frozen import Frozen
+from femslide.model import fast
 from femslide.model.linalg import Banded, _unique
 from femslide.model.state import ElementState
 from femslide.model.parts import Table
@@ -100,6 +101,15 @@ class _Topology:
                 band, sparse = None, size > SPARSE_LIMIT
         flat = rows * size + cols if band is None and not sparse else None
         self.patterns[key] = (rows, cols, size, band, sparse, flat)
+        return self.patterns[key]
+
+    def dense_flat(self, control):
+        """Positions in a dense array of the pattern's entries (for ``dense=True`` on a banded or
+        sparse pattern), built when first asked for."""
+        key = ("dense", None if control is None else int(control))
+        if key not in self.patterns:
+            rows, cols, size, _, _, _ = self.pattern(control)
+            self.patterns[key] = rows * size + cols
         return self.patterns[key]
 
 
@@ -334,8 +344,11 @@ class Model:
             self.finalize()
             self.cache.frames((plan.key, counts), self)
 
+    _kern = None   # the compiled assembler of this model (femslide.model.fast), made at its first evaluation
+    _pack = None
+
     _OWN = frozenset(("structure", "Lref", "Fref", "cache", "rod_index", "X0", "rod_nodes", "n_nodes", "node_first",
-                      "mesh", "elements", "elem_rod", "last_tangent"))
+                      "mesh", "elements", "elem_rod", "last_tangent", "_kern"))
 
     def _share(self, other: "Model"):
         """Take the frames, joints, terms, loads and dof layout of a finalized model of the same
@@ -409,6 +422,10 @@ class Model:
             o += d.size
         rot = np.arange(2, self.n_q, 3)
         self._rot = rot.astype(np.intp)
+        # the compiled assembly (femslide.model.fast): its index maps and joint data now, the elements'
+        # part with the first evaluation (models sharing these differ in their stiffness)
+        self._pack = fast.Pack(self, topo, con_dofs, term_dofs, lin_dofs) if fast.enabled() else None
+        self._kern = None
         return self
 
     def _pattern(self, control):
@@ -490,6 +507,11 @@ class Model:
         terms and joints in Python floats (few numbers each, where numpy's per-call cost would dominate), one
         bincount for the residual and one for a dense Jacobian.
         """
+        if self._pack is not None:
+            kern = self._kern
+            if kern is None:
+                kern = self._kern = fast.assembler(self, self._pack)
+            return fast.system(self, kern, y, elements, lam, control, jacobian, dense, _Info(lam=lam))
         n_q, topo = self.n_q, self._topo
         q = y[:n_q]
         if control is not None:

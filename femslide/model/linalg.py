@@ -2,14 +2,23 @@
 
 The Jacobians of :meth:`femslide.model.discrete.Model.system` are saddle-point matrices
 [[K, G^T], [G, 0]].  Rod meshes make K block-tridiagonal; joints add a few entries near the rod ends.
-Small systems are solved dense (LAPACK dgesv), larger ones with a narrow band after reverse
-Cuthill-McKee renumbering as a LAPACK band (dgbsv, O(n) per solve), wide-band ones by sparse LU
-(SuperLU).  The LAPACK routines are loaded from scipy's compiled wrappers without importing
-``scipy.linalg`` (whose import costs ten times a small solve).
+Small systems are solved dense, larger ones with a narrow band after reverse Cuthill-McKee
+renumbering in LAPACK's band storage (O(n) per solve), wide-band ones by sparse LU (SuperLU).  The
+dense and band LU with partial pivoting come with the compiled kernel (femslide.model._assembly:
+LAPACK's own algorithms, dgetf2 and dgbtf2, without the cost of calling LAPACK through its Python
+wrappers, which at these sizes is most of the solve); without the kernel they are LAPACK's dgesv
+and dgbsv, loaded from scipy's compiled wrappers without importing ``scipy.linalg`` (whose import
+costs ten times a small solve).  A band matrix keeps its factors: a second right-hand side costs a
+solve, not a factorisation.
 """
 from __future__ import annotations
 
 import numpy as np
+
+try:
+    from femslide.model import _assembly as _kernel
+except ImportError:   # not built: LAPACK through scipy's wrappers (femslide.model.fast.status says so)
+    _kernel = None
 
 RCM_LOCAL_LIMIT = 5000  # unknowns; up to it the banded ordering is computed without scipy
 
@@ -39,11 +48,19 @@ class Banded:
         self.perm, self.inv = perm, inv   # inv: position of each unknown in the band
         nrow = 2 * self.kl + self.ku + 1
         self.shape = (nrow, size)
-        self.flat = (self.kl + self.ku + pr - pc) * size + pc
+        # column-major (LAPACK's layout, so that no wrapper copies it): A[i, j] at ab[kl + ku + i - j, j],
+        # stored at flat position j * nrow + kl + ku + i - j of an array (size, nrow) in C order
+        self.flat = pc * nrow + (self.kl + self.ku + pr - pc)
+
+    def empty(self):
+        """Storage for a matrix of this pattern: (the band array (nrow, size), Fortran order; the
+        (size, nrow) C-order array behind it, which the kernel fills through ``flat``)."""
+        raw = np.empty((self.size, self.shape[0]))
+        return raw.T, raw
 
     def assemble(self, vals):
         ab = np.bincount(self.flat, weights=vals, minlength=self.shape[0] * self.size)
-        return BandMatrix(self, ab.reshape(self.shape))
+        return BandMatrix(self, ab.reshape(self.size, self.shape[0]).T)
 
 
 def _unique(a):
@@ -107,7 +124,7 @@ def _lapack(name):
             sp_ = importlib.util.spec_from_file_location("scipy.linalg._flapack", os.path.join(d, fname))
             mod = importlib.util.module_from_spec(sp_)
             sp_.loader.exec_module(mod)
-            mod.dgesv, mod.dgbsv   # noqa: B018 - both present, else the fallback
+            mod.dgesv, mod.dgbtrf, mod.dgbtrs   # noqa: B018 - all present, else the fallback
             _FLAPACK.append(mod)
         except Exception:  # noqa: BLE001 - any surprise: the documented import
             from scipy.linalg import lapack
@@ -122,27 +139,65 @@ def load_lapack():
 
 
 class BandMatrix:
+    """A banded Jacobian: ``ab`` (nrow, size) in LAPACK's band storage (Fortran order) on the
+    renumbered unknowns of ``pattern``; its LU factors are computed by the first solve and kept (the
+    matrix itself is not modified)."""
+
     def __init__(self, pattern, ab):
         self.pattern, self.ab = pattern, ab
+        self._lu = None
 
     def solve(self, b):
         p = self.pattern
-        _, _, x, info = _lapack("dgbsv")(p.kl, p.ku, self.ab, b[p.perm], overwrite_ab=1, overwrite_b=1)
-        if info != 0:
-            raise np.linalg.LinAlgError(f"singular matrix (LAPACK gbsv info {info})")
+        rhs = np.array(b, float)[p.perm]
+        if _kernel is not None:
+            if self._lu is None:
+                lu = self.ab.T.copy()           # (size, nrow) C order: the column-major band
+                piv = np.empty(p.size, np.intp)
+                info = _kernel.factor(lu, piv, p.size, p.kl, p.ku)
+                if info != 0:
+                    raise np.linalg.LinAlgError(f"singular matrix (zero pivot {info} of the band LU)")
+                self._lu = (lu, piv)
+            _kernel.solve(self._lu[0], self._lu[1], rhs, p.kl, p.ku)
+            x = rhs
+        else:
+            if self._lu is None:
+                lu, piv, info = _lapack("dgbtrf")(self.ab, p.kl, p.ku, overwrite_ab=0)
+                if info != 0:
+                    raise np.linalg.LinAlgError(f"singular matrix (LAPACK gbtrf info {info})")
+                self._lu = (lu, piv)
+            x, info = _lapack("dgbtrs")(self._lu[0], p.kl, p.ku, rhs, self._lu[1], overwrite_b=1)
+            if info != 0:
+                raise ValueError(f"LAPACK gbtrs info {info}")
         out = np.empty_like(x)
         out[p.perm] = x
         return out
 
 
+def _dense_factors(A):
+    """The kernel's LU factors of a dense matrix (A itself unchanged)."""
+    lu = A.copy()
+    piv = np.empty(A.shape[0], np.intp)
+    info = _kernel.factor(lu, piv, A.shape[0], -1, 0)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"singular matrix (zero pivot {info} of the dense LU)")
+    return lu, piv
+
+
 def solve_linear(A, b):
     """Solve A x = b for the dense, banded or sparse Jacobian of :meth:`Model.system`.
 
-    Dense and banded systems go to LAPACK's dgesv and dgbsv (:func:`_lapack`: without importing
-    scipy.linalg), sparse ones to scipy's SuperLU.  A dense A is not modified."""
+    Dense and banded systems go to the kernel's LU (or LAPACK's dgesv and dgbtrf/dgbtrs, loaded by
+    :func:`_lapack` without importing scipy.linalg), sparse ones to scipy's SuperLU.  A is not
+    modified."""
     if isinstance(A, BandMatrix):
         return A.solve(b)
     if isinstance(A, np.ndarray):
+        if _kernel is not None and A.flags.c_contiguous and A.dtype == np.float64:
+            lu, piv = _dense_factors(A)
+            x = np.array(b, float)
+            _kernel.solve(lu, piv, x, -1, 0)
+            return x
         _, _, x, info = _lapack("dgesv")(A, b, overwrite_a=0, overwrite_b=0)
         if info != 0:
             raise np.linalg.LinAlgError(f"singular matrix (LAPACK gesv info {info})")
