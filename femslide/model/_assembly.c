@@ -411,6 +411,11 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
         const long long *edof = IDX(self->st[S_EDOF]);
         const double *edat = DBL(self->st[S_EDAT]);
         double fmax = 0.0, noise = 0.0, umag = 0.0;
+        double *Fs = (double *)PyMem_Malloc(sizeof(double) * (6 * ne + 1));
+        if (Fs == NULL) {
+            PyErr_NoMemory();
+            goto done;
+        }
         /* elements (corotational.element_terms); the round-off estimate needs the largest translation of
          * the elements' nodes first */
         if (jac)
@@ -445,7 +450,7 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
             double F3 = N * pc + m * ps, F4 = N * ps - m * pc;
             double F[6] = {-F3, -F4, M1, F3, F4, M2};
             for (int a = 0; a < 6; a++) {
-                r[d[a]] += F[a];
+                Fs[a * ne + e] = F[a];
                 double af = fabs(F[a]);
                 if (af > fmax) fmax = af;
             }
@@ -482,6 +487,13 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
             for (int q = 0; q < 36; q++)
                 emit(&out, p0 + q, K[q]);
         }
+        /* the element forces into the residual force by force over the elements (the order of the numpy
+         * path's bincount, so that the two agree to the last bit) */
+        for (int a = 0; a < 6; a++)
+            for (Py_ssize_t e = 0; e < ne; e++)
+                r[edof[6 * e + a]] += Fs[a * ne + e];
+        PyMem_Free(Fs);
+        Fs = NULL;
         /* linear dead loads */
         const long long *lind = IDX(self->st[S_LIND]);
         const double *lval = DBL(self->st[S_LVAL]);
@@ -565,7 +577,22 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
             gather(&L, y, z);
             if (jac)
                 memset(Hmu, 0, sizeof(Hmu));
-            int m = link_equations(&L, kind, z, mu, g, G, jac ? Hmu : NULL);
+            int m;
+            if (li[7]) {
+                /* a linear joint (no lever, pin or weld): g = G z + g(0) with the constant G, summed over
+                 * G's nonzeros as Link.assemble does (the same rounding) */
+                double z0[6] = {0, 0, 0, 0, 0, 0}, g0[3];
+                m = link_equations(&L, kind, z0, mu, g0, G, NULL);
+                for (int i = 0; i < m; i++) {
+                    double gi = 0.0;
+                    for (int j = 0; j < k; j++)
+                        if (G[i * k + j] != 0.0)
+                            gi += G[i * k + j] * z[j];
+                    g[i] = gi + g0[i];
+                }
+            } else {
+                m = link_equations(&L, kind, z, mu, g, G, jac ? Hmu : NULL);
+            }
             for (int j = 0; j < k; j++) {
                 double f = 0.0;
                 for (int i = 0; i < m; i++)

@@ -16,9 +16,6 @@ two to round-off (tests/test_kernel.py).
 """
 from __future__ import annotations
 
-import contextlib
-import os
-
 import numpy as np
 
 from femslide.elements.loads import PointForce
@@ -27,50 +24,23 @@ from femslide.joints.pin import Pin
 from femslide.joints.roller import Roller
 from femslide.joints.slider import Slider
 from femslide.joints.weld import Weld
+from femslide.model import linalg
 from femslide.model.linalg import BandMatrix
 
-try:
-    from femslide.model import _assembly
-    _REASON = ""
-except ImportError as exc:   # not built (no compiler at install) or not loadable: the numpy path
-    _assembly = None
-    _REASON = str(exc) or type(exc).__name__
-
 _BUILTIN = {Pin: 0, Weld: 1, Slider: 2, Roller: 3}   # the kinds the kernel evaluates, by class (not subclasses)
-_FORCED: list = []
 
-
-def available() -> bool:
-    """Whether the compiled kernel is importable."""
-    return _assembly is not None
-
-
-def enabled() -> bool:
-    """Whether models assemble through the compiled kernel now: available, not switched off by the
-    environment variable ``FEMSLIDE_KERNEL=numpy`` nor by :func:`forced`."""
-    if _FORCED:
-        return _FORCED[-1] and _assembly is not None
-    return _assembly is not None and os.environ.get("FEMSLIDE_KERNEL", "").lower() != "numpy"
+available = linalg.kernel_available
+enabled = linalg.kernel_enabled
+forced = linalg.kernel_forced
 
 
 def status() -> str:
-    """One line for ``femslide --version``: which assembly runs."""
-    if _assembly is None:
-        return f"assembly: numpy (the compiled kernel is not available: {_REASON})"
+    """One line for ``femslide --version``: which assembly and linear solver run."""
+    if not available():
+        return f"assembly: numpy and LAPACK (the compiled kernel is not available: {linalg.KERNEL_ERROR})"
     if not enabled():
-        return "assembly: numpy (compiled kernel switched off)"
-    return "assembly: compiled kernel"
-
-
-@contextlib.contextmanager
-def forced(on: bool):
-    """Within the block, models finalized (and assembled) use the compiled kernel (``on``) or the
-    numpy path, whatever the environment says (the tests' oracle switch)."""
-    _FORCED.append(bool(on))
-    try:
-        yield
-    finally:
-        _FORCED.pop()
+        return "assembly: numpy and LAPACK (compiled kernel switched off: FEMSLIDE_KERNEL=numpy)"
+    return "assembly: compiled kernel (femslide.model._assembly)"
 
 
 def _kind_code(link) -> int | None:
@@ -164,7 +134,7 @@ def assembler(model, pack: Pack):
         xmax = float(es.xmax)
     else:
         edof, edat, xmax = np.zeros((0, 6), np.int64), np.zeros((0, 9)), 1.0
-    return _assembly.Assembler(model.n_q, xmax, edof, np.ascontiguousarray(edat), pack.lint, pack.ldbl, pack.tint,
+    return linalg._kernel.Assembler(model.n_q, xmax, edof, np.ascontiguousarray(edat), pack.lint, pack.ldbl, pack.tint,
                                pack.tdbl, pack.lin_dofs, pack.lin_vals, pack.load_dofs)
 
 

@@ -15,10 +15,44 @@ from __future__ import annotations
 
 import numpy as np
 
+import contextlib
+import os
+
 try:
     from femslide.model import _assembly as _kernel
-except ImportError:   # not built: LAPACK through scipy's wrappers (femslide.model.fast.status says so)
+    KERNEL_ERROR = ""
+except ImportError as exc:   # not built or not loadable: LAPACK and the numpy assembly (fast.status says so)
     _kernel = None
+    KERNEL_ERROR = str(exc) or type(exc).__name__
+
+_FORCED: list = []
+
+
+def kernel_available() -> bool:
+    """Whether the compiled kernel (femslide.model._assembly) is built and importable."""
+    return _kernel is not None
+
+
+def kernel_enabled() -> bool:
+    """Whether the compiled kernel (assembly and LU) is used now: built, not switched off by the
+    environment variable ``FEMSLIDE_KERNEL=numpy`` nor inside :func:`kernel_forced` (False)."""
+    if _kernel is None:
+        return False
+    if _FORCED:
+        return _FORCED[-1]
+    return os.environ.get("FEMSLIDE_KERNEL", "").lower() != "numpy"
+
+
+@contextlib.contextmanager
+def kernel_forced(on: bool):
+    """Within the block the compiled kernel is used (``on``, if built) or not, whatever the
+    environment says: the tests' switch between the kernel and its numpy/LAPACK oracle.  A model
+    keeps the assembly it was finalized with."""
+    _FORCED.append(bool(on))
+    try:
+        yield
+    finally:
+        _FORCED.pop()
 
 RCM_LOCAL_LIMIT = 5000  # unknowns; up to it the banded ordering is computed without scipy
 
@@ -145,12 +179,14 @@ class BandMatrix:
 
     def __init__(self, pattern, ab):
         self.pattern, self.ab = pattern, ab
-        self._lu = None
+        self._lu = self._kern = None
 
     def solve(self, b):
         p = self.pattern
         rhs = np.array(b, float)[p.perm]
-        if _kernel is not None:
+        if self._lu is None:
+            self._kern = kernel_enabled()
+        if self._kern:
             if self._lu is None:
                 lu = self.ab.T.copy()           # (size, nrow) C order: the column-major band
                 piv = np.empty(p.size, np.intp)
@@ -193,7 +229,7 @@ def solve_linear(A, b):
     if isinstance(A, BandMatrix):
         return A.solve(b)
     if isinstance(A, np.ndarray):
-        if _kernel is not None and A.flags.c_contiguous and A.dtype == np.float64:
+        if A.flags.c_contiguous and A.dtype == np.float64 and kernel_enabled():
             lu, piv = _dense_factors(A)
             x = np.array(b, float)
             _kernel.solve(lu, piv, x, -1, 0)
