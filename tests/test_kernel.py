@@ -285,3 +285,22 @@ def test_environment_switch_and_status(monkeypatch):
         assert fast.enabled()
         m.finalize()
         assert m._pack is not None
+
+
+def test_without_the_extension_femslide_runs_on_numpy():
+    """A process in which the extension cannot be imported (as on a machine that built femslide without a
+    compiler) solves on the numpy path, says so, and gets the kernel's answer to round-off."""
+    import subprocess
+    import sys
+    code = ("import sys; sys.modules['femslide.model._assembly'] = None\n"
+            "import femslide, json\n"
+            "from femslide.model import fast\n"
+            "r = femslide.solve('beam-slider', EI=1e5)\n"
+            "print(json.dumps([fast.status(), r['M_max'], r['phi']]))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    import json
+    status, M, phi = json.loads(out.stdout.strip().splitlines()[-1])
+    assert status.startswith("assembly: numpy and LAPACK (the compiled kernel is not available")
+    r = femslide.solve("beam-slider", EI=1e5)
+    assert abs(M / r["M_max"] - 1) <= 1e-11 and abs(phi / r["phi"] - 1) <= 1e-11

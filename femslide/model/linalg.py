@@ -167,15 +167,18 @@ def _lapack(name):
 
 
 def load_lapack():
-    """Load the compiled LAPACK routines now (a few ms, the first time in a process): the FE modules
-    call it when imported, so that a timed solve does not pay for it (``import_time_s``)."""
-    _lapack("dgesv")
+    """Load the compiled LAPACK routines now (a few ms, the first time in a process) if the solves
+    need them (not with the compiled kernel, whose LU is its own): the FE modules call it when
+    imported, so that a timed solve does not pay for it (``import_time_s``)."""
+    if not kernel_enabled():
+        _lapack("dgesv")
 
 
 class BandMatrix:
     """A banded Jacobian: ``ab`` (nrow, size) in LAPACK's band storage (Fortran order) on the
-    renumbered unknowns of ``pattern``; its LU factors are computed by the first solve and kept (the
-    matrix itself is not modified)."""
+    renumbered unknowns of ``pattern``; its LU factors are computed by the first solve and kept for
+    the next ones.  With the compiled kernel the factors overwrite ``ab`` (a Jacobian is assembled to
+    be solved; a fine mesh's band is megabytes): add to it before the first solve, not after."""
 
     def __init__(self, pattern, ab):
         self.pattern, self.ab = pattern, ab
@@ -188,7 +191,7 @@ class BandMatrix:
             self._kern = kernel_enabled()
         if self._kern:
             if self._lu is None:
-                lu = self.ab.T.copy()           # (size, nrow) C order: the column-major band
+                lu = self.ab.T                  # (size, nrow) C order: the column-major band, factored in place
                 piv = np.empty(p.size, np.intp)
                 info = _kernel.factor(lu, piv, p.size, p.kl, p.ku)
                 if info != 0:
