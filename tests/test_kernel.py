@@ -116,7 +116,8 @@ def _same(m, a, b, control=None):
 
 @pytest.mark.parametrize("lam", [0.0, 0.37, 1.0])
 def test_kernel_equals_the_numpy_path_on_a_frame_of_every_piece(lam):
-    """Dense Jacobian (small model), residual alone, and displacement control: bit for bit."""
+    """Dense Jacobian (small model), residual alone, the residual without the elements (Model.applied)
+    and displacement control: bit for bit."""
     m = _model(frame())
     m.finalize()
     assert not m._pack.python            # everything here is the kernel's
@@ -125,6 +126,12 @@ def test_kernel_equals_the_numpy_path_on_a_frame_of_every_piece(lam):
         y, es = _state(m)
         _same(m, *_both(m, y, es, lam=lam, dense=True))
         _same(m, *_both(m, y, es, lam=lam, jacobian=False))
+        with fast.forced(False):
+            m.finalize()
+            g0 = m.applied(y, lam)
+        with fast.forced(True):
+            m.finalize()
+            assert np.array_equal(m.applied(y, lam), g0)   # the residual without the elements
         hold = DofHold(int(m.body_dof("deck")) + 2, 0.03)
         yc = np.concatenate([y, [lam]])
         _same(m, *_both(m, yc, es, control=hold), control=hold.dof)
@@ -164,9 +171,9 @@ class Tie(JointKind):
     def equations(self, link, z):
         wx, wy, dw, d2w, tha, thb = link.w(z)
         row = [0.0] * link.k
-        for i, dx, dy in dw:
+        for i, dx, _ in dw:
             row[i] += dx
-        hess = [(0, i, i, hx) for i, hx, hy in d2w]
+        hess = [(0, i, i, hx) for i, hx, _ in d2w]
         return [wx], [row], hess
 
 

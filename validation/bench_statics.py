@@ -97,7 +97,7 @@ def system_call(n=8, calls=200, repeats=5):
     return m.n, out[0], out[1]
 
 
-def opensees_cantilever(n, P=1.0, steps=1, tol=1e-8, test_iters=50, test="NormUnbalance"):
+def opensees_cantilever(n, P=1.0, steps=1, tol=1e-8, test_iters=50, test="NormUnbalance", clock=time.perf_counter):
     import openseespy.opensees as ops
     ops.wipe()
     ops.model("basic", "-ndm", 2, "-ndf", 3)
@@ -117,9 +117,9 @@ def opensees_cantilever(n, P=1.0, steps=1, tol=1e-8, test_iters=50, test="NormUn
     ops.algorithm("Newton")
     ops.integrator("LoadControl", 1.0 / steps)
     ops.analysis("Static")
-    t0 = time.perf_counter()
+    t0 = clock()
     ok = ops.analyze(steps)
-    dt = time.perf_counter() - t0
+    dt = clock() - t0
     its = ops.testIter()
     return ok, dt, its, ops.nodeDisp(n + 1)
 

@@ -69,7 +69,8 @@ def opensees_slider(v, phi, n=32, steps=None, penalty=1e6):
 PENALTY_CAP = 1e11   # the clamp's and the rigid offsets' bending stiffness, at most this many P a^2 (below)
 
 
-def opensees_slider_equilibrium(v, n=32, penalty=1e6, cap=PENALTY_CAP, tol=1e-12, first=1e-3, largest=0.1):
+def opensees_slider_equilibrium(v, n=32, penalty=1e6, cap=PENALTY_CAP, tol=1e-12, first=1e-3, largest=0.1,
+                                clock=time.perf_counter):
     """beam-slider in OpenSees as a user would solve it without femslide's answer: the same model as
     :func:`opensees_slider` (penalty clamp, rigid body as stiff corotational beams, ``n`` elements,
     nondimensional), but OpenSees finds the equilibrium at full load itself.
@@ -93,8 +94,8 @@ def opensees_slider_equilibrium(v, n=32, penalty=1e6, cap=PENALTY_CAP, tol=1e-12
 
     Returns a dict: ``status`` (0 = every analysis converged), ``phi`` (rad, clockwise), ``lam`` (the load
     factor reached), ``M_max`` [N m] (largest |end moment| of the rod's elements), ``steps``,
-    ``newton_iterations``, ``analysis_s`` (perf_counter of the analysis: the stepping and the secant,
-    not the model building) and ``all_s`` (building and analysis)."""
+    ``newton_iterations``, ``analysis_s`` (``clock``, perf_counter by default, around the analysis: the
+    stepping and the secant, not the model building) and ``all_s`` (building and analysis)."""
     import openseespy.opensees as ops
     a, P = v["a"], v["m"] * v["g"]
     l, b, d, L = v["l"] / a, v["b"] / a, v["d"] / a, (v.get("L") or v["l"]) / a
@@ -125,7 +126,7 @@ def opensees_slider_equilibrium(v, n=32, penalty=1e6, cap=PENALTY_CAP, tol=1e-12
     ops.constraints("Plain")
     ops.test("NormDispIncr", tol, 50, 0)
     ops.algorithm("Newton")
-    t0 = time.perf_counter()
+    t0 = clock()
 
     def step(dphi):
         ops.integrator("DisplacementControl", 1, 3, -dphi)
@@ -163,7 +164,7 @@ def opensees_slider_equilibrium(v, n=32, penalty=1e6, cap=PENALTY_CAP, tol=1e-12
             break
         phi_prev, lam_prev = phi, lam
         phi, lam = -ops.nodeDisp(1, 3), ops.getLoadFactor(1)
-    dt = time.perf_counter() - t0
+    dt = clock() - t0
     M = max(abs(ops.eleForce(100 + i)[2]) for i in range(n))
     M = max(M, abs(ops.eleForce(100 + n - 1)[5]))
     return {"status": int(status), "phi": phi, "lam": lam, "M_max": M * P * a, "steps": steps,
@@ -367,7 +368,8 @@ def opensees_massive_cantilever(n=32, dt=1e-3, t_end=3.0, EI=10.0, EA=1e7, rhoA=
     inner nodes (half at the free end; translations only, as femslide lumps), shaken at its base by
     the acceleration amplitude sin(2 pi frequency t) along y, applied as the inertia loads -m_i a_g(t)
     on the lumped masses (relative coordinates, as femslide; a ``Sine`` time series on a ``Plain``
-    pattern: openseespy 3.7's ``UniformExcitation`` pattern command did not return here), from rest; Newmark average acceleration, Newton, NormDispIncr ``tol``, BandGeneral with
+    pattern: openseespy 3.7's ``UniformExcitation`` pattern command did not return here), from rest;
+    Newmark average acceleration, Newton, NormDispIncr ``tol``, BandGeneral with
     RCM, constant ``dt`` to ``t_end``.  Returns a dict: ``status``, ``steps``, ``newton_iterations``,
     ``analysis_s`` (the analyze loop), ``tip_v_max`` [m] (largest |v| of the free end relative to the
     base), ``all_s`` (with the model building)."""

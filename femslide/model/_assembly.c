@@ -369,8 +369,9 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
     PyObject *oy, *oaref, *oaout, *or_, *oA, *oflat, *ovals, *ofl, *oxr, *oxrv, *oxj, *oxjv, *oxf, *oxfv;
     double lam, target;
     Py_ssize_t ctrl;
-    if (!PyArg_ParseTuple(args, "OOOdndOOOOOOOOOOO", &oy, &oaref, &oaout, &lam, &ctrl, &target, &or_, &oA, &oflat,
-                          &ovals, &ofl, &oxr, &oxrv, &oxj, &oxjv, &oxf, &oxfv))
+    int with_elements = 1;
+    if (!PyArg_ParseTuple(args, "OOOdndOOOOOOOOOOO|p", &oy, &oaref, &oaout, &lam, &ctrl, &target, &or_, &oA, &oflat,
+                          &ovals, &ofl, &oxr, &oxrv, &oxj, &oxjv, &oxf, &oxfv, &with_elements))
         return NULL;
     Buf by, bar, bao, br, bA, bflat, bvals, bfl, bxr, bxrv, bxj, bxjv, bxf, bxfv;
     Buf *all[] = {&by, &bar, &bao, &br, &bA, &bflat, &bvals, &bfl, &bxr, &bxrv, &bxj, &bxjv, &bxf, &bxfv};
@@ -386,7 +387,7 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
         get_buf(oxf, &bxf, 0, "qlL", 8, "extra fl index") < 0 || get_buf(oxfv, &bxfv, 0, "d", 8, "extra fl") < 0)
         goto done;
     {
-        const Py_ssize_t n_q = self->n_q, ne = self->ne;
+        const Py_ssize_t n_q = self->n_q, ne = with_elements ? self->ne : 0;
         const double *y = DBL(by);
         double *r = DBL(br);
         Py_ssize_t nr = LEN(br);
@@ -395,7 +396,7 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
             PyErr_SetString(PyExc_ValueError, "femslide kernel: A without its flat map");
             goto done;
         }
-        if (LEN(by) < n_q || LEN(bar) != ne || LEN(bao) != ne || (bfl.held && LEN(bfl) != n_q)) {
+        if (LEN(by) < n_q || (ne && (LEN(bar) != ne || LEN(bao) != ne)) || (bfl.held && LEN(bfl) != n_q)) {
             PyErr_SetString(PyExc_ValueError, "femslide kernel: state arrays of the wrong size");
             goto done;
         }
@@ -406,8 +407,8 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
         double *fl = bfl.held ? DBL(bfl) : NULL;
         if (fl)
             memset(fl, 0, bfl.view.len);
-        const double *aref = DBL(bar);
-        double *alpha = DBL(bao);
+        const double *aref = bar.held ? DBL(bar) : NULL;
+        double *alpha = bao.held ? DBL(bao) : NULL;
         const long long *edof = IDX(self->st[S_EDOF]);
         const double *edat = DBL(self->st[S_EDAT]);
         double fmax = 0.0, noise = 0.0, umag = 0.0;
@@ -646,9 +647,9 @@ done:
 
 static PyMethodDef Assembler_methods[] = {
     {"assemble", (PyCFunction)Assembler_assemble, METH_VARARGS,
-     "assemble(y, alpha_ref, alpha_out, lam, control_dof, target, r, A, flat, vals, fl, xr, xrv, xj, xjv, xf, xfv)"
-     " -> (fmax, noise): residual into r, Jacobian into A[flat[p]] (or vals[p]), trial chord rotations into"
-     " alpha_out, d r / d lam into fl; None for what is not wanted"},
+     "assemble(y, alpha_ref, alpha_out, lam, control_dof, target, r, A, flat, vals, fl, xr, xrv, xj, xjv, xf, xfv"
+     "[, elements]) -> (fmax, noise): residual into r, Jacobian into A[flat[p]] (or vals[p]), trial chord rotations"
+     " into alpha_out, d r / d lam into fl; None for what is not wanted; elements=False leaves the elements out"},
     {NULL, NULL, 0, NULL}};
 
 static PyTypeObject AssemblerType = {

@@ -472,6 +472,11 @@ class Model:
         ``lam``), springs and joint multipliers - in the residual's sign (minus the force on the
         frame), model units.  At equilibrium the elements' internal forces balance them; results
         recover cut forces and moments along rods from them (exact to the residual)."""
+        if self._pack is not None:
+            kern = self._kern
+            if kern is None:
+                kern = self._kern = fast.assembler(self, self._pack)
+            return fast.applied(self, kern, y, lam)
         rv, _ = self._joint_terms(y, lam, None)
         # the residual's bincount without the elements (the joints' equations land beyond n_q)
         return np.bincount(self._topo.rbins_applied, weights=np.concatenate([lam * self._p_sel, rv]),

@@ -192,3 +192,23 @@ def system(model, kern, y, elements, lam, control, jacobian, dense, info):
     info["noise"] = 4.0 * noise if jacobian and ne else 0.0
     info["fl"] = fl
     return r, out, info
+
+
+def applied(model, kern, y, lam):
+    """:meth:`femslide.model.discrete.Model.applied` through the kernel: the residual without the
+    elements, over the frame dofs."""
+    pack = model._pack
+    xr = xrv = None
+    if pack.python:
+        n_q = model.n_q
+        z = y[:n_q][model._topo.jt_dofs].tolist()
+        mu = y[n_q:n_q + model.n_c].tolist()
+        rv, fv = [], []
+        for ev, a, b in pack.py_terms:
+            ev(z[a:b], lam, rv, None, fv)
+        for ev, a, b, ma, mb in pack.py_cons:
+            ev(z[a:b], mu[ma:mb], rv, None)
+        xr, xrv = pack.xr, np.array(rv, float)
+    r = np.empty(model.n)
+    kern.assemble(y, None, None, float(lam), -1, 0.0, r, None, None, None, None, xr, xrv, None, None, None, None, False)
+    return r[:model.n_q]

@@ -40,7 +40,8 @@ def kernel_enabled() -> bool:
         return False
     if _FORCED:
         return _FORCED[-1]
-    return os.environ.get("FEMSLIDE_KERNEL", "").lower() != "numpy"
+    env = os.environ.get("FEMSLIDE_KERNEL")
+    return env is None or env.lower() != "numpy"
 
 
 @contextlib.contextmanager
