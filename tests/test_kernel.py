@@ -311,3 +311,19 @@ def test_without_the_extension_femslide_runs_on_numpy():
     assert status.startswith("assembly: numpy and LAPACK (the compiled kernel is not available")
     r = femslide.solve("beam-slider", EI=1e5)
     assert abs(M / r["M_max"] - 1) <= 1e-11 and abs(phi / r["phi"] - 1) <= 1e-11
+
+
+def test_rcm_ordering_equals_the_python_one():
+    """The kernel's reverse Cuthill-McKee (Banded's ordering at any size, without scipy) gives the
+    permutation of femslide.model.linalg.reverse_cuthill_mckee on random patterns and on a
+    cantilever's Jacobian pattern."""
+    from femslide.model import _assembly
+    from femslide.model.linalg import reverse_cuthill_mckee
+    pats = [(RNG.integers(0, 300, 2000), RNG.integers(0, 300, 2000), 300) for _ in range(3)]
+    m = _model(frame(), {"left": 40, "right": 30})
+    m.finalize()
+    pats.append((m._topo.rows, m._topo.cols, m._topo.n))
+    for rows, cols, size in pats:
+        perm = np.empty(size, np.int64)
+        _assembly.rcm(np.asarray(rows, np.int64), np.asarray(cols, np.int64), size, perm)
+        assert np.array_equal(perm, reverse_cuthill_mckee(rows, cols, size))

@@ -869,11 +869,150 @@ out:
     return res;
 }
 
+
+/* -- reverse Cuthill-McKee ordering (femslide.model.linalg.reverse_cuthill_mckee, the same permutation) ---------
+ * of the symmetrised pattern (rows, cols) of a size x size matrix: breadth-first from a node of least
+ * degree in each connected part (ties by index), neighbours by increasing degree (ties by index),
+ * reversed. */
+static int cmp_ll(const void *a, const void *b)
+{
+    long long x = *(const long long *)a, y = *(const long long *)b;
+    return (x > y) - (x < y);
+}
+
+static PyObject *py_rcm(PyObject *mod, PyObject *args)
+{
+    PyObject *orow, *ocol, *operm;
+    Py_ssize_t size;
+    if (!PyArg_ParseTuple(args, "OOnO", &orow, &ocol, &size, &operm))
+        return NULL;
+    Buf br, bc, bp;
+    br.held = bc.held = bp.held = 0;
+    PyObject *res = NULL;
+    long long *ptr = NULL, *adj = NULL, *deg = NULL, *order = NULL, *cnt = NULL, *key = NULL;
+    char *seen = NULL;
+    if (get_buf(orow, &br, 0, "qlL", 8, "rows") < 0 || get_buf(ocol, &bc, 0, "qlL", 8, "cols") < 0 ||
+        get_buf(operm, &bp, 1, "qlL", 8, "perm") < 0)
+        goto out;
+    {
+        Py_ssize_t m = LEN(br);
+        const long long *R = IDX(br), *C = IDX(bc);
+        long long *perm = IDX(bp);
+        if (LEN(bc) != m || LEN(bp) != size) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: rcm: wrong sizes");
+            goto out;
+        }
+        ptr = PyMem_Calloc(size + 1, sizeof(long long));
+        adj = PyMem_Malloc(sizeof(long long) * (2 * m + 1));
+        deg = PyMem_Calloc(size + 1, sizeof(long long));
+        order = PyMem_Malloc(sizeof(long long) * (size + 1));
+        key = PyMem_Malloc(sizeof(long long) * (2 * m + 1));
+        seen = PyMem_Calloc(size + 1, 1);
+        if (!ptr || !adj || !deg || !order || !key || !seen) {
+            PyErr_NoMemory();
+            goto out;
+        }
+        for (Py_ssize_t i = 0; i < m; i++) {
+            if (R[i] < 0 || R[i] >= size || C[i] < 0 || C[i] >= size) {
+                PyErr_SetString(PyExc_ValueError, "femslide kernel: rcm: index out of range");
+                goto out;
+            }
+            if (R[i] != C[i]) {
+                ptr[R[i] + 1]++;
+                ptr[C[i] + 1]++;
+            }
+        }
+        for (Py_ssize_t i = 0; i < size; i++)
+            ptr[i + 1] += ptr[i];
+        {
+            long long *fill = deg;   /* (reused as a cursor, zeroed again below) */
+            for (Py_ssize_t i = 0; i < m; i++)
+                if (R[i] != C[i]) {
+                    adj[ptr[R[i]] + fill[R[i]]++] = C[i];
+                    adj[ptr[C[i]] + fill[C[i]]++] = R[i];
+                }
+        }
+        /* each node's neighbours sorted and made distinct; degree = their count */
+        for (Py_ssize_t v = 0; v < size; v++) {
+            long long a = ptr[v], n = ptr[v + 1] - a;
+            qsort(adj + a, (size_t)n, sizeof(long long), cmp_ll);
+            long long k = 0;
+            for (long long j = 0; j < n; j++)
+                if (k == 0 || adj[a + j] != adj[a + k - 1])
+                    adj[a + k++] = adj[a + j];
+            deg[v] = k;
+        }
+        /* neighbours by (degree, index): sort keys degree * size + index */
+        for (Py_ssize_t v = 0; v < size; v++) {
+            long long a = ptr[v], n = deg[v];
+            for (long long j = 0; j < n; j++)
+                key[j] = deg[adj[a + j]] * (long long)size + adj[a + j];
+            qsort(key, (size_t)n, sizeof(long long), cmp_ll);
+            for (long long j = 0; j < n; j++)
+                adj[a + j] = key[j] % size;
+        }
+        /* start candidates by (degree, index): a counting sort on the degree (stable) */
+        long long dmax = 0;
+        for (Py_ssize_t v = 0; v < size; v++)
+            if (deg[v] > dmax) dmax = deg[v];
+        cnt = PyMem_Calloc(dmax + 2, sizeof(long long));
+        if (!cnt) {
+            PyErr_NoMemory();
+            goto out;
+        }
+        for (Py_ssize_t v = 0; v < size; v++)
+            cnt[deg[v] + 1]++;
+        for (long long d = 0; d <= dmax; d++)
+            cnt[d + 1] += cnt[d];
+        for (Py_ssize_t v = 0; v < size; v++)
+            order[cnt[deg[v]]++] = v;
+        Py_ssize_t head = 0, tail = 0;
+        for (Py_ssize_t q = 0; q < size; q++) {
+            long long s0 = order[q];
+            if (seen[s0])
+                continue;
+            seen[s0] = 1;
+            perm[tail++] = s0;
+            while (head < tail) {
+                long long v = perm[head++];
+                for (long long j = ptr[v]; j < ptr[v] + deg[v]; j++) {
+                    long long w = adj[j];
+                    if (!seen[w]) {
+                        seen[w] = 1;
+                        perm[tail++] = w;
+                    }
+                }
+            }
+        }
+        for (Py_ssize_t i = 0; i < size / 2; i++) {
+            long long t = perm[i];
+            perm[i] = perm[size - 1 - i];
+            perm[size - 1 - i] = t;
+        }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    PyMem_Free(ptr);
+    PyMem_Free(adj);
+    PyMem_Free(deg);
+    PyMem_Free(order);
+    PyMem_Free(key);
+    PyMem_Free(cnt);
+    PyMem_Free(seen);
+    release(&br);
+    release(&bc);
+    release(&bp);
+    return res;
+}
+
 static PyMethodDef module_methods[] = {
     {"factor", py_factor, METH_VARARGS,
      "factor(M, piv, n, kl, ku) -> info: LU with partial pivoting in place; kl < 0: M dense (n, n), else M the "
      "column-major band with kl sub- and ku superdiagonals ((n, 2 kl + ku + 1) C order); info > 0: zero pivot"},
     {"solve", py_solve, METH_VARARGS, "solve(factors, piv, b, kl, ku): b := the solution, with factor()'s factors"},
+    {"rcm", py_rcm, METH_VARARGS,
+     "rcm(rows, cols, size, perm): perm := the reverse Cuthill-McKee ordering of the symmetrised pattern"},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef moduledef = {PyModuleDef_HEAD_INIT, "_assembly",
