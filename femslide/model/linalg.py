@@ -69,7 +69,7 @@ class Banded:
     def __init__(self, rows, cols, size):
         if kernel_enabled():   # the kernel's RCM: the same permutation, any size, without scipy
             perm = np.empty(size, np.int64)
-            _kernel.rcm(np.asarray(rows, np.int64), np.asarray(cols, np.int64), size, perm)
+            _kernel.rcm(np.ascontiguousarray(rows, np.int64), np.ascontiguousarray(cols, np.int64), size, perm)
             perm = perm.astype(np.intp, copy=False)
         elif size <= RCM_LOCAL_LIMIT:
             perm = reverse_cuthill_mckee(rows, cols, size)
