@@ -327,3 +327,31 @@ def test_rcm_ordering_equals_the_python_one():
         perm = np.empty(size, np.int64)
         _assembly.rcm(np.asarray(rows, np.int64), np.asarray(cols, np.int64), size, perm)
         assert np.array_equal(perm, reverse_cuthill_mckee(rows, cols, size))
+
+
+@pytest.mark.parametrize("counts", [None, {"left": 60, "right": 50}])
+def test_extra_terms_equal_adding_them_afterwards(counts):
+    """Model.system(..., extra=(rows, values, positions, jvalues)) - a caller's terms added in the same
+    pass, at Jacobian positions from Model.pattern_positions - equals adding them to the residual and
+    the Jacobian afterwards (generalized_alpha.add_coo), dense and banded, kernel and numpy path; an
+    entry outside the pattern is a ValueError."""
+    from femslide.analysis.generalized_alpha import add_coo
+    m = _model(frame(), counts)
+    m.finalize()
+    y, es = _state(m, 0.01)
+    rows, cols = m._topo.rows[::7], m._topo.cols[::7]          # entries of the pattern, some repeated
+    jv = RNG.standard_normal(rows.size)
+    ri = np.arange(0, m.n_q, 3)
+    rv = RNG.standard_normal(ri.size)
+    for on in (False, True):
+        with fast.forced(on):
+            m.finalize()
+            pos = m.pattern_positions(rows, cols)
+            r0, A0, _ = m.system(y, es.copy(), 0.9)
+            r0[ri] += rv
+            A0 = add_coo(A0, (rows, cols, jv))
+            r1, A1, _ = m.system(y, es.copy(), 0.9, extra=(ri, rv, pos, jv))
+            assert np.abs(r1 - r0).max() <= 1e-15 * np.abs(r0).max()
+            assert np.abs(_dense(m, A1) - _dense(m, A0)).max() <= 1e-15 * np.abs(_dense(m, A0)).max()
+    with pytest.raises(ValueError, match="outside the Jacobian's pattern"):
+        m.pattern_positions([0], [m.n - 1])

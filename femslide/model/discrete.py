@@ -435,6 +435,23 @@ class Model:
         """Indices of the rotational dofs (node and body rotations) among the unknowns."""
         return self._rot
 
+    def pattern_positions(self, rows, cols, control=None):
+        """Positions in the Jacobian's pattern (the order of :meth:`system`'s values) of the entries
+        (rows, cols): where ``system(..., extra=...)`` adds a caller's Jacobian values (a time step's
+        mass and damping matrices, whose entries lie in the pattern).  ValueError for an entry outside
+        the pattern.  ``control``: the controlled dof of the pattern, or None."""
+        prow, pcol, size, _, _, _ = self._pattern(control)
+        keys = prow.astype(np.int64) * size + pcol
+        order = np.argsort(keys, kind="stable")
+        want = np.asarray(rows, np.int64) * size + np.asarray(cols, np.int64)
+        at = np.searchsorted(keys[order], want)
+        bad = (at >= keys.size) | (keys[order][np.minimum(at, keys.size - 1)] != want)
+        if bad.any():
+            i = int(np.nonzero(bad)[0][0])
+            raise ValueError(f"entry ({int(np.asarray(rows)[i])}, {int(np.asarray(cols)[i])}) is outside the "
+                             f"Jacobian's pattern")
+        return order[at].astype(np.intp)
+
     def multipliers(self, y, link):
         i = self.constraints.index(link)
         return y[self.n_q + self.c_off[i]:self.n_q + self.c_off[i + 1]]
@@ -496,7 +513,7 @@ class Model:
             ev(z[a:b], mu[ma:mb], rv, jv)
         return rv, fv
 
-    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False):
+    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False, extra=None):
         """Residual and Jacobian of the equations at y.
 
         ``elements``: the elements' history (femslide.model.state.ElementState): the chord rotations
@@ -508,15 +525,22 @@ class Model:
         asks for a dense array whatever the size), or None with ``jacobian=False`` (then
         info["noise"] is not estimated either).
 
-        One evaluation of all elements (:func:`femslide.elements.corotational.element_terms`), the
-        terms and joints in Python floats (few numbers each, where numpy's per-call cost would dominate), one
-        bincount for the residual and one for a dense Jacobian.
+        ``extra``: terms of the caller added in the same pass, ``(rows, values, positions, jvalues)``:
+        ``values`` added to the residual entries ``rows`` and ``jvalues`` to the Jacobian entries at
+        ``positions`` of its pattern (:meth:`pattern_positions`; a time step's inertia and damping);
+        None entries for parts not given.
+
+        With the compiled kernel (femslide.model.fast) one call evaluates everything and writes the
+        residual and the Jacobian in place.  The numpy path (the kernel's oracle): one evaluation of
+        all elements (:func:`femslide.elements.corotational.element_terms`), the terms and joints in
+        Python floats (few numbers each, where numpy's per-call cost would dominate), one bincount
+        for the residual and one for a dense Jacobian.
         """
         if self._pack is not None:
             kern = self._kern
             if kern is None:
                 kern = self._kern = fast.assembler(self, self._pack)
-            return fast.system(self, kern, y, elements, lam, control, jacobian, dense, _Info(lam=lam))
+            return fast.system(self, kern, y, elements, lam, control, jacobian, dense, _Info(lam=lam), extra)
         n_q, topo = self.n_q, self._topo
         q = y[:n_q]
         if control is not None:
@@ -545,6 +569,8 @@ class Model:
         parts.append(rv)
         r = np.bincount(topo.rbins if control is None else topo.rbins_control, weights=np.concatenate(parts),
                         minlength=size)
+        if extra is not None and extra[0] is not None:
+            np.add.at(r, extra[0], extra[1])
         info["fmax"] = fmax
         elements.trial = alpha
         if not jacobian or self.elements is None:
@@ -556,6 +582,8 @@ class Model:
             jv += info["fl"][self._load_dofs].tolist()
         rows, cols, size, band, sparse, flat = self._pattern(None if control is None else control.dof)
         vals = np.concatenate([K.ravel(), jv]) if self.elements is not None else np.array(jv)
+        if extra is not None and extra[2] is not None:
+            np.add.at(vals, extra[2], extra[3])
         if band is not None and not dense:
             A = band.assemble(vals)
         elif sparse and not dense:

@@ -138,9 +138,11 @@ def assembler(model, pack: Pack):
                                pack.tdbl, pack.lin_dofs, pack.lin_vals, pack.load_dofs)
 
 
-def system(model, kern, y, elements, lam, control, jacobian, dense, info):
+def system(model, kern, y, elements, lam, control, jacobian, dense, info, extra=None):
     """:meth:`femslide.model.discrete.Model.system` through the kernel ``kern`` (an Assembler of
-    :func:`assembler`): (r, A, info) with the same meaning; ``info`` the model's _Info to fill."""
+    :func:`assembler`): (r, A, info) with the same meaning; ``info`` the model's _Info to fill;
+    ``extra`` the caller's (rows, values, positions, jvalues), added by the kernel with the
+    Python-evaluated pieces."""
     pack = model._pack
     topo = model._topo
     n_q = model.n_q
@@ -165,6 +167,15 @@ def system(model, kern, y, elements, lam, control, jacobian, dense, info):
         xr, xrv, xf, xfv = pack.xr, np.array(rv, float), pack.xf, np.array(fv, float)
         if jacobian:
             xj, xjv = pack.xj, np.array(jv, float)
+    if extra is not None:
+        er, erv, ej, ejv = (None if a is None else np.ascontiguousarray(a, np.int64 if i % 2 == 0 else float)
+                            for i, a in enumerate(extra))
+        if er is not None:
+            xr = er if xr is None else np.concatenate([xr, er])
+            xrv = erv if xrv is None else np.concatenate([xrv, erv])
+        if ej is not None and jacobian:
+            xj = ej if xj is None else np.concatenate([xj, ej])
+            xjv = ejv if xjv is None else np.concatenate([xjv, ejv])
     ne = elements.committed.size
     alpha = np.empty(ne)
     r = np.empty(size)
