@@ -870,6 +870,102 @@ out:
 }
 
 
+
+/* solve_dense(A, x): x := A^-1 x for a dense (n x n, C order) A, which is left unchanged (LU in a
+ * scratch copy): the Newton step of a small model in one call; returns the LU's info (0, or the first
+ * zero pivot + 1) */
+static PyObject *py_solve_dense(PyObject *mod, PyObject *args)
+{
+    PyObject *oa, *ox;
+    if (!PyArg_ParseTuple(args, "OO", &oa, &ox))
+        return NULL;
+    Buf ba, bx;
+    ba.held = bx.held = 0;
+    PyObject *res = NULL;
+    double *lu = NULL;
+    Py_ssize_t *piv = NULL;
+    if (get_buf(oa, &ba, 0, "d", 8, "matrix") < 0 || get_buf(ox, &bx, 1, "d", 8, "right-hand side") < 0)
+        goto out;
+    {
+        Py_ssize_t n = LEN(bx);
+        if (LEN(ba) != n * n) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: solve_dense: wrong sizes");
+            goto out;
+        }
+        lu = PyMem_Malloc(sizeof(double) * (n * n + 1));
+        piv = PyMem_Malloc(sizeof(Py_ssize_t) * (n + 1));
+        if (!lu || !piv) {
+            PyErr_NoMemory();
+            goto out;
+        }
+        memcpy(lu, ba.view.buf, sizeof(double) * n * n);
+        Py_ssize_t info = lu_dense(lu, n, piv);
+        if (info == 0)
+            lu_dense_solve(lu, n, piv, DBL(bx));
+        res = PyLong_FromSsize_t(info);
+    }
+out:
+    PyMem_Free(lu);
+    PyMem_Free(piv);
+    release(&ba);
+    release(&bx);
+    return res;
+}
+
+
+/* norms(v, k[, idx]) -> (max |v[:k]|, max |v[k:]|, max |v[idx]|): Newton's residual and step norms in
+ * one pass (NaN propagates: a NaN anywhere gives NaN, as numpy's max does) */
+static PyObject *py_norms(PyObject *mod, PyObject *args)
+{
+    PyObject *ov, *oi = Py_None;
+    Py_ssize_t k;
+    if (!PyArg_ParseTuple(args, "On|O", &ov, &k, &oi))
+        return NULL;
+    Buf bv, bi;
+    bv.held = bi.held = 0;
+    if (get_buf(ov, &bv, 0, "d", 8, "vector") < 0 || get_buf(oi, &bi, 0, "qlLn", 8, "indices") < 0) {
+        release(&bv);
+        return NULL;
+    }
+    const double *v = DBL(bv);
+    Py_ssize_t n = LEN(bv);
+    if (k > n) k = n;
+    double a = 0.0, b = 0.0, c = 0.0;
+    int nan = 0;
+    for (Py_ssize_t i = 0; i < k; i++) {
+        double x = fabs(v[i]);
+        if (x > a) a = x;
+        else if (x != x) nan = 1;
+    }
+    if (nan) a = NAN;
+    nan = 0;
+    for (Py_ssize_t i = k; i < n; i++) {
+        double x = fabs(v[i]);
+        if (x > b) b = x;
+        else if (x != x) nan = 1;
+    }
+    if (nan) b = NAN;
+    nan = 0;
+    if (bi.held) {
+        const long long *idx = IDX(bi);
+        for (Py_ssize_t i = 0; i < LEN(bi); i++) {
+            if (idx[i] < 0 || idx[i] >= n) {
+                release(&bv);
+                release(&bi);
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: norms: index out of range");
+                return NULL;
+            }
+            double x = fabs(v[idx[i]]);
+            if (x > c) c = x;
+            else if (x != x) nan = 1;
+        }
+        if (nan) c = NAN;
+    }
+    release(&bv);
+    release(&bi);
+    return Py_BuildValue("ddd", a, b, c);
+}
+
 /* -- reverse Cuthill-McKee ordering (femslide.model.linalg.reverse_cuthill_mckee, the same permutation) ---------
  * of the symmetrised pattern (rows, cols) of a size x size matrix: breadth-first from a node of least
  * degree in each connected part (ties by index), neighbours by increasing degree (ties by index),
@@ -1011,6 +1107,10 @@ static PyMethodDef module_methods[] = {
      "factor(M, piv, n, kl, ku) -> info: LU with partial pivoting in place; kl < 0: M dense (n, n), else M the "
      "column-major band with kl sub- and ku superdiagonals ((n, 2 kl + ku + 1) C order); info > 0: zero pivot"},
     {"solve", py_solve, METH_VARARGS, "solve(factors, piv, b, kl, ku): b := the solution, with factor()'s factors"},
+    {"solve_dense", py_solve_dense, METH_VARARGS,
+     "solve_dense(A, x) -> info: x := A^-1 x (A dense, unchanged); info > 0: zero pivot, x unchanged"},
+    {"norms", py_norms, METH_VARARGS,
+     "norms(v, k[, idx]) -> (max |v[:k]|, max |v[k:]|, max |v[idx]|) (0 for an empty part, NaN if a NaN)"},
     {"rcm", py_rcm, METH_VARARGS,
      "rcm(rows, cols, size, perm): perm := the reverse Cuthill-McKee ordering of the symmetrised pattern"},
     {NULL, NULL, 0, NULL}};

@@ -218,14 +218,14 @@ class BandMatrix:
         return out
 
 
-def _dense_factors(A):
-    """The kernel's LU factors of a dense matrix (A itself unchanged)."""
-    lu = A.copy()
-    piv = np.empty(A.shape[0], np.intp)
-    info = _kernel.factor(lu, piv, A.shape[0], -1, 0)
-    if info != 0:
-        raise np.linalg.LinAlgError(f"singular matrix (zero pivot {info} of the dense LU)")
-    return lu, piv
+def norms(v, k, idx=None):
+    """(max |v[:k]|, max |v[k:]|, max |v[idx]|) as floats, 0.0 for an empty part and NaN when a part
+    holds a NaN (Newton's residual and step norms: one kernel call, or numpy without the kernel)."""
+    if _kernel is not None and v.dtype == np.float64 and v.flags.c_contiguous:
+        return _kernel.norms(v, k, idx)
+    a = np.abs(v)
+    return (float(a[:k].max()) if k else 0.0, float(a[k:].max()) if a.size > k else 0.0,
+            float(a[idx].max()) if idx is not None and len(idx) else 0.0)
 
 
 def solve_linear(A, b):
@@ -238,9 +238,10 @@ def solve_linear(A, b):
         return A.solve(b)
     if isinstance(A, np.ndarray):
         if A.flags.c_contiguous and A.dtype == np.float64 and kernel_enabled():
-            lu, piv = _dense_factors(A)
             x = np.array(b, float)
-            _kernel.solve(lu, piv, x, -1, 0)
+            info = _kernel.solve_dense(A, x)
+            if info != 0:
+                raise np.linalg.LinAlgError(f"singular matrix (zero pivot {info} of the dense LU)")
             return x
         _, _, x, info = _lapack("dgesv")(A, b, overwrite_a=0, overwrite_b=0)
         if info != 0:
