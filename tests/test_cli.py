@@ -227,12 +227,17 @@ def test_cli_core_imports_nothing_heavy_for_hinge_scenes():
 
 def test_version_prints_the_package_version():
     """`femslide --version` prints `femslide X.Y.Z` (femslide.__version__, the one source of the
-    version: pyproject.toml reads it) and exits 0."""
+    version: pyproject.toml reads it) and, on a second line, which assembly runs (the compiled kernel,
+    or numpy and LAPACK when it is not built or FEMSLIDE_KERNEL=numpy switches it off); exits 0."""
     import femslide
+    from femslide.model import fast
     r = run("--version")
     assert r.returncode == 0, r.stderr
-    assert r.stdout.strip() == f"femslide {femslide.__version__}"
+    first, second = r.stdout.strip().splitlines()
+    assert first == f"femslide {femslide.__version__}"
     assert re.fullmatch(r"\d+\.\d+\.\d+", femslide.__version__)
+    assert second == fast.status() and second.startswith("assembly: ")
+    assert ("compiled kernel (" in second) == fast.available()
 
 
 def _walk(parser, path=("femslide",)):

@@ -95,11 +95,13 @@ def test_manifest_ships_the_tests():
 
 def test_wheel_holds_templates_license_and_py_typed(tmp_path):
     """A wheel built from this tree holds every template under femslide/meshes (byte for byte), py.typed, the LICENSE
-    and the metadata: version = femslide.__version__, License-Expression MIT."""
+    and the metadata: version = femslide.__version__, License-Expression MIT; and the compiled assembly kernel
+    (femslide/model/_assembly, built from its C source by the wheel's own build: the copy leaves the in-place
+    build out), so the wheel is platform-specific."""
     src = tmp_path / "src"
     shutil.copytree(ROOT, src, ignore=shutil.ignore_patterns(
         ".git", "build", "dist", "*.egg-info", ".ci-venv", ".venv", "__pycache__", ".pytest_cache",
-        ".hypothesis", ".ruff_cache", "out"))
+        ".hypothesis", ".ruff_cache", "out", "*.so", "*.pyd"))
     r = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", str(tmp_path / "dist"),
                         str(src)], capture_output=True, text=True, timeout=300)
     if r.returncode != 0 and ("No matching distribution" in r.stderr or "Could not find a version" in r.stderr):
@@ -118,6 +120,9 @@ def test_wheel_holds_templates_license_and_py_typed(tmp_path):
     assert f"\nVersion: {femslide.__version__}\n" in meta
     assert "\nLicense-Expression: MIT\n" in meta
     assert not any(n.startswith(("tests/", "validation/", "meshes/")) for n in names)
+    ext = [n for n in names if n.startswith("femslide/model/_assembly") and n.endswith((".so", ".pyd"))]
+    assert len(ext) == 1, sorted(n for n in names if "_assembly" in n)
+    assert not whl.name.endswith("-none-any.whl"), whl.name
 
 
 def _public_callables():

@@ -66,6 +66,111 @@ def opensees_slider(v, phi, n=32, steps=None, penalty=1e6):
     return dt, lam, M * P * a, ok, dt_all
 
 
+PENALTY_CAP = 1e11   # the clamp's and the rigid offsets' bending stiffness, at most this many P a^2 (below)
+
+
+def opensees_slider_equilibrium(v, n=32, penalty=1e6, cap=PENALTY_CAP, tol=1e-12, first=1e-3, largest=0.1,
+                                clock=time.perf_counter):
+    """beam-slider in OpenSees as a user would solve it without femslide's answer: the same model as
+    :func:`opensees_slider` (penalty clamp, rigid body as stiff corotational beams, ``n`` elements,
+    nondimensional), but OpenSees finds the equilibrium at full load itself.
+
+    The structure is a near-mechanism (its undeformed tangent is singular in the rigid limit), so load
+    control from the undeformed state cannot start; the body rotation is driven instead
+    (DisplacementControl of A1's rotation, towards B1): steps of ``first`` rad, doubled while the
+    load factor lam stays well below 1 and aimed at lam = 1.02 by the power law lam ~ phi^p fitted to
+    the last two steps (at most ``largest`` rad), a failed step halved; once lam passes 1, secant
+    steps on the rotation (still under displacement control, which keeps the near-mechanism well
+    posed) to |lam - 1| <= 1e-10.  Newton with NormDispIncr ``tol`` (50 iterations), BandGeneral with
+    RCM numbering.
+
+    The clamp and the rigid offsets are stiff in bending, ``penalty`` x the rod's EI, but at most
+    ``cap`` (in P a^2): beyond that the load factor, which balances the penalty forces, is lost to
+    round-off (measured on the 9-value EI sweep: a cap of 1e12 fails at EI = 1e7 N m^2, 1e13 at
+    1e10), and the penalty's own error (its compliance against the rod's, ~EI / cap) grows at stiff
+    rods: M_max is then only as accurate as that (``bench_cli.py`` prints it against femslide's).
+    The guide point C sits 4 a above the rod's top so that the clamp beam keeps its length positive
+    while the rod slides up to 1.5 a (EI = 1e2 N m^2).
+
+    Returns a dict: ``status`` (0 = every analysis converged), ``phi`` (rad, clockwise), ``lam`` (the load
+    factor reached), ``M_max`` [N m] (largest |end moment| of the rod's elements), ``steps``,
+    ``newton_iterations``, ``analysis_s`` (``clock``, perf_counter by default, around the analysis: the
+    stepping and the secant, not the model building) and ``all_s`` (building and analysis)."""
+    import openseespy.opensees as ops
+    a, P = v["a"], v["m"] * v["g"]
+    l, b, d, L = v["l"] / a, v["b"] / a, v["d"] / a, (v.get("L") or v["l"]) / a
+    EI, EA = v["EI"] / (P * a * a), v["EA"] / P
+    stiff = min(penalty * max(EI, 1.0), cap)
+    t_build = time.perf_counter()
+    ops.wipe()
+    ops.logFile(os.devnull, "-noEcho")
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    ops.node(1, 0.0, 0.0)                 # A1: the body's ground pin (body rotation = its dof 3)
+    ops.node(2, 1.0 + d, l + b)           # G
+    ops.node(3, 2.0, L + 4.0)             # C: body point on the guide line, above the rod top
+    for i in range(n + 1):
+        ops.node(10 + i, 2.0, L * i / n)
+    ops.fix(1, 1, 1, 0)
+    ops.fix(10, 1, 1, 0)
+    ops.geomTransf("Corotational", 1)
+    for i in range(n):
+        ops.element("elasticBeamColumn", 100 + i, 10 + i, 11 + i, EA, 1.0, EI, 1)
+    ops.element("elasticBeamColumn", 1, 1, 2, stiff * EA / max(EI, 1.0), 1.0, stiff, 1)   # rigid body
+    ops.element("elasticBeamColumn", 2, 1, 3, stiff * EA / max(EI, 1.0), 1.0, stiff, 1)
+    ops.element("elasticBeamColumn", 3, 3, 10 + n, 1e-6, 1.0, stiff, 1)                  # the clamp
+    ops.timeSeries("Linear", 1)
+    ops.pattern("Plain", 1, 1)
+    ops.load(2, 0.0, -1.0, 0.0)
+    ops.system("BandGeneral")
+    ops.numberer("RCM")
+    ops.constraints("Plain")
+    ops.test("NormDispIncr", tol, 50, 0)
+    ops.algorithm("Newton")
+    t0 = clock()
+
+    def step(dphi):
+        ops.integrator("DisplacementControl", 1, 3, -dphi)
+        ops.analysis("Static")
+        return ops.analyze(1), ops.testIter()
+
+    dphi, lam, phi = first, 0.0, 0.0
+    phi_prev = lam_prev = 0.0
+    steps = its = 0
+    status = 0
+    while lam < 1.0:
+        ok, k = step(dphi)
+        steps, its = steps + 1, its + k
+        if ok != 0:
+            dphi *= 0.5
+            if dphi < 1e-9:
+                status = ok
+                break
+            continue
+        phi_prev, lam_prev = phi, lam
+        phi, lam = -ops.nodeDisp(1, 3), ops.getLoadFactor(1)
+        need = largest
+        if lam_prev > 0.0 and lam > lam_prev:   # lam ~ phi^p: aim at 1.02
+            p = max(math.log(lam / lam_prev) / math.log(phi / phi_prev), 1.0)
+            need = phi * ((1.02 / lam) ** (1.0 / p) - 1.0)
+        dphi = min(2.0 * dphi, max(need, 1e-9), largest)
+    for _ in range(30):
+        if status or abs(lam - 1.0) <= 1e-10:
+            break
+        dstep = (1.0 - lam) * (phi - phi_prev) / (lam - lam_prev)
+        ok, k = step(dstep)
+        steps, its = steps + 1, its + k
+        if ok != 0:
+            status = ok
+            break
+        phi_prev, lam_prev = phi, lam
+        phi, lam = -ops.nodeDisp(1, 3), ops.getLoadFactor(1)
+    dt = clock() - t0
+    M = max(abs(ops.eleForce(100 + i)[2]) for i in range(n))
+    M = max(M, abs(ops.eleForce(100 + n - 1)[5]))
+    return {"status": int(status), "phi": phi, "lam": lam, "M_max": M * P * a, "steps": steps,
+            "newton_iterations": its, "analysis_s": dt, "all_s": time.perf_counter() - t_build}
+
+
 # The paper's section 5.2 structure, as meshes/structures/beam-oscillation.toml declares it (SI units).
 OSCILLATION = {
     "EI": 1e6, "EA": 1e12, "n": 8,        # flexible right rod B1 = (2, 0) -> S = (2, 1.5), massless
@@ -254,3 +359,56 @@ def opensees_oscillation(dt=1e-3, t_end=3.0, rotation=-0.01, penalty=1e9, axial=
     if history:
         out.update(t=t[good], F2=F2[good], rotation=rot[good], slide=slide[good])
     return out
+
+
+def opensees_massive_cantilever(n=32, dt=1e-3, t_end=3.0, EI=10.0, EA=1e7, rhoA=1.0, L=1.0, amplitude=1.0,
+                                frequency=1.0, tol=1e-12):
+    """validation/massive-cantilever.toml in OpenSees: a cantilever of ``n`` corotational
+    ``elasticBeamColumn`` elements (EI [N m^2], EA [N]) clamped at x = 0, rhoA L / n lumped at the
+    inner nodes (half at the free end; translations only, as femslide lumps), shaken at its base by
+    the acceleration amplitude sin(2 pi frequency t) along y, applied as the inertia loads -m_i a_g(t)
+    on the lumped masses (relative coordinates, as femslide; a ``Sine`` time series on a ``Plain``
+    pattern: openseespy 3.7's ``UniformExcitation`` pattern command did not return here), from rest;
+    Newmark average acceleration, Newton, NormDispIncr ``tol``, BandGeneral with
+    RCM, constant ``dt`` to ``t_end``.  Returns a dict: ``status``, ``steps``, ``newton_iterations``,
+    ``analysis_s`` (the analyze loop), ``tip_v_max`` [m] (largest |v| of the free end relative to the
+    base), ``all_s`` (with the model building)."""
+    import openseespy.opensees as ops
+    t_build = time.perf_counter()
+    ops.wipe()
+    ops.logFile(os.devnull, "-noEcho")
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for i in range(n + 1):
+        ops.node(i + 1, L * i / n, 0.0)
+    ops.fix(1, 1, 1, 1)
+    ops.geomTransf("Corotational", 1)
+    for i in range(n):
+        ops.element("elasticBeamColumn", i + 1, i + 1, i + 2, EA, 1.0, EI, 1)
+    m = rhoA * L / n
+    for i in range(1, n + 1):
+        mi = m if i < n else 0.5 * m
+        ops.mass(i + 1, mi, mi, 0.0)
+    ops.timeSeries("Sine", 1, 0.0, 1e9, 1.0 / frequency, "-factor", amplitude)
+    ops.pattern("Plain", 1, 1)
+    for i in range(1, n + 1):
+        ops.load(i + 1, 0.0, -(m if i < n else 0.5 * m), 0.0)
+    ops.system("BandGeneral")
+    ops.numberer("RCM")
+    ops.constraints("Plain")
+    ops.test("NormDispIncr", tol, 50, 0)
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+    steps = int(round(t_end / dt))
+    iters, vmax, status = 0, 0.0, 0
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        status = ops.analyze(1, dt)
+        if status:
+            break
+        iters += ops.testIter()
+        vmax = max(vmax, abs(ops.nodeDisp(n + 1, 2)))
+    dt_an = time.perf_counter() - t0
+    ops.wipe()
+    return {"status": int(status), "steps": steps, "newton_iterations": iters, "analysis_s": dt_an,
+            "tip_v_max": vmax, "all_s": time.perf_counter() - t_build}

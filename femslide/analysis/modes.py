@@ -37,7 +37,7 @@ def to_sparse(model, A):
     if isinstance(A, BandMatrix):
         rows, cols, size, band, _, _ = model._pattern(None)
         flat, idx = np.unique(band.flat, return_index=True)
-        vals = A.ab.ravel()[flat]
+        vals = A.ab.T.ravel()[flat]   # (ab is the Fortran-ordered band: flat indexes its transpose)
         return sp.csc_matrix((vals, (rows[idx], cols[idx])), shape=(size, size))
     return sp.csc_matrix(A)
 

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from femslide.model.linalg import solve_linear
+from femslide.model.linalg import norms, solve_linear
 
 
 @dataclass
@@ -54,9 +54,8 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
         r, A, info = model.system(y, elements, lam, control, jacobian=not prev <= 1e-7)
         # relative to the internal forces, floored at the round-off level of the element forces
         # (estimated with the Jacobian; a residual-only evaluation keeps the last estimate)
-        ar = np.abs(r)
-        res_f = float(ar[:n_q].max()) / (1.0 + info["fmax"])
-        res_g = float(ar[n_q:].max()) if r.size > n_q else 0.0
+        rq, res_g, _ = norms(r, n_q)
+        res_f = rq / (1.0 + info["fmax"])
         if A is not None:
             finfo = info   # the round-off floor of this state, estimated when first needed
         res = max(res_f, res_g)
@@ -82,25 +81,23 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
         if stalled >= 4 and best <= 1e-7:
             return y, NewtonInfo(True, it - 1, hist, "stagnated at round-off level")
         try:
-            dy = -solve_linear(A, r)
+            step = solve_linear(A, r)   # the Newton step is -step
         except (np.linalg.LinAlgError, RuntimeError, ValueError) as exc:
             return y, NewtonInfo(False, it, hist, f"singular tangent ({exc})")
-        ady = np.abs(dy)
-        if not math.isfinite(ady.max()):   # (a NaN propagates through max)
+        sq, sc, big = norms(step, n_q, rot)
+        if not (math.isfinite(sq) and math.isfinite(sc)):   # (a NaN propagates through the norms)
             return y, NewtonInfo(False, it, hist, "singular tangent (non-finite step)")
-        big = ady[rot].max() if rot.size else 0.0
         if big > max_rot:
-            dy *= max_rot / big
-            ady *= max_rot / big
-        y += dy
+            step *= max_rot / big
+            sq *= max_rot / big
+        y -= step
         floor_step = at_floor
         if floor_its >= 4:
             r, _, info = model.system(y, elements, lam, control, jacobian=False)
             hist.append(float(np.abs(r[:n_q]).max()) / (1.0 + info["fmax"]))
             return y, NewtonInfo(True, it, hist, "at round-off level")
         # round-off floor: a step at the level of machine precision cannot improve further
-        if res <= 1e3 * tol and res >= 0.5 * prev and \
-                ady[:n_q].max() <= 1e-14 * (1.0 + np.abs(y[:n_q]).max()):
+        if res <= 1e3 * tol and res >= 0.5 * prev and sq <= 1e-14 * (1.0 + norms(y, n_q)[0]):
             r, _, info = model.system(y, elements, lam, control, jacobian=False)
             hist.append(float(np.abs(r).max()))
             return y, NewtonInfo(True, it, hist)

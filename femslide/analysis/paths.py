@@ -282,7 +282,10 @@ def _load_steps(model: Model, path: Path, start=None):
             raise SolverFailure(f"load stepping stalled at load factor {lam:.6g}: a limit point or a "
                                 f"bifurcation of the loaded structure ({why})", hist, critical=True)
         target = lam + dlam
-        y_new, info = newton(model, y, es, lam=target)
+        # Euler predictor: the tangent's first-order response to the step's load (multipliers kept)
+        y_pred = y.copy()
+        y_pred[:model.n_q] += tangent * dlam
+        y_new, info = newton(model, y_pred, es, lam=target)
         its += info.iterations
         ok, reason, hist = info.converged, info.reason, info.history
         if ok:
@@ -302,7 +305,7 @@ def _load_steps(model: Model, path: Path, start=None):
             continue
         es = es_new.revert()
         y, lam = y_new, target
-        step = min(step0, 2.0 * step)
+        step = min(1.0, 2.0 * step)
         if lam < 1.0:
             tangent = new_tangent
             # the structure's stiffness against its loads (1 / compliance) falls to zero at a limit

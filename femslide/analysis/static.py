@@ -291,6 +291,36 @@ def _solve(fs, meshes, watch, path, target, theory) -> Solution:
             del cache_lv[k]
         return lv
 
+    def fixed_counts(d):
+        return {r.name: max(1, fixed[r.name] // d) for r in rods}
+
+    def fixed_level(d: int) -> Level:
+        """The solution on the fixed meshes with every rod's count divided by d; finer than N_DIRECT
+        elements on some rod: started from the interpolated solution of the meshes divided by 2 d."""
+        key = ("fixed", d)
+        if key in cache_lv:
+            return cache_lv[key]
+        cn = fixed_counts(d)
+        c = None
+        dc = 2 * d if d == 1 else 4 * d     # the half meshes (the error estimate's), then quarters
+        if max(cn.values(), default=0) > N_DIRECT and fixed_counts(dc) != cn:
+            c = fixed_level(dc)
+        model = make(fs, cn, Lref, Fref, cache, factors=factors)
+        start = prolong(c.model, c.y, c.elements, model) if c is not None else None
+        if state["path"] is None:
+            cp = {r.name: min(int(k), N_START) for r, k in zip(rods, cn.values())}
+            coarse = model if cp == cn else make(fs, cp, Lref, Fref, cache, factors=factors)
+            redundancy.check(coarse)
+            state["path"] = choose_path(coarse)
+        y, es, k = solve_level(model, state["path"], start)
+        if not cache_lv:
+            check_stable(model, y, es)
+        its[0] += k
+        cache_lv[key] = lv = Level(d, model, y, es)
+        for k in [k for k in cache_lv if k[1] > dc]:   # the coarser levels than the next are used up
+            del cache_lv[k]
+        return lv
+
     def values(lv):
         if lv._watched is None:
             v, kinds = watch(lv, fs)
@@ -308,14 +338,14 @@ def _solve(fs, meshes, watch, path, target, theory) -> Solution:
             ratio = (elements / (elements // 2)) ** 2
             err = abs(f2[0] - f1[0]) / (ratio - 1.0) / max(abs(f2[0]), 1e-300)
     elif not adaptive:
-        fine = level(1)
+        # a fixed mesh finer than N_DIRECT elements per rod is reached through coarser ones (every rod's
+        # count halved), each started from the interpolated coarser solution, as the adaptive levels
+        # are: O(10) Newton iterations per mesh instead of a load path on the fine mesh
+        fine = fixed_level(1)
         coarse, err = None, (0.0 if not rods else None)
-        half = {r.name: fixed[r.name] // 2 for r in rods}
-        if rods and all(h >= 1 for h in half.values()):
-            mh = make(fs, half, Lref, Fref, cache, factors=factors)
-            y, es, k = solve_level(mh, state["path"], None)
-            its[0] += k
-            f1, _ = values(Level(0, mh, y, es))
+        half = fixed_counts(2)
+        if rods and all(fixed[r.name] // 2 >= 1 for r in rods):
+            f1, _ = values(fixed_level(2))
             f2, _ = values(fine)
             r0 = rods[0].name
             ratio = (fixed[r0] / half[r0]) ** 2

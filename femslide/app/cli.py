@@ -56,12 +56,25 @@ def _version() -> str:
     return __version__
 
 
+class _VersionAction(argparse.Action):
+    """``--version``: the version and which assembly runs (the compiled kernel or the numpy path),
+    found out only when asked (it imports numpy)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings=option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from femslide.model.fast import status
+        print(f"femslide {_version()}\n{status()}")
+        parser.exit()
+
+
 def _build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="femslide", description="Planar structures on flexible rods with sliding joints: "
                 "exact spring-hinge models, corotational beam FE statics and dry-friction dynamics. "
                 "SI units throughout.", epilog=EPILOG)
-    p.add_argument("--version", action="version", version=f"femslide {_version()}",
-                   help="print the femslide version and exit")
+    p.add_argument("--version", action=_VersionAction,
+                   help="print the femslide version and which assembly runs (compiled kernel or numpy), and exit")
     sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser, metavar="COMMAND",
                            help="one of the commands below; `femslide COMMAND --help` describes it")
     sc = sub.add_parser("scenes", help="list the built-in scenes, their parameters and defaults",

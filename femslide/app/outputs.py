@@ -11,7 +11,6 @@ image formats it writes (it is needed for the plot anyway).
 from __future__ import annotations
 
 import os
-import tempfile
 
 from femslide.errors import BadInput
 
@@ -32,6 +31,7 @@ def check_out_dir(path: str, option: str = "--out") -> None:
                        f"(existing or new)")
     try:
         os.makedirs(path, exist_ok=True)
+        import tempfile
         fd, probe = tempfile.mkstemp(prefix=".femslide-probe-", dir=path)
         os.close(fd)
         os.remove(probe)

@@ -25,10 +25,15 @@ from femslide.errors import BadInput
 from femslide.scenes.catalog import Scene
 from femslide.scenes.catalog import get as get_scene
 
-try:
-    import tomllib
-except ModuleNotFoundError:  # Python 3.10
-    import tomli as tomllib
+
+def _toml():
+    """tomllib (tomli on Python 3.10), imported when a file is read (a built-in scene needs none)."""
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        import tomli as tomllib
+    return tomllib
+
 
 KEYS = ("scene", "mesh", "description", "parameters")
 
@@ -205,7 +210,7 @@ def _template_files(name: str):
         return [(root / "structures" / f"{base}.toml", f"{base}.toml")]
     src = root / f"{key}.toml"
     files = [(src, f"{key}.toml")]
-    data = tomllib.loads(src.read_text(encoding="utf-8"))
+    data = _toml().loads(src.read_text(encoding="utf-8"))
     mesh = data.get("mesh")
     if isinstance(mesh, str) and mesh:
         files.append((root / mesh, os.path.basename(mesh)))

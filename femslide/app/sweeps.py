@@ -191,9 +191,18 @@ def _open_stream(path):
 
 # -- executors: each yields (case index, row, status) as cases finish ------------------------------------
 
+_CACHE: dict = {}   # the PatternCache of the last in-process sweep, by scene (one kept)
+
+
 def run_serial(scene_name, cases, todo, out_dirs):
+    """Cases one after the other in this process, sharing one PatternCache: the meshes, Jacobian
+    patterns and joints of one geometry are built once for all cases (a sweep over stiffnesses
+    builds each mesh's model once) and kept for the next sweep of the same scene in this process."""
     from femslide.model.patterns import PatternCache
-    cache = PatternCache()
+    cache = _CACHE.get(scene_name)
+    if cache is None:
+        _CACHE.clear()
+        cache = _CACHE[scene_name] = PatternCache()
     for i in todo:
         row, status = solve_case(scene_name, cases[i], out_dirs[i], cache)
         yield i, row, status

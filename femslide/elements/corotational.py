@@ -45,6 +45,7 @@ _K_MAP = _k_map()
 # rho1 c/Ln, rho2 c/Ln (w = (s, -c): the last two enter with the opposite sign)
 _K_MAP7 = np.ascontiguousarray(_K_MAP[[0, 1, 2, 3, 5, 4, 6]] * np.array([1, 1, 1, 1, 1, -1, -1.0])[:, None])
 _EPS = float(np.finfo(float).eps)
+_DERIVED = frozenset(("k00", "kA", "kB", "kappa", "rho", "k_noise_eps", "k00_2_eps", "K_bend"))
 _SIGN = np.array([[1.0], [-1.0]])
 
 
@@ -70,15 +71,21 @@ class ElementSet:
         self.gather = (3 * self.conn[:, [0, 0, 1, 1, 0, 1]] + np.array([0, 1, 0, 1, 2, 2])).T.copy()
         self.D0T = self.D0.T.copy()                       # (2, n): D0x, D0y
         self.inv_L0 = 1.0 / self.L0
-        self._stiffness()
 
     def with_stiffness(self, kb: np.ndarray) -> "ElementSet":
         """The same elements with the basic stiffness kb (n, 3, 3): the geometric data are shared."""
         new = object.__new__(ElementSet)
-        new.__dict__.update(self.__dict__)
+        new.__dict__.update((k, v) for k, v in self.__dict__.items() if k not in _DERIVED)
         new.kb = kb
-        new._stiffness()
         return new
+
+    def __getattr__(self, name):
+        # the stiffness constants of the numpy evaluation, derived when first used (a model assembled by
+        # the compiled kernel, femslide.model.fast, never needs them)
+        if name in _DERIVED:
+            self._stiffness()
+            return self.__dict__[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def _stiffness(self):
         S = self.kb.reshape(-1, 9).T.copy()   # (9, n): k00 k01 k02 k10 k11 k12 k20 k21 k22

@@ -23,6 +23,7 @@ from femslide.elements import corotational
 from femslide.elements.loads import PointForce, distributed_nodal_loads
 from femslide.joints.base import Carrier, ElasticSupport, Link, RotationalSpring, SlideSpring
 from femslide.joints.kinds import kind_of
+from femslide.model import fast
 from femslide.model.frozen import Frozen, support_springs
 from femslide.model.linalg import Banded, _unique
 from femslide.model.state import ElementState
@@ -100,6 +101,15 @@ class _Topology:
                 band, sparse = None, size > SPARSE_LIMIT
         flat = rows * size + cols if band is None and not sparse else None
         self.patterns[key] = (rows, cols, size, band, sparse, flat)
+        return self.patterns[key]
+
+    def dense_flat(self, control):
+        """Positions in a dense array of the pattern's entries (for ``dense=True`` on a banded or
+        sparse pattern), built when first asked for."""
+        key = ("dense", None if control is None else int(control))
+        if key not in self.patterns:
+            rows, cols, size, _, _, _ = self.pattern(control)
+            self.patterns[key] = rows * size + cols
         return self.patterns[key]
 
 
@@ -376,8 +386,11 @@ class Model:
             self.finalize()
             self.cache.frames((plan.key, counts), self)
 
+    _kern = None   # the compiled assembler of this model (femslide.model.fast), made at its first evaluation
+    _pack = None
+
     _OWN = frozenset(("structure", "Lref", "Fref", "cache", "factors", "rod_index", "X0", "rod_nodes", "n_nodes",
-                      "node_first", "mesh", "elements", "elem_rod", "last_tangent"))
+                      "node_first", "mesh", "elements", "elem_rod", "last_tangent", "_kern"))
 
     def _share(self, other: "Model"):
         """Take the frames, joints, terms, loads and dof layout of a finalized model of the same
@@ -451,6 +464,10 @@ class Model:
             o += d.size
         rot = np.arange(2, self.n_q, 3)
         self._rot = rot.astype(np.intp)
+        # the compiled assembly (femslide.model.fast): its index maps and joint data now, the elements'
+        # part with the first evaluation (models sharing these differ in their stiffness)
+        self._pack = fast.Pack(self, topo, con_dofs, term_dofs, lin_dofs) if fast.enabled() else None
+        self._kern = None
         return self
 
     def _pattern(self, control):
@@ -459,6 +476,23 @@ class Model:
     def rotation_dofs(self):
         """Indices of the rotational dofs (node and body rotations) among the unknowns."""
         return self._rot
+
+    def pattern_positions(self, rows, cols, control=None):
+        """Positions in the Jacobian's pattern (the order of :meth:`system`'s values) of the entries
+        (rows, cols): where ``system(..., extra=...)`` adds a caller's Jacobian values (a time step's
+        mass and damping matrices, whose entries lie in the pattern).  ValueError for an entry outside
+        the pattern.  ``control``: the controlled dof of the pattern, or None."""
+        prow, pcol, size, _, _, _ = self._pattern(control)
+        keys = prow.astype(np.int64) * size + pcol
+        order = np.argsort(keys, kind="stable")
+        want = np.asarray(rows, np.int64) * size + np.asarray(cols, np.int64)
+        at = np.searchsorted(keys[order], want)
+        bad = (at >= keys.size) | (keys[order][np.minimum(at, keys.size - 1)] != want)
+        if bad.any():
+            i = int(np.nonzero(bad)[0][0])
+            raise ValueError(f"entry ({int(np.asarray(rows)[i])}, {int(np.asarray(cols)[i])}) is outside the "
+                             f"Jacobian's pattern")
+        return order[at].astype(np.intp)
 
     def multipliers(self, y, link):
         if link.size == 0:   # an elastic support with every constraint turned into a spring
@@ -499,6 +533,11 @@ class Model:
         ``lam``), springs and joint multipliers - in the residual's sign (minus the force on the
         frame), model units.  At equilibrium the elements' internal forces balance them; results
         recover cut forces and moments along rods from them (exact to the residual)."""
+        if self._pack is not None:
+            kern = self._kern
+            if kern is None:
+                kern = self._kern = fast.assembler(self, self._pack)
+            return fast.applied(self, kern, y, lam)
         rv, _ = self._joint_terms(y, lam, None)
         # the residual's bincount without the elements (the joints' equations land beyond n_q)
         return np.bincount(self._topo.rbins_applied, weights=np.concatenate([lam * self._p_sel, rv]),
@@ -518,7 +557,7 @@ class Model:
             ev(z[a:b], mu[ma:mb], rv, jv)
         return rv, fv
 
-    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False):
+    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False, extra=None):
         """Residual and Jacobian of the equations at y.
 
         ``elements``: the elements' history (femslide.model.state.ElementState): the chord rotations
@@ -531,10 +570,22 @@ class Model:
         values) in the pattern's order, duplicates to be summed), or None with ``jacobian=False``
         (then info["noise"] is not estimated either).
 
-        One evaluation of all elements (:func:`femslide.elements.corotational.element_terms`), the
-        terms and joints in Python floats (few numbers each, where numpy's per-call cost would dominate), one
-        bincount for the residual and one for a dense Jacobian.
+        ``extra``: terms of the caller added in the same pass, ``(rows, values, positions, jvalues)``:
+        ``values`` added to the residual entries ``rows`` and ``jvalues`` to the Jacobian entries at
+        ``positions`` of its pattern (:meth:`pattern_positions`; a time step's inertia and damping);
+        None entries for parts not given.
+
+        With the compiled kernel (femslide.model.fast) one call evaluates everything and writes the
+        residual and the Jacobian in place.  The numpy path (the kernel's oracle): one evaluation of
+        all elements (:func:`femslide.elements.corotational.element_terms`), the terms and joints in
+        Python floats (few numbers each, where numpy's per-call cost would dominate), one bincount
+        for the residual and one for a dense Jacobian.
         """
+        if self._pack is not None:
+            kern = self._kern
+            if kern is None:
+                kern = self._kern = fast.assembler(self, self._pack)
+            return fast.system(self, kern, y, elements, lam, control, jacobian, dense, _Info(lam=lam), extra)
         n_q, topo = self.n_q, self._topo
         q = y[:n_q]
         if control is not None:
@@ -563,6 +614,8 @@ class Model:
         parts.append(rv)
         r = np.bincount(topo.rbins if control is None else topo.rbins_control, weights=np.concatenate(parts),
                         minlength=size)
+        if extra is not None and extra[0] is not None:
+            np.add.at(r, extra[0], extra[1])
         info["fmax"] = fmax
         elements.trial = alpha
         if not jacobian or self.elements is None:
@@ -574,6 +627,8 @@ class Model:
             jv += info["fl"][self._load_dofs].tolist()
         rows, cols, size, band, sparse, flat = self._pattern(None if control is None else control.dof)
         vals = np.concatenate([K.ravel(), jv]) if self.elements is not None else np.array(jv)
+        if extra is not None and extra[2] is not None:
+            np.add.at(vals, extra[2], extra[3])
         if dense == "coo":   # the entries themselves, in the pattern's order (duplicates to be summed)
             return r, (rows, cols, vals), info
         if band is not None and not dense:

@@ -2,14 +2,58 @@
 
 The Jacobians of :meth:`femslide.model.discrete.Model.system` are saddle-point matrices
 [[K, G^T], [G, 0]].  Rod meshes make K block-tridiagonal; joints add a few entries near the rod ends.
-Small systems are solved dense (LAPACK dgesv), larger ones with a narrow band after reverse
-Cuthill-McKee renumbering as a LAPACK band (dgbsv, O(n) per solve), wide-band ones by sparse LU
-(SuperLU).  The LAPACK routines are loaded from scipy's compiled wrappers without importing
-``scipy.linalg`` (whose import costs ten times a small solve).
+Small systems are solved dense, larger ones with a narrow band after reverse Cuthill-McKee
+renumbering in LAPACK's band storage (O(n) per solve), wide-band ones by sparse LU (SuperLU).  The
+dense and band LU with partial pivoting come with the compiled kernel (femslide.model._assembly:
+LAPACK's own algorithms, dgetf2 and dgbtf2, without the cost of calling LAPACK through its Python
+wrappers, which at these sizes is most of the solve); without the kernel they are LAPACK's dgesv
+and dgbsv, loaded from scipy's compiled wrappers without importing ``scipy.linalg`` (whose import
+costs ten times a small solve).  A band matrix keeps its factors: a second right-hand side costs a
+solve, not a factorisation.
 """
 from __future__ import annotations
 
 import numpy as np
+
+import contextlib
+import os
+
+try:
+    from femslide.model import _assembly as _kernel
+    KERNEL_ERROR = ""
+except ImportError as exc:   # not built or not loadable: LAPACK and the numpy assembly (fast.status says so)
+    _kernel = None
+    KERNEL_ERROR = str(exc) or type(exc).__name__
+
+_FORCED: list = []
+
+
+def kernel_available() -> bool:
+    """Whether the compiled kernel (femslide.model._assembly) is built and importable."""
+    return _kernel is not None
+
+
+def kernel_enabled() -> bool:
+    """Whether the compiled kernel (assembly and LU) is used now: built, not switched off by the
+    environment variable ``FEMSLIDE_KERNEL=numpy`` nor inside :func:`kernel_forced` (False)."""
+    if _kernel is None:
+        return False
+    if _FORCED:
+        return _FORCED[-1]
+    env = os.environ.get("FEMSLIDE_KERNEL")
+    return env is None or env.lower() != "numpy"
+
+
+@contextlib.contextmanager
+def kernel_forced(on: bool):
+    """Within the block the compiled kernel is used (``on``, if built) or not, whatever the
+    environment says: the tests' switch between the kernel and its numpy/LAPACK oracle.  A model
+    keeps the assembly it was finalized with."""
+    _FORCED.append(bool(on))
+    try:
+        yield
+    finally:
+        _FORCED.pop()
 
 RCM_LOCAL_LIMIT = 5000  # unknowns; up to it the banded ordering is computed without scipy
 
@@ -23,7 +67,11 @@ class Banded:
     """
 
     def __init__(self, rows, cols, size):
-        if size <= RCM_LOCAL_LIMIT:
+        if kernel_enabled():   # the kernel's RCM: the same permutation, any size, without scipy
+            perm = np.empty(size, np.int64)
+            _kernel.rcm(np.ascontiguousarray(rows, np.int64), np.ascontiguousarray(cols, np.int64), size, perm)
+            perm = perm.astype(np.intp, copy=False)
+        elif size <= RCM_LOCAL_LIMIT:
             perm = reverse_cuthill_mckee(rows, cols, size)
         else:   # large: scipy's compiled RCM (its import is small against the solve)
             import scipy.sparse as sp
@@ -39,11 +87,19 @@ class Banded:
         self.perm, self.inv = perm, inv   # inv: position of each unknown in the band
         nrow = 2 * self.kl + self.ku + 1
         self.shape = (nrow, size)
-        self.flat = (self.kl + self.ku + pr - pc) * size + pc
+        # column-major (LAPACK's layout, so that no wrapper copies it): A[i, j] at ab[kl + ku + i - j, j],
+        # stored at flat position j * nrow + kl + ku + i - j of an array (size, nrow) in C order
+        self.flat = pc * nrow + (self.kl + self.ku + pr - pc)
+
+    def empty(self):
+        """Storage for a matrix of this pattern: (the band array (nrow, size), Fortran order; the
+        (size, nrow) C-order array behind it, which the kernel fills through ``flat``)."""
+        raw = np.empty((self.size, self.shape[0]))
+        return raw.T, raw
 
     def assemble(self, vals):
         ab = np.bincount(self.flat, weights=vals, minlength=self.shape[0] * self.size)
-        return BandMatrix(self, ab.reshape(self.shape))
+        return BandMatrix(self, ab.reshape(self.size, self.shape[0]).T)
 
 
 def _unique(a):
@@ -107,7 +163,7 @@ def _lapack(name):
             sp_ = importlib.util.spec_from_file_location("scipy.linalg._flapack", os.path.join(d, fname))
             mod = importlib.util.module_from_spec(sp_)
             sp_.loader.exec_module(mod)
-            mod.dgesv, mod.dgbsv   # noqa: B018 - both present, else the fallback
+            mod.dgesv, mod.dgbtrf, mod.dgbtrs   # noqa: B018 - all present, else the fallback
             _FLAPACK.append(mod)
         except Exception:  # noqa: BLE001 - any surprise: the documented import
             from scipy.linalg import lapack
@@ -116,20 +172,47 @@ def _lapack(name):
 
 
 def load_lapack():
-    """Load the compiled LAPACK routines now (a few ms, the first time in a process): the FE modules
-    call it when imported, so that a timed solve does not pay for it (``import_time_s``)."""
-    _lapack("dgesv")
+    """Load the compiled LAPACK routines now (a few ms, the first time in a process) if the solves
+    need them (not with the compiled kernel, whose LU is its own): the FE modules call it when
+    imported, so that a timed solve does not pay for it (``import_time_s``)."""
+    if not kernel_enabled():
+        _lapack("dgesv")
 
 
 class BandMatrix:
+    """A banded Jacobian: ``ab`` (nrow, size) in LAPACK's band storage (Fortran order) on the
+    renumbered unknowns of ``pattern``; its LU factors are computed by the first solve and kept for
+    the next ones.  With the compiled kernel the factors overwrite ``ab`` (a Jacobian is assembled to
+    be solved; a fine mesh's band is megabytes): add to it before the first solve, not after."""
+
     def __init__(self, pattern, ab):
         self.pattern, self.ab = pattern, ab
+        self._lu = self._kern = None
 
     def solve(self, b):
         p = self.pattern
-        _, _, x, info = _lapack("dgbsv")(p.kl, p.ku, self.ab, b[p.perm], overwrite_ab=1, overwrite_b=1)
-        if info != 0:
-            raise np.linalg.LinAlgError(f"singular matrix (LAPACK gbsv info {info})")
+        rhs = np.array(b, float)[p.perm]
+        if self._lu is None:
+            self._kern = kernel_enabled()
+        if self._kern:
+            if self._lu is None:
+                lu = self.ab.T                  # (size, nrow) C order: the column-major band, factored in place
+                piv = np.empty(p.size, np.intp)
+                info = _kernel.factor(lu, piv, p.size, p.kl, p.ku)
+                if info != 0:
+                    raise np.linalg.LinAlgError(f"singular matrix (zero pivot {info} of the band LU)")
+                self._lu = (lu, piv)
+            _kernel.solve(self._lu[0], self._lu[1], rhs, p.kl, p.ku)
+            x = rhs
+        else:
+            if self._lu is None:
+                lu, piv, info = _lapack("dgbtrf")(self.ab, p.kl, p.ku, overwrite_ab=0)
+                if info != 0:
+                    raise np.linalg.LinAlgError(f"singular matrix (LAPACK gbtrf info {info})")
+                self._lu = (lu, piv)
+            x, info = _lapack("dgbtrs")(self._lu[0], p.kl, p.ku, rhs, self._lu[1], overwrite_b=1)
+            if info != 0:
+                raise ValueError(f"LAPACK gbtrs info {info}")
         out = np.empty_like(x)
         out[p.perm] = x
         return out
@@ -153,14 +236,32 @@ def add_coo(A, *parts):
     rows, cols, vals = (np.concatenate(x) for x in zip(*parts))
     return (A + sp.csc_matrix((vals, (rows, cols)), shape=A.shape)).tocsc()
 
+
+def norms(v, k, idx=None):
+    """(max |v[:k]|, max |v[k:]|, max |v[idx]|) as floats, 0.0 for an empty part and NaN when a part
+    holds a NaN (Newton's residual and step norms: one kernel call, or numpy without the kernel)."""
+    if _kernel is not None and v.dtype == np.float64 and v.flags.c_contiguous:
+        return _kernel.norms(v, k, idx)
+    a = np.abs(v)
+    return (float(a[:k].max()) if k else 0.0, float(a[k:].max()) if a.size > k else 0.0,
+            float(a[idx].max()) if idx is not None and len(idx) else 0.0)
+
+
 def solve_linear(A, b):
     """Solve A x = b for the dense, banded or sparse Jacobian of :meth:`Model.system`.
 
-    Dense and banded systems go to LAPACK's dgesv and dgbsv (:func:`_lapack`: without importing
-    scipy.linalg), sparse ones to scipy's SuperLU.  A dense A is not modified."""
+    Dense and banded systems go to the kernel's LU (or LAPACK's dgesv and dgbtrf/dgbtrs, loaded by
+    :func:`_lapack` without importing scipy.linalg), sparse ones to scipy's SuperLU.  A is not
+    modified."""
     if isinstance(A, BandMatrix) or (not isinstance(A, np.ndarray) and hasattr(A, "solve")):
         return A.solve(b)   # (a band, or an operator that solves itself: femslide.analysis.radau)
     if isinstance(A, np.ndarray):
+        if A.flags.c_contiguous and A.dtype == np.float64 and kernel_enabled():
+            x = np.array(b, float)
+            info = _kernel.solve_dense(A, x)
+            if info != 0:
+                raise np.linalg.LinAlgError(f"singular matrix (zero pivot {info} of the dense LU)")
+            return x
         _, _, x, info = _lapack("dgesv")(A, b, overwrite_a=0, overwrite_b=0)
         if info != 0:
             raise np.linalg.LinAlgError(f"singular matrix (LAPACK gesv info {info})")

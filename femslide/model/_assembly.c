@@ -1,0 +1,1137 @@
+/* The compiled assembly of femslide's models: residual and Jacobian of Model.system in one call.
+ *
+ * The same arithmetic as the numpy path of femslide.model.discrete.Model.system (which stays the
+ * test oracle: tests/test_kernel.py compares the two to round-off): the corotational beam elements
+ * (femslide.elements.corotational.element_terms), the built-in joint kinds pin, weld, slider and
+ * roller (femslide.joints.kind: coincide, on_guide, same_rotation), the springs of joints
+ * (femslide.joints.base.RotationalSpring, SlideSpring), forces at body points
+ * (femslide.elements.loads.PointForce), the linear dead loads and a controlled dof (displacement
+ * control).  Constraints and terms of other kinds (a kind registered in Python, the holds) are
+ * evaluated in Python and handed over as (index, value) pairs.
+ *
+ * An Assembler is built once per model topology with the static data (index maps, element
+ * constants, joint geometry) as contiguous arrays; each call takes the state and writes the residual
+ * and the Jacobian in place: into a dense or LAPACK-band array through a map from the Jacobian's
+ * pattern positions to storage positions, or as the pattern's values (for a sparse matrix).
+ * Model units throughout (femslide.model.discrete).  Only the buffer protocol is used (no numpy C
+ * API), so the build needs the Python headers and a C compiler only.
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <math.h>
+#include <string.h>
+
+#define EPS 2.220446049250313e-16
+
+/* -- buffers --------------------------------------------------------------------------------------- */
+
+typedef struct {
+    Py_buffer view;
+    int held;
+} Buf;
+
+static int get_buf(PyObject *obj, Buf *b, int writable, const char *fmt, Py_ssize_t itemsize, const char *what)
+{
+    b->held = 0;
+    if (obj == NULL || obj == Py_None)
+        return 0;
+    int flags = PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0);
+    if (PyObject_GetBuffer(obj, &b->view, flags) < 0)
+        return -1;
+    b->held = 1;
+    if (b->view.itemsize != itemsize || b->view.format == NULL ||
+        strchr(fmt, b->view.format[b->view.format[0] == '<' || b->view.format[0] == '=' ? 1 : 0]) == NULL) {
+        PyErr_Format(PyExc_TypeError, "femslide kernel: %s has item format %s, expected one of %s", what,
+                     b->view.format ? b->view.format : "?", fmt);
+        PyBuffer_Release(&b->view);
+        b->held = 0;
+        return -1;
+    }
+    return 0;
+}
+
+static void release(Buf *b)
+{
+    if (b->held) {
+        PyBuffer_Release(&b->view);
+        b->held = 0;
+    }
+}
+
+#define DBL(b) ((double *)(b).view.buf)
+#define IDX(b) ((long long *)(b).view.buf)
+#define LEN(b) ((b).held ? (b).view.len / (b).view.itemsize : 0)
+
+/* -- the Assembler type ------------------------------------------------------------------------------- */
+
+enum { N_STATIC = 10 };
+
+typedef struct {
+    PyObject_HEAD
+    Buf st[N_STATIC];
+    Py_ssize_t n_q, ne, nl, nt, nlin, nload;
+    double xmax;
+} Assembler;
+
+/* static buffers, in the order of the constructor's arguments */
+enum {
+    S_EDOF,   /* int64 (ne, 6): dofs u1, v1, theta1, u2, v2, theta2 of every element */
+    S_EDAT,   /* float64 (ne, 9): D0x, D0y, L0, beta0, k00, k11, k12, k21, k22 */
+    S_LINT,   /* int64 (nl, 8): kind, dof of a (or -1), dof of b (or -1), lever a, lever b, first equation
+                 row, first pattern position, linear */
+    S_LDBL,   /* float64 (nl, 12): Xa, ra, Xb, rb, e0, n0 */
+    S_TINT,   /* int64 (nt, 4): type (0 point force, 1 rotational spring, 2 slide spring), link row (springs)
+                 or first dof (point force), first pattern position, 0 */
+    S_TDBL,   /* float64 (nt, 5): point force rx, ry, Fx, Fy, M; rotational spring c; slide spring k, F0, s0 */
+    S_LIND,   /* int64 (nlin,): dofs of the linear dead loads */
+    S_LVAL,   /* float64 (nlin,): their values (model units) */
+    S_LOADS,  /* int64 (nload,): the dofs of d r / d lam (the control column's rows) */
+    S_SPARE
+};
+
+static void Assembler_dealloc(Assembler *self)
+{
+    for (int i = 0; i < N_STATIC; i++)
+        release(&self->st[i]);
+    Py_TYPE(self)->tp_free((PyObject *)self);
+}
+
+static int Assembler_init(Assembler *self, PyObject *args, PyObject *kwds)
+{
+    PyObject *o[9];
+    Py_ssize_t n_q;
+    double xmax;
+    if (!PyArg_ParseTuple(args, "ndOOOOOOOOO", &n_q, &xmax, &o[0], &o[1], &o[2], &o[3], &o[4], &o[5], &o[6], &o[7],
+                          &o[8]))
+        return -1;
+    static const char *names[9] = {"element dofs", "element data", "link integers", "link reals", "term integers",
+                                   "term reals", "load dofs", "load values", "lam dofs"};
+    static const int isint[9] = {1, 0, 1, 0, 1, 0, 1, 0, 1};
+    for (int i = 0; i < N_STATIC; i++)
+        release(&self->st[i]);
+    for (int i = 0; i < 9; i++) {
+        if (get_buf(o[i], &self->st[i], 0, isint[i] ? "qlL" : "d", 8, names[i]) < 0)
+            return -1;
+        if (!self->st[i].held) {
+            PyErr_Format(PyExc_TypeError, "femslide kernel: %s missing", names[i]);
+            return -1;
+        }
+    }
+    self->n_q = n_q;
+    self->xmax = xmax;
+    self->ne = LEN(self->st[S_EDOF]) / 6;
+    self->nl = LEN(self->st[S_LINT]) / 8;
+    self->nt = LEN(self->st[S_TINT]) / 4;
+    self->nlin = LEN(self->st[S_LIND]);
+    self->nload = LEN(self->st[S_LOADS]);
+    if (LEN(self->st[S_EDAT]) != 9 * self->ne || LEN(self->st[S_LDBL]) != 12 * self->nl ||
+        LEN(self->st[S_TDBL]) != 5 * self->nt || LEN(self->st[S_LVAL]) != self->nlin) {
+        PyErr_SetString(PyExc_ValueError, "femslide kernel: inconsistent static array sizes");
+        return -1;
+    }
+    return 0;
+}
+
+/* -- output: the Jacobian's pattern position p gets value v ----------------------------------------------- */
+
+typedef struct {
+    double *A;           /* dense or band storage (with flat), or NULL */
+    const long long *flat;
+    double *vals;        /* pattern values (sparse), or NULL */
+} Out;
+
+static inline void emit(const Out *o, Py_ssize_t p, double v)
+{
+    if (o->A)
+        o->A[o->flat[p]] += v;
+    else
+        o->vals[p] = v;
+}
+
+/* -- joints (femslide.joints.base.Link, femslide.joints.kind) ---------------------------------------------- */
+
+typedef struct {
+    int k, ia, ib, lev_a, lev_b;
+    int da, db;          /* global first dofs, -1 for the ground */
+    const double *g;     /* Xa, ra, Xb, rb, e0, n0 */
+} LinkGeo;
+
+typedef struct {
+    double wx, wy, tha, thb;
+    int ndw, nd2;
+    int dwi[6];
+    double dwx[6], dwy[6];
+    int d2i[2];
+    double d2x[2], d2y[2];
+} W;
+
+static void link_geo(const long long *li, const double *ld, LinkGeo *L)
+{
+    L->da = (int)li[1];
+    L->db = (int)li[2];
+    L->lev_a = (int)li[3];
+    L->lev_b = (int)li[4];
+    L->ia = L->da >= 0 ? 0 : -1;
+    L->ib = L->db >= 0 ? (L->da >= 0 ? 3 : 0) : -1;
+    L->k = (L->da >= 0 ? 3 : 0) + (L->db >= 0 ? 3 : 0);
+    L->g = ld;
+}
+
+/* (px, py, Rx, Ry, theta) of a carrier's joint point (femslide.joints.base._point) */
+static void point(const double *z, int i, int lever, const double *X, const double *r, double *out)
+{
+    if (i < 0) {
+        out[0] = X[0] + r[0];
+        out[1] = X[1] + r[1];
+        out[2] = out[3] = out[4] = 0.0;
+        return;
+    }
+    double t = z[i + 2];
+    if (!lever) {
+        out[0] = X[0] + z[i];
+        out[1] = X[1] + z[i + 1];
+        out[2] = out[3] = 0.0;
+        out[4] = t;
+        return;
+    }
+    double co = cos(t), si = sin(t);
+    double Rx = co * r[0] - si * r[1], Ry = si * r[0] + co * r[1];
+    out[0] = X[0] + z[i] + Rx;
+    out[1] = X[1] + z[i + 1] + Ry;
+    out[2] = Rx;
+    out[3] = Ry;
+    out[4] = t;
+}
+
+/* w = p_a - p_b with its first and second derivatives over the joint's dofs (Link.w) */
+static void link_w(const LinkGeo *L, const double *z, W *w)
+{
+    double a[5], b[5];
+    const double *g = L->g;
+    point(z, L->ia, L->lev_a, g + 0, g + 2, a);
+    point(z, L->ib, L->lev_b, g + 4, g + 6, b);
+    w->ndw = w->nd2 = 0;
+    if (L->ia >= 0) {
+        int i = L->ia;
+        w->dwi[w->ndw] = i; w->dwx[w->ndw] = 1.0; w->dwy[w->ndw] = 0.0; w->ndw++;
+        w->dwi[w->ndw] = i + 1; w->dwx[w->ndw] = 0.0; w->dwy[w->ndw] = 1.0; w->ndw++;
+        if (L->lev_a) {
+            w->dwi[w->ndw] = i + 2; w->dwx[w->ndw] = -a[3]; w->dwy[w->ndw] = a[2]; w->ndw++;
+            w->d2i[w->nd2] = i + 2; w->d2x[w->nd2] = -a[2]; w->d2y[w->nd2] = -a[3]; w->nd2++;
+        }
+    }
+    if (L->ib >= 0) {
+        int i = L->ib;
+        w->dwi[w->ndw] = i; w->dwx[w->ndw] = -1.0; w->dwy[w->ndw] = 0.0; w->ndw++;
+        w->dwi[w->ndw] = i + 1; w->dwx[w->ndw] = 0.0; w->dwy[w->ndw] = -1.0; w->ndw++;
+        if (L->lev_b) {
+            w->dwi[w->ndw] = i + 2; w->dwx[w->ndw] = b[3]; w->dwy[w->ndw] = -b[2]; w->ndw++;
+            w->d2i[w->nd2] = i + 2; w->d2x[w->nd2] = b[2]; w->d2y[w->nd2] = b[3]; w->nd2++;
+        }
+    }
+    w->wx = a[0] - b[0];
+    w->wy = a[1] - b[1];
+    w->tha = a[4];
+    w->thb = b[4];
+}
+
+/* the guide e and its normal n carried by b at b's rotation (Link.guide; the ground: e0, n0 exactly) */
+static void guide(const LinkGeo *L, double thb, double *e, double *n)
+{
+    const double *e0 = L->g + 8, *n0 = L->g + 10;
+    double co = cos(thb), si = sin(thb);
+    e[0] = co * e0[0] - si * e0[1];
+    e[1] = si * e0[0] + co * e0[1];
+    n[0] = co * n0[0] - si * n0[1];
+    n[1] = si * n0[0] + co * n0[1];
+}
+
+/* g (m), G (m x k, row-major, zeroed here) and the weighted Hessian sum_i mu_i H_i (k x k, added) of a
+ * built-in kind: 0 pin (coincide), 1 weld (coincide, same rotation), 2 slider (on guide, same
+ * rotation), 3 roller (on guide) */
+static int link_equations(const LinkGeo *L, int kind, const double *z, const double *mu, double *g, double *G,
+                          double *Hmu)
+{
+    W w;
+    int k = L->k, m = 0;
+    link_w(L, z, &w);
+    memset(G, 0, sizeof(double) * 3 * 6);
+    if (kind == 0 || kind == 1) {          /* coincide: w = 0 */
+        double *gx = G, *gy = G + k;
+        for (int q = 0; q < w.ndw; q++) {
+            gx[w.dwi[q]] += w.dwx[q];
+            gy[w.dwi[q]] += w.dwy[q];
+        }
+        g[0] = w.wx;
+        g[1] = w.wy;
+        if (Hmu)
+            for (int q = 0; q < w.nd2; q++) {
+                int i = w.d2i[q];
+                Hmu[i * k + i] += mu[0] * w.d2x[q];
+                Hmu[i * k + i] += mu[1] * w.d2y[q];
+            }
+        m = 2;
+    } else {                               /* on guide: w . n = 0 */
+        double e[2], n[2];
+        double *row = G;
+        guide(L, w.thb, e, n);
+        for (int q = 0; q < w.ndw; q++)
+            row[w.dwi[q]] += w.dwx[q] * n[0] + w.dwy[q] * n[1];
+        if (Hmu)
+            for (int q = 0; q < w.nd2; q++) {
+                int i = w.d2i[q];
+                Hmu[i * k + i] += mu[0] * (w.d2x[q] * n[0] + w.d2y[q] * n[1]);
+            }
+        if (L->ib >= 0) {
+            int j = L->ib + 2;
+            row[j] -= w.wx * e[0] + w.wy * e[1];
+            if (Hmu) {
+                for (int q = 0; q < w.ndw; q++) {
+                    int i = w.dwi[q];
+                    double v = -(w.dwx[q] * e[0] + w.dwy[q] * e[1]);
+                    Hmu[i * k + j] += mu[0] * v;
+                    Hmu[j * k + i] += mu[0] * v;
+                }
+                Hmu[j * k + j] += mu[0] * -(w.wx * n[0] + w.wy * n[1]);
+            }
+        }
+        g[0] = w.wx * n[0] + w.wy * n[1];
+        m = 1;
+    }
+    if (kind == 1 || kind == 2) {          /* same rotation: theta_a - theta_b = 0 */
+        double *row = G + m * k;
+        if (L->ia >= 0)
+            row[L->ia + 2] = 1.0;
+        if (L->ib >= 0)
+            row[L->ib + 2] = -1.0;
+        g[m] = w.tha - w.thb;
+        m++;
+    }
+    return m;
+}
+
+/* the slide s = w . e, its gradient ds (k) and Hessian H (k x k, zeroed here) (Link._slide) */
+static double link_slide(const LinkGeo *L, const double *z, double *ds, double *H)
+{
+    W w;
+    double e[2], n[2];
+    int k = L->k;
+    link_w(L, z, &w);
+    guide(L, w.thb, e, n);
+    memset(ds, 0, sizeof(double) * 6);
+    memset(H, 0, sizeof(double) * 36);
+    for (int q = 0; q < w.ndw; q++)
+        ds[w.dwi[q]] += w.dwx[q] * e[0] + w.dwy[q] * e[1];
+    for (int q = 0; q < w.nd2; q++) {
+        int i = w.d2i[q];
+        H[i * k + i] += w.d2x[q] * e[0] + w.d2y[q] * e[1];
+    }
+    if (L->ib >= 0) {
+        int j = L->ib + 2;
+        ds[j] += w.wx * n[0] + w.wy * n[1];
+        for (int q = 0; q < w.ndw; q++) {
+            int i = w.dwi[q];
+            double v = w.dwx[q] * n[0] + w.dwy[q] * n[1];
+            H[i * k + j] += v;
+            H[j * k + i] += v;
+        }
+        H[j * k + j] -= w.wx * e[0] + w.wy * e[1];
+    }
+    return w.wx * e[0] + w.wy * e[1];
+}
+
+static void gather(const LinkGeo *L, const double *x, double *z)
+{
+    if (L->da >= 0) {
+        z[0] = x[L->da];
+        z[1] = x[L->da + 1];
+        z[2] = x[L->da + 2];
+    }
+    if (L->db >= 0) {
+        int o = L->ia >= 0 ? 3 : 0;
+        z[o] = x[L->db];
+        z[o + 1] = x[L->db + 1];
+        z[o + 2] = x[L->db + 2];
+    }
+}
+
+static inline int gdof(const LinkGeo *L, int j)
+{
+    if (L->da >= 0)
+        return j < 3 ? L->da + j : L->db + j - 3;
+    return L->db + j;
+}
+
+/* -- the assembly ------------------------------------------------------------------------------------------ */
+
+static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
+{
+    PyObject *oy, *oaref, *oaout, *or_, *oA, *oflat, *ovals, *ofl, *oxr, *oxrv, *oxj, *oxjv, *oxf, *oxfv;
+    double lam, target;
+    Py_ssize_t ctrl;
+    int with_elements = 1;
+    if (!PyArg_ParseTuple(args, "OOOdndOOOOOOOOOOO|p", &oy, &oaref, &oaout, &lam, &ctrl, &target, &or_, &oA, &oflat,
+                          &ovals, &ofl, &oxr, &oxrv, &oxj, &oxjv, &oxf, &oxfv, &with_elements))
+        return NULL;
+    Buf by, bar, bao, br, bA, bflat, bvals, bfl, bxr, bxrv, bxj, bxjv, bxf, bxfv;
+    Buf *all[] = {&by, &bar, &bao, &br, &bA, &bflat, &bvals, &bfl, &bxr, &bxrv, &bxj, &bxjv, &bxf, &bxfv};
+    for (size_t i = 0; i < sizeof(all) / sizeof(all[0]); i++)
+        all[i]->held = 0;
+    PyObject *result = NULL;
+    if (get_buf(oy, &by, 0, "d", 8, "y") < 0 || get_buf(oaref, &bar, 0, "d", 8, "alpha_ref") < 0 ||
+        get_buf(oaout, &bao, 1, "d", 8, "alpha") < 0 || get_buf(or_, &br, 1, "d", 8, "r") < 0 ||
+        get_buf(oA, &bA, 1, "d", 8, "A") < 0 || get_buf(oflat, &bflat, 0, "qlL", 8, "flat") < 0 ||
+        get_buf(ovals, &bvals, 1, "d", 8, "vals") < 0 || get_buf(ofl, &bfl, 1, "d", 8, "fl") < 0 ||
+        get_buf(oxr, &bxr, 0, "qlL", 8, "extra r index") < 0 || get_buf(oxrv, &bxrv, 0, "d", 8, "extra r") < 0 ||
+        get_buf(oxj, &bxj, 0, "qlL", 8, "extra J position") < 0 || get_buf(oxjv, &bxjv, 0, "d", 8, "extra J") < 0 ||
+        get_buf(oxf, &bxf, 0, "qlL", 8, "extra fl index") < 0 || get_buf(oxfv, &bxfv, 0, "d", 8, "extra fl") < 0)
+        goto done;
+    {
+        const Py_ssize_t n_q = self->n_q, ne = with_elements ? self->ne : 0;
+        const double *y = DBL(by);
+        double *r = DBL(br);
+        Py_ssize_t nr = LEN(br);
+        int jac = bA.held || bvals.held;
+        if (jac && bA.held && !bflat.held) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: A without its flat map");
+            goto done;
+        }
+        if (LEN(by) < n_q || (ne && (LEN(bar) != ne || LEN(bao) != ne)) || (bfl.held && LEN(bfl) != n_q)) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: state arrays of the wrong size");
+            goto done;
+        }
+        Out out = {bA.held ? DBL(bA) : NULL, bflat.held ? IDX(bflat) : NULL, bvals.held ? DBL(bvals) : NULL};
+        if (bA.held)
+            memset(out.A, 0, bA.view.len);
+        memset(r, 0, br.view.len);
+        double *fl = bfl.held ? DBL(bfl) : NULL;
+        if (fl)
+            memset(fl, 0, bfl.view.len);
+        const double *aref = bar.held ? DBL(bar) : NULL;
+        double *alpha = bao.held ? DBL(bao) : NULL;
+        const long long *edof = IDX(self->st[S_EDOF]);
+        const double *edat = DBL(self->st[S_EDAT]);
+        double fmax = 0.0, noise = 0.0, umag = 0.0;
+        double *Fs = (double *)PyMem_Malloc(sizeof(double) * (6 * ne + 1));
+        if (Fs == NULL) {
+            PyErr_NoMemory();
+            goto done;
+        }
+        /* elements (corotational.element_terms); the round-off estimate needs the largest translation of
+         * the elements' nodes first */
+        if (jac)
+            for (Py_ssize_t e = 0; e < ne; e++) {
+                const long long *d = edof + 6 * e;
+                double a0 = fabs(y[d[0]]), a1 = fabs(y[d[1]]), a3 = fabs(y[d[3]]), a4 = fabs(y[d[4]]);
+                if (a0 > umag) umag = a0;
+                if (a1 > umag) umag = a1;
+                if (a3 > umag) umag = a3;
+                if (a4 > umag) umag = a4;
+            }
+        for (Py_ssize_t e = 0; e < ne; e++) {
+            const long long *d = edof + 6 * e;
+            const double *c = edat + 9 * e;
+            double D0x = c[0], D0y = c[1], L0 = c[2], beta0 = c[3];
+            double k00 = c[4], k11 = c[5], k12 = c[6], k21 = c[7], k22 = c[8];
+            double u1 = y[d[0]], v1 = y[d[1]], t1 = y[d[2]], u2 = y[d[3]], v2 = y[d[4]], t2 = y[d[5]];
+            double dx = u2 - u1, dy = v2 - v1;
+            double Dx = D0x + dx, Dy = D0y + dy;
+            double Ln = hypot(Dx, Dy);
+            double ub = ((D0x + Dx) * dx + (D0y + Dy) * dy) / (Ln + L0);
+            double bref = beta0 + aref[e];
+            double cb = cos(bref), sb = sin(bref);
+            double al = aref[e] + atan2(cb * Dy - sb * Dx, cb * Dx + sb * Dy);
+            alpha[e] = al;
+            double th1 = t1 - al, th2 = t2 - al;
+            double N = k00 * ub;
+            double M1 = k11 * th1 + k12 * th2, M2 = k21 * th1 + k22 * th2;
+            double inv = 1.0 / Ln;
+            double pc = Dx * inv, ps = Dy * inv;
+            double m = (M1 + M2) * inv;
+            double F3 = N * pc + m * ps, F4 = N * ps - m * pc;
+            double F[6] = {-F3, -F4, M1, F3, F4, M2};
+            for (int a = 0; a < 6; a++) {
+                Fs[a * ne + e] = F[a];
+                double af = fabs(F[a]);
+                if (af > fmax) fmax = af;
+            }
+            if (!jac)
+                continue;
+            {   /* round-off level of the basic forces (corotational._noise) */
+                double adx = fabs(dx), ady = fabs(dy);
+                double dmag = adx > ady ? adx : ady;
+                double iL0 = 1.0 / L0;
+                double ang = fabs(th1) + fabs(th2) + fabs(al) + (2.0 * (self->xmax + umag)) * iL0;
+                double nz = (EPS * (2.0 * k00)) * (umag + dmag) * (1.0 + dmag * iL0) +
+                            (EPS * (k11 + fabs(k12))) * ang * (1.0 + 2.0 * inv);
+                if (nz > noise) noise = nz;
+            }
+            double kappa = k11 + k12 + k21 + k22;
+            double a_ww = (kappa + N * Ln) * inv * inv;
+            double b_pw = m * inv;
+            double cc = pc * pc, ss = ps * ps, cs = pc * ps;
+            double b2 = 2.0 * b_pw * cs;
+            double X00 = k00 * cc + a_ww * ss - b2;
+            double X11 = k00 * ss + a_ww * cc + b2;
+            double X01 = (k00 - a_ww) * cs + b_pw * (cc - ss);
+            double r1 = (k11 + k12) * inv, r2 = (k21 + k22) * inv;
+            double P3 = r1 * ps, P4 = r2 * ps, P5 = r1 * pc, P6 = r2 * pc;
+            /* rows and columns u1 v1 th1 u2 v2 th2 */
+            double K[36] = {
+                X00, X01, -P3, -X00, -X01, -P4,
+                X01, X11, P5, -X01, -X11, P6,
+                -P3, P5, k11, P3, -P5, k12,
+                -X00, -X01, P3, X00, X01, P4,
+                -X01, -X11, -P5, X01, X11, -P6,
+                -P4, P6, k21, P4, -P6, k22};
+            Py_ssize_t p0 = 36 * e;
+            for (int q = 0; q < 36; q++)
+                emit(&out, p0 + q, K[q]);
+        }
+        /* the element forces into the residual force by force over the elements (the order of the numpy
+         * path's bincount, so that the two agree to the last bit) */
+        for (int a = 0; a < 6; a++)
+            for (Py_ssize_t e = 0; e < ne; e++)
+                r[edof[6 * e + a]] += Fs[a * ne + e];
+        PyMem_Free(Fs);
+        Fs = NULL;
+        /* linear dead loads */
+        const long long *lind = IDX(self->st[S_LIND]);
+        const double *lval = DBL(self->st[S_LVAL]);
+        for (Py_ssize_t i = 0; i < self->nlin; i++) {
+            r[lind[i]] += lam * lval[i];
+            if (fl)
+                fl[lind[i]] += lval[i];
+        }
+        const long long *lint = IDX(self->st[S_LINT]);
+        const double *ldbl = DBL(self->st[S_LDBL]);
+        /* terms: forces at body points, rotational springs, slide springs */
+        const long long *tint = IDX(self->st[S_TINT]);
+        const double *tdbl = DBL(self->st[S_TDBL]);
+        for (Py_ssize_t t = 0; t < self->nt; t++) {
+            const long long *ti = tint + 4 * t;
+            const double *td = tdbl + 5 * t;
+            Py_ssize_t p0 = (Py_ssize_t)ti[2];
+            if (ti[0] == 0) {      /* PointForce.assemble */
+                int d0 = (int)ti[1];
+                double th = y[d0 + 2];
+                double co = cos(th), si = sin(th);
+                double rx = td[0], ry = td[1], Fx = td[2], Fy = td[3], M = td[4];
+                double Rx = co * rx - si * ry, Ry = si * rx + co * ry;
+                double g0[3] = {-Fx, -Fy, -(Fx * -Ry + Fy * Rx) - M};
+                for (int a = 0; a < 3; a++) {
+                    r[d0 + a] += lam * g0[a];
+                    if (fl)
+                        fl[d0 + a] += g0[a];
+                }
+                if (jac) {
+                    for (int q = 0; q < 8; q++)
+                        emit(&out, p0 + q, 0.0);
+                    emit(&out, p0 + 8, lam * (Fx * Rx + Fy * Ry));
+                }
+                continue;
+            }
+            LinkGeo L;
+            Py_ssize_t li = (Py_ssize_t)ti[1];
+            link_geo(lint + 8 * li, ldbl + 12 * li, &L);
+            double z[6];
+            gather(&L, y, z);
+            int k = L.k;
+            if (ti[0] == 1) {      /* RotationalSpring.assemble */
+                double dd[6] = {0, 0, 0, 0, 0, 0}, th = 0.0;
+                if (L.ia >= 0) { th += z[L.ia + 2]; dd[L.ia + 2] = 1.0; }
+                if (L.ib >= 0) { th -= z[L.ib + 2]; dd[L.ib + 2] = -1.0; }
+                double cval = td[0], ct = cval * th;
+                for (int j = 0; j < k; j++)
+                    r[gdof(&L, j)] += ct * dd[j];
+                if (jac)
+                    for (int i = 0; i < k; i++)
+                        for (int j = 0; j < k; j++)
+                            emit(&out, p0 + i * k + j, cval * (dd[i] * dd[j]));
+            } else {               /* SlideSpring.assemble */
+                double ds[6], H[36];
+                double s = link_slide(&L, z, ds, H) - td[2];
+                double kk = td[0], F0 = td[1];
+                double f = kk * s - lam * F0;
+                for (int j = 0; j < k; j++) {
+                    r[gdof(&L, j)] += f * ds[j];
+                    if (fl)
+                        fl[gdof(&L, j)] += -F0 * ds[j];
+                }
+                if (jac)
+                    for (int i = 0; i < k; i++)
+                        for (int j = 0; j < k; j++)
+                            emit(&out, p0 + i * k + j, kk * (ds[i] * ds[j]) + f * H[i * k + j]);
+            }
+        }
+        /* joints: the multipliers' forces mu . G on the joint's dofs, the equations g on its rows; the
+         * Jacobian blocks sum_i mu_i H_i (k x k), G (m x k) and G^T, in the pattern's order */
+        for (Py_ssize_t l = 0; l < self->nl; l++) {
+            const long long *li = lint + 8 * l;
+            LinkGeo L;
+            link_geo(li, ldbl + 12 * l, &L);
+            int kind = (int)li[0];
+            Py_ssize_t row0 = (Py_ssize_t)li[5], p0 = (Py_ssize_t)li[6];
+            double z[6], g[3], G[18], Hmu[36];
+            const double *mu = y + row0;
+            int k = L.k;
+            gather(&L, y, z);
+            if (jac)
+                memset(Hmu, 0, sizeof(Hmu));
+            int m;
+            if (li[7]) {
+                /* a linear joint (no lever, pin or weld): g = G z + g(0) with the constant G, summed over
+                 * G's nonzeros as Link.assemble does (the same rounding) */
+                double z0[6] = {0, 0, 0, 0, 0, 0}, g0[3];
+                m = link_equations(&L, kind, z0, mu, g0, G, NULL);
+                for (int i = 0; i < m; i++) {
+                    double gi = 0.0;
+                    for (int j = 0; j < k; j++)
+                        if (G[i * k + j] != 0.0)
+                            gi += G[i * k + j] * z[j];
+                    g[i] = gi + g0[i];
+                }
+            } else {
+                m = link_equations(&L, kind, z, mu, g, G, jac ? Hmu : NULL);
+            }
+            for (int j = 0; j < k; j++) {
+                double f = 0.0;
+                for (int i = 0; i < m; i++)
+                    f += mu[i] * G[i * k + j];
+                r[gdof(&L, j)] += f;
+            }
+            for (int i = 0; i < m; i++)
+                r[row0 + i] += g[i];
+            if (!jac)
+                continue;
+            Py_ssize_t p = p0;
+            for (int q = 0; q < k * k; q++)
+                emit(&out, p++, Hmu[q]);
+            for (int q = 0; q < m * k; q++)
+                emit(&out, p++, G[q]);
+            for (int q = 0; q < m * k; q++)
+                emit(&out, p++, G[q]);
+        }
+        /* constraints and terms evaluated in Python */
+        for (Py_ssize_t i = 0; i < LEN(bxr); i++)
+            r[IDX(bxr)[i]] += DBL(bxrv)[i];
+        if (fl)
+            for (Py_ssize_t i = 0; i < LEN(bxf); i++)
+                fl[IDX(bxf)[i]] += DBL(bxfv)[i];
+        if (jac)
+            for (Py_ssize_t i = 0; i < LEN(bxj); i++)
+                emit(&out, (Py_ssize_t)IDX(bxj)[i], DBL(bxjv)[i]);
+        /* displacement control: the controlled dof's equation and the load factor's column */
+        if (ctrl >= 0) {
+            Py_ssize_t n = nr - 1;
+            r[n] += y[ctrl] - target;
+            if (jac) {
+                Py_ssize_t p = (Py_ssize_t)(bflat.held ? LEN(bflat) : LEN(bvals)) - 1 - self->nload;
+                if (!fl) {
+                    PyErr_SetString(PyExc_ValueError, "femslide kernel: control needs fl");
+                    goto done;
+                }
+                emit(&out, p++, 1.0);
+                const long long *ld = IDX(self->st[S_LOADS]);
+                for (Py_ssize_t i = 0; i < self->nload; i++)
+                    emit(&out, p++, fl[ld[i]]);
+            }
+        }
+        result = Py_BuildValue("dd", fmax, noise);
+    }
+done:
+    for (size_t i = 0; i < sizeof(all) / sizeof(all[0]); i++)
+        release(all[i]);
+    return result;
+}
+
+static PyMethodDef Assembler_methods[] = {
+    {"assemble", (PyCFunction)Assembler_assemble, METH_VARARGS,
+     "assemble(y, alpha_ref, alpha_out, lam, control_dof, target, r, A, flat, vals, fl, xr, xrv, xj, xjv, xf, xfv"
+     "[, elements]) -> (fmax, noise): residual into r, Jacobian into A[flat[p]] (or vals[p]), trial chord rotations"
+     " into alpha_out, d r / d lam into fl; None for what is not wanted; elements=False leaves the elements out"},
+    {NULL, NULL, 0, NULL}};
+
+static PyTypeObject AssemblerType = {
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "femslide.model._assembly.Assembler",
+    .tp_basicsize = sizeof(Assembler),
+    .tp_flags = Py_TPFLAGS_DEFAULT,
+    .tp_doc = "Assembler(n_q, xmax, element dofs, element data, link ints, link reals, term ints, term reals, "
+              "load dofs, load values, lam dofs): the static data of one model topology",
+    .tp_new = PyType_GenericNew,
+    .tp_init = (initproc)Assembler_init,
+    .tp_dealloc = (destructor)Assembler_dealloc,
+    .tp_methods = Assembler_methods,
+};
+
+
+/* -- linear solves: LU with partial pivoting, dense (row-major) and band (LAPACK's band storage) -------------
+ *
+ * The Newton systems are small (dense, up to ~100 unknowns) or banded with a narrow band after
+ * reverse Cuthill-McKee renumbering; LAPACK's dgesv / dgbsv cost more in the call than in the
+ * arithmetic at these sizes, and dgbtf2 makes several BLAS calls per column.  These are the textbook
+ * algorithms (Golub & Van Loan, 3.4 and 4.3; dgbtf2/dgbtrs for the band), written out. */
+
+/* factor(A) in place: A (n x n, row-major) -> L\U, piv[k] = row swapped with k; returns 0 or k+1 at
+ * the first exactly zero pivot (as LAPACK's info) */
+static Py_ssize_t lu_dense(double *A, Py_ssize_t n, Py_ssize_t *piv)
+{
+    Py_ssize_t info = 0;
+    for (Py_ssize_t k = 0; k < n; k++) {
+        Py_ssize_t p = k;
+        double big = fabs(A[k * n + k]);
+        for (Py_ssize_t i = k + 1; i < n; i++) {
+            double v = fabs(A[i * n + k]);
+            if (v > big) { big = v; p = i; }
+        }
+        piv[k] = p;
+        if (A[p * n + k] == 0.0) {
+            if (!info) info = k + 1;
+            continue;
+        }
+        if (p != k) {
+            double *a = A + k * n, *b = A + p * n;
+            for (Py_ssize_t j = 0; j < n; j++) { double t = a[j]; a[j] = b[j]; b[j] = t; }
+        }
+        double inv = 1.0 / A[k * n + k];
+        const double *rk = A + k * n;
+        for (Py_ssize_t i = k + 1; i < n; i++) {
+            double *ri = A + i * n;
+            double l = ri[k] * inv;
+            ri[k] = l;
+            if (l != 0.0)
+                for (Py_ssize_t j = k + 1; j < n; j++)
+                    ri[j] -= l * rk[j];
+        }
+    }
+    return info;
+}
+
+static void lu_dense_solve(const double *LU, Py_ssize_t n, const Py_ssize_t *piv, double *b)
+{
+    for (Py_ssize_t k = 0; k < n; k++) {
+        Py_ssize_t p = piv[k];
+        if (p != k) { double t = b[k]; b[k] = b[p]; b[p] = t; }
+    }
+    for (Py_ssize_t i = 1; i < n; i++) {
+        const double *ri = LU + i * n;
+        double s = b[i];
+        for (Py_ssize_t j = 0; j < i; j++)
+            s -= ri[j] * b[j];
+        b[i] = s;
+    }
+    for (Py_ssize_t i = n - 1; i >= 0; i--) {
+        const double *ri = LU + i * n;
+        double s = b[i];
+        for (Py_ssize_t j = i + 1; j < n; j++)
+            s -= ri[j] * b[j];
+        b[i] = s / ri[i];
+    }
+}
+
+/* the band: AB column-major with leading dimension ld = 2 kl + ku + 1, A[i, j] at AB[j * ld + kl + ku + i - j]
+ * (LAPACK's dgbtrf layout, the kl top rows are room for the fill-in); dgbtf2 */
+static Py_ssize_t lu_band(double *AB, Py_ssize_t n, Py_ssize_t kl, Py_ssize_t ku, Py_ssize_t *piv)
+{
+    Py_ssize_t ld = 2 * kl + ku + 1, kv = ku + kl, info = 0;
+#define AB_(i, j) AB[(j) * ld + (i)]
+    for (Py_ssize_t j = ku + 1; j < (kv < n ? kv : n); j++)
+        for (Py_ssize_t i = kv - j; i < kl; i++)
+            AB_(i, j) = 0.0;
+    Py_ssize_t ju = 0;
+    for (Py_ssize_t j = 0; j < n; j++) {
+        if (j + kv < n)
+            for (Py_ssize_t i = 0; i < kl; i++)
+                AB_(i, j + kv) = 0.0;
+        Py_ssize_t km = kl < n - 1 - j ? kl : n - 1 - j;
+        Py_ssize_t jp = 0;
+        double big = fabs(AB_(kv, j));
+        for (Py_ssize_t i = 1; i <= km; i++) {
+            double v = fabs(AB_(kv + i, j));
+            if (v > big) { big = v; jp = i; }
+        }
+        piv[j] = jp + j;
+        if (AB_(kv + jp, j) != 0.0) {
+            Py_ssize_t t = j + ku + jp;
+            if (t > n - 1) t = n - 1;
+            if (t > ju) ju = t;
+            if (jp != 0)      /* swap rows j and j + jp over the columns j .. ju */
+                for (Py_ssize_t c = 0; c <= ju - j; c++) {
+                    double *a = &AB[(j + c) * ld + kv + jp - c], *b = &AB[(j + c) * ld + kv - c];
+                    double tmp = *a; *a = *b; *b = tmp;
+                }
+            if (km > 0) {
+                double inv = 1.0 / AB_(kv, j);
+                double *l = &AB_(kv + 1, j);
+                for (Py_ssize_t i = 0; i < km; i++)
+                    l[i] *= inv;
+                for (Py_ssize_t c = 1; c <= ju - j; c++) {
+                    double *col = &AB[(j + c) * ld + kv - c];   /* A[j, j + c] at col[0], A[j + i, j + c] at col[i] */
+                    double u = col[0];
+                    if (u != 0.0)
+                        for (Py_ssize_t i = 1; i <= km; i++)
+                            col[i] -= l[i - 1] * u;
+                }
+            }
+        } else if (!info) {
+            info = j + 1;
+        }
+    }
+#undef AB_
+    return info;
+}
+
+static void lu_band_solve(const double *AB, Py_ssize_t n, Py_ssize_t kl, Py_ssize_t ku, const Py_ssize_t *piv,
+                          double *b)
+{
+    Py_ssize_t ld = 2 * kl + ku + 1, kv = ku + kl;
+    if (kl > 0)
+        for (Py_ssize_t j = 0; j < n - 1; j++) {
+            Py_ssize_t lm = kl < n - 1 - j ? kl : n - 1 - j;
+            Py_ssize_t l = piv[j];
+            if (l != j) { double t = b[l]; b[l] = b[j]; b[j] = t; }
+            double bj = b[j];
+            const double *col = AB + j * ld + kv + 1;
+            for (Py_ssize_t i = 0; i < lm; i++)
+                b[j + 1 + i] -= col[i] * bj;
+        }
+    for (Py_ssize_t j = n - 1; j >= 0; j--) {
+        const double *col = AB + j * ld;
+        b[j] /= col[kv];
+        double t = b[j];
+        Py_ssize_t i0 = j - kv > 0 ? j - kv : 0;
+        for (Py_ssize_t i = i0; i < j; i++)
+            b[i] -= t * col[kv + i - j];
+    }
+}
+
+/* factor(M, piv) -> info: M is a dense (n x n, C order) or band ((n, 2 kl + ku + 1), C order: the
+ * column-major band) array, factored in place; piv an intp array of n */
+static PyObject *py_factor(PyObject *mod, PyObject *args)
+{
+    PyObject *om, *op;
+    Py_ssize_t n, kl, ku;
+    if (!PyArg_ParseTuple(args, "OOnnn", &om, &op, &n, &kl, &ku))
+        return NULL;
+    Buf bm, bp;
+    if (get_buf(om, &bm, 1, "d", 8, "matrix") < 0)
+        return NULL;
+    if (get_buf(op, &bp, 1, "qlLn", 8, "pivots") < 0) {
+        release(&bm);
+        return NULL;
+    }
+    Py_ssize_t info = -1;
+    if (LEN(bp) != n || (kl < 0 ? LEN(bm) != n * n : LEN(bm) != n * (2 * kl + ku + 1)))
+        PyErr_SetString(PyExc_ValueError, "femslide kernel: factor: wrong sizes");
+    else {
+        Py_BEGIN_ALLOW_THREADS
+        info = kl < 0 ? lu_dense(DBL(bm), n, (Py_ssize_t *)bp.view.buf)
+                      : lu_band(DBL(bm), n, kl, ku, (Py_ssize_t *)bp.view.buf);
+        Py_END_ALLOW_THREADS
+    }
+    release(&bm);
+    release(&bp);
+    if (info < 0)
+        return NULL;
+    return PyLong_FromSsize_t(info);
+}
+
+/* solve(M, piv, b, kl, ku): b overwritten by the solution with the factors of factor() */
+static PyObject *py_solve(PyObject *mod, PyObject *args)
+{
+    PyObject *om, *op, *ob;
+    Py_ssize_t kl, ku;
+    if (!PyArg_ParseTuple(args, "OOOnn", &om, &op, &ob, &kl, &ku))
+        return NULL;
+    Buf bm, bp, bb;
+    bm.held = bp.held = bb.held = 0;
+    PyObject *res = NULL;
+    if (get_buf(om, &bm, 0, "d", 8, "factors") < 0 || get_buf(op, &bp, 0, "qlLn", 8, "pivots") < 0 ||
+        get_buf(ob, &bb, 1, "d", 8, "right-hand side") < 0)
+        goto out;
+    {
+        Py_ssize_t n = LEN(bp);
+        if (LEN(bb) != n || (kl < 0 ? LEN(bm) != n * n : LEN(bm) != n * (2 * kl + ku + 1))) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: solve: wrong sizes");
+            goto out;
+        }
+        if (kl < 0)
+            lu_dense_solve(DBL(bm), n, (const Py_ssize_t *)bp.view.buf, DBL(bb));
+        else
+            lu_band_solve(DBL(bm), n, kl, ku, (const Py_ssize_t *)bp.view.buf, DBL(bb));
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    release(&bm);
+    release(&bp);
+    release(&bb);
+    return res;
+}
+
+
+
+/* solve_dense(A, x): x := A^-1 x for a dense (n x n, C order) A, which is left unchanged (LU in a
+ * scratch copy): the Newton step of a small model in one call; returns the LU's info (0, or the first
+ * zero pivot + 1) */
+static PyObject *py_solve_dense(PyObject *mod, PyObject *args)
+{
+    PyObject *oa, *ox;
+    if (!PyArg_ParseTuple(args, "OO", &oa, &ox))
+        return NULL;
+    Buf ba, bx;
+    ba.held = bx.held = 0;
+    PyObject *res = NULL;
+    double *lu = NULL;
+    Py_ssize_t *piv = NULL;
+    if (get_buf(oa, &ba, 0, "d", 8, "matrix") < 0 || get_buf(ox, &bx, 1, "d", 8, "right-hand side") < 0)
+        goto out;
+    {
+        Py_ssize_t n = LEN(bx);
+        if (LEN(ba) != n * n) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: solve_dense: wrong sizes");
+            goto out;
+        }
+        lu = PyMem_Malloc(sizeof(double) * (n * n + 1));
+        piv = PyMem_Malloc(sizeof(Py_ssize_t) * (n + 1));
+        if (!lu || !piv) {
+            PyErr_NoMemory();
+            goto out;
+        }
+        memcpy(lu, ba.view.buf, sizeof(double) * n * n);
+        Py_ssize_t info = lu_dense(lu, n, piv);
+        if (info == 0)
+            lu_dense_solve(lu, n, piv, DBL(bx));
+        res = PyLong_FromSsize_t(info);
+    }
+out:
+    PyMem_Free(lu);
+    PyMem_Free(piv);
+    release(&ba);
+    release(&bx);
+    return res;
+}
+
+
+/* norms(v, k[, idx]) -> (max |v[:k]|, max |v[k:]|, max |v[idx]|): Newton's residual and step norms in
+ * one pass (NaN propagates: a NaN anywhere gives NaN, as numpy's max does) */
+static PyObject *py_norms(PyObject *mod, PyObject *args)
+{
+    PyObject *ov, *oi = Py_None;
+    Py_ssize_t k;
+    if (!PyArg_ParseTuple(args, "On|O", &ov, &k, &oi))
+        return NULL;
+    Buf bv, bi;
+    bv.held = bi.held = 0;
+    if (get_buf(ov, &bv, 0, "d", 8, "vector") < 0 || get_buf(oi, &bi, 0, "qlLn", 8, "indices") < 0) {
+        release(&bv);
+        return NULL;
+    }
+    const double *v = DBL(bv);
+    Py_ssize_t n = LEN(bv);
+    if (k > n) k = n;
+    double a = 0.0, b = 0.0, c = 0.0;
+    int nan = 0;
+    for (Py_ssize_t i = 0; i < k; i++) {
+        double x = fabs(v[i]);
+        if (x > a) a = x;
+        else if (x != x) nan = 1;
+    }
+    if (nan) a = NAN;
+    nan = 0;
+    for (Py_ssize_t i = k; i < n; i++) {
+        double x = fabs(v[i]);
+        if (x > b) b = x;
+        else if (x != x) nan = 1;
+    }
+    if (nan) b = NAN;
+    nan = 0;
+    if (bi.held) {
+        const long long *idx = IDX(bi);
+        for (Py_ssize_t i = 0; i < LEN(bi); i++) {
+            if (idx[i] < 0 || idx[i] >= n) {
+                release(&bv);
+                release(&bi);
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: norms: index out of range");
+                return NULL;
+            }
+            double x = fabs(v[idx[i]]);
+            if (x > c) c = x;
+            else if (x != x) nan = 1;
+        }
+        if (nan) c = NAN;
+    }
+    release(&bv);
+    release(&bi);
+    return Py_BuildValue("ddd", a, b, c);
+}
+
+/* -- reverse Cuthill-McKee ordering (femslide.model.linalg.reverse_cuthill_mckee, the same permutation) ---------
+ * of the symmetrised pattern (rows, cols) of a size x size matrix: breadth-first from a node of least
+ * degree in each connected part (ties by index), neighbours by increasing degree (ties by index),
+ * reversed. */
+static int cmp_ll(const void *a, const void *b)
+{
+    long long x = *(const long long *)a, y = *(const long long *)b;
+    return (x > y) - (x < y);
+}
+
+static PyObject *py_rcm(PyObject *mod, PyObject *args)
+{
+    PyObject *orow, *ocol, *operm;
+    Py_ssize_t size;
+    if (!PyArg_ParseTuple(args, "OOnO", &orow, &ocol, &size, &operm))
+        return NULL;
+    Buf br, bc, bp;
+    br.held = bc.held = bp.held = 0;
+    PyObject *res = NULL;
+    long long *ptr = NULL, *adj = NULL, *deg = NULL, *order = NULL, *cnt = NULL, *key = NULL;
+    char *seen = NULL;
+    if (get_buf(orow, &br, 0, "qlL", 8, "rows") < 0 || get_buf(ocol, &bc, 0, "qlL", 8, "cols") < 0 ||
+        get_buf(operm, &bp, 1, "qlL", 8, "perm") < 0)
+        goto out;
+    {
+        Py_ssize_t m = LEN(br);
+        const long long *R = IDX(br), *C = IDX(bc);
+        long long *perm = IDX(bp);
+        if (LEN(bc) != m || LEN(bp) != size) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: rcm: wrong sizes");
+            goto out;
+        }
+        ptr = PyMem_Calloc(size + 1, sizeof(long long));
+        adj = PyMem_Malloc(sizeof(long long) * (2 * m + 1));
+        deg = PyMem_Calloc(size + 1, sizeof(long long));
+        order = PyMem_Malloc(sizeof(long long) * (size + 1));
+        key = PyMem_Malloc(sizeof(long long) * (2 * m + 1));
+        seen = PyMem_Calloc(size + 1, 1);
+        if (!ptr || !adj || !deg || !order || !key || !seen) {
+            PyErr_NoMemory();
+            goto out;
+        }
+        for (Py_ssize_t i = 0; i < m; i++) {
+            if (R[i] < 0 || R[i] >= size || C[i] < 0 || C[i] >= size) {
+                PyErr_SetString(PyExc_ValueError, "femslide kernel: rcm: index out of range");
+                goto out;
+            }
+            if (R[i] != C[i]) {
+                ptr[R[i] + 1]++;
+                ptr[C[i] + 1]++;
+            }
+        }
+        for (Py_ssize_t i = 0; i < size; i++)
+            ptr[i + 1] += ptr[i];
+        {
+            long long *fill = deg;   /* (reused as a cursor, zeroed again below) */
+            for (Py_ssize_t i = 0; i < m; i++)
+                if (R[i] != C[i]) {
+                    adj[ptr[R[i]] + fill[R[i]]++] = C[i];
+                    adj[ptr[C[i]] + fill[C[i]]++] = R[i];
+                }
+        }
+        /* each node's neighbours sorted and made distinct; degree = their count */
+        for (Py_ssize_t v = 0; v < size; v++) {
+            long long a = ptr[v], n = ptr[v + 1] - a;
+            qsort(adj + a, (size_t)n, sizeof(long long), cmp_ll);
+            long long k = 0;
+            for (long long j = 0; j < n; j++)
+                if (k == 0 || adj[a + j] != adj[a + k - 1])
+                    adj[a + k++] = adj[a + j];
+            deg[v] = k;
+        }
+        /* neighbours by (degree, index): sort keys degree * size + index */
+        for (Py_ssize_t v = 0; v < size; v++) {
+            long long a = ptr[v], n = deg[v];
+            for (long long j = 0; j < n; j++)
+                key[j] = deg[adj[a + j]] * (long long)size + adj[a + j];
+            qsort(key, (size_t)n, sizeof(long long), cmp_ll);
+            for (long long j = 0; j < n; j++)
+                adj[a + j] = key[j] % size;
+        }
+        /* start candidates by (degree, index): a counting sort on the degree (stable) */
+        long long dmax = 0;
+        for (Py_ssize_t v = 0; v < size; v++)
+            if (deg[v] > dmax) dmax = deg[v];
+        cnt = PyMem_Calloc(dmax + 2, sizeof(long long));
+        if (!cnt) {
+            PyErr_NoMemory();
+            goto out;
+        }
+        for (Py_ssize_t v = 0; v < size; v++)
+            cnt[deg[v] + 1]++;
+        for (long long d = 0; d <= dmax; d++)
+            cnt[d + 1] += cnt[d];
+        for (Py_ssize_t v = 0; v < size; v++)
+            order[cnt[deg[v]]++] = v;
+        Py_ssize_t head = 0, tail = 0;
+        for (Py_ssize_t q = 0; q < size; q++) {
+            long long s0 = order[q];
+            if (seen[s0])
+                continue;
+            seen[s0] = 1;
+            perm[tail++] = s0;
+            while (head < tail) {
+                long long v = perm[head++];
+                for (long long j = ptr[v]; j < ptr[v] + deg[v]; j++) {
+                    long long w = adj[j];
+                    if (!seen[w]) {
+                        seen[w] = 1;
+                        perm[tail++] = w;
+                    }
+                }
+            }
+        }
+        for (Py_ssize_t i = 0; i < size / 2; i++) {
+            long long t = perm[i];
+            perm[i] = perm[size - 1 - i];
+            perm[size - 1 - i] = t;
+        }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    PyMem_Free(ptr);
+    PyMem_Free(adj);
+    PyMem_Free(deg);
+    PyMem_Free(order);
+    PyMem_Free(key);
+    PyMem_Free(cnt);
+    PyMem_Free(seen);
+    release(&br);
+    release(&bc);
+    release(&bp);
+    return res;
+}
+
+static PyMethodDef module_methods[] = {
+    {"factor", py_factor, METH_VARARGS,
+     "factor(M, piv, n, kl, ku) -> info: LU with partial pivoting in place; kl < 0: M dense (n, n), else M the "
+     "column-major band with kl sub- and ku superdiagonals ((n, 2 kl + ku + 1) C order); info > 0: zero pivot"},
+    {"solve", py_solve, METH_VARARGS, "solve(factors, piv, b, kl, ku): b := the solution, with factor()'s factors"},
+    {"solve_dense", py_solve_dense, METH_VARARGS,
+     "solve_dense(A, x) -> info: x := A^-1 x (A dense, unchanged); info > 0: zero pivot, x unchanged"},
+    {"norms", py_norms, METH_VARARGS,
+     "norms(v, k[, idx]) -> (max |v[:k]|, max |v[k:]|, max |v[idx]|) (0 for an empty part, NaN if a NaN)"},
+    {"rcm", py_rcm, METH_VARARGS,
+     "rcm(rows, cols, size, perm): perm := the reverse Cuthill-McKee ordering of the symmetrised pattern"},
+    {NULL, NULL, 0, NULL}};
+
+static struct PyModuleDef moduledef = {PyModuleDef_HEAD_INIT, "_assembly",
+                                       "The compiled assembly of femslide's models (see _assembly.c).", -1,
+                                       module_methods};
+
+PyMODINIT_FUNC PyInit__assembly(void)
+{
+    if (PyType_Ready(&AssemblerType) < 0)
+        return NULL;
+    PyObject *m = PyModule_Create(&moduledef);
+    if (m == NULL)
+        return NULL;
+    Py_INCREF(&AssemblerType);
+    if (PyModule_AddObject(m, "Assembler", (PyObject *)&AssemblerType) < 0) {
+        Py_DECREF(&AssemblerType);
+        Py_DECREF(m);
+        return NULL;
+    }
+    PyModule_AddIntConstant(m, "VERSION", 1);
+    return m;
+}
