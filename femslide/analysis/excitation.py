@@ -11,7 +11,8 @@ Two kinds (the ``ground`` entry of a structure file's ``[simulate]`` table):
 - harmonic: ``{direction = [1, 0], amplitude = 1.0, frequency = 2.0}``: a_g = amplitude sin(2 pi f t)
   [m/s^2, Hz];
 - record: ``{direction = [0, 1], record = "elcentro.AT2", scale = 1.0}``: a PEER NGA ``.AT2`` file
-  (accelerations in g, a header line with NPTS and DT) or a CSV file of two columns t [s], a [m/s^2]
+  (accelerations in g; the 4th header line gives NPTS and DT, as ``NPTS= 4000, DT= .0050 SEC`` or the
+  older ``4000  0.0050  NPTS, DT``) or a CSV file of two columns t [s], a [m/s^2]
   (a header line allowed), linearly interpolated, zero after its end; times scaled by nothing, the
   accelerations by ``scale``.
 
@@ -93,8 +94,30 @@ class Ground:
         return a + self.record.value(t) if self.record is not None else a
 
 
+def at2_header(line: str):
+    """(NPTS, DT [s]) of the 4th header line of a PEER .AT2 file, either form: the NGA-West2 one
+    ``NPTS=  4000, DT=   .0050 SEC`` or the older ``4000   0.0050   NPTS, DT`` (the numbers first,
+    labelled after them); None if the line is neither."""
+    head = line.upper()
+    m_n = re.search(r"NPTS\s*=\s*([0-9]+)", head)
+    m_dt = re.search(r"DT\s*=\s*([0-9.Ee+-]+)", head)
+    if m_n and m_dt:
+        n, dt = m_n.group(1), m_dt.group(1)
+    else:
+        m = re.match(r"\s*([0-9]+)[\s,]+([0-9.Ee+-]+)[\s,]+NPTS\s*,?\s*DT\b", head)
+        if not m:
+            return None
+        n, dt = m.group(1), m.group(2)
+    try:
+        return int(n), float(dt)
+    except ValueError:
+        return None
+
+
 def read_at2(path: str):
-    """(t [s], a [m/s^2]) (lists) of a PEER NGA .AT2 record (4 header lines; the 4th gives NPTS and DT)."""
+    """(t [s], a [m/s^2]) (lists) of a PEER NGA .AT2 record: 4 header lines, the 4th giving NPTS and
+    DT in either form (:func:`at2_header`), then the accelerations in g, any number per line.  A
+    value that is not a finite number is bad input naming the file and line."""
     try:
         with open(path) as fh:
             lines = fh.read().splitlines()
@@ -102,12 +125,11 @@ def read_at2(path: str):
         raise BadInput(f"ground record {path}: cannot be read ({exc})") from None
     if len(lines) < 5:
         raise BadInput(f"ground record {path}: an .AT2 file needs 4 header lines and data")
-    head = lines[3].upper()
-    m_n = re.search(r"NPTS\s*=\s*([0-9]+)", head)
-    m_dt = re.search(r"DT\s*=\s*([0-9.Ee+-]+)", head)
-    if not m_n or not m_dt:
-        raise BadInput(f"ground record {path}: the 4th line must give NPTS = n and DT = dt (PEER NGA format)")
-    n, dt = int(m_n.group(1)), float(m_dt.group(1))
+    found = at2_header(lines[3])
+    if found is None:
+        raise BadInput(f"ground record {path} line 4: {lines[3].strip()[:60]!r}; allowed: 'NPTS= n, DT= dt SEC' "
+                       f"or 'n  dt  NPTS, DT' (PEER NGA format)")
+    n, dt = found
     if not 1 <= n <= MAX_ROWS or not dt > 0:
         raise BadInput(f"ground record {path}: NPTS = {n}, DT = {dt:g}; allowed: 1 <= NPTS <= {MAX_ROWS}, DT > 0")
     vals = []
@@ -225,7 +247,8 @@ def read_csv_record(path: str):
                            f"'t, a', got {s[:60]!r}") from None
         seen_data = True
         if not (math.isfinite(t) and math.isfinite(a)):
-            raise BadInput(f"parameter record: {path!r} line {lineno}: non-finite value")
+            raise BadInput(f"parameter record: {path!r} line {lineno}: {s[:60]!r} is not finite; allowed: "
+                           f"finite numbers t [s], a [m/s^2]")
         if ts and not t > ts[-1]:
             raise BadInput(f"parameter record: {path!r} line {lineno}: times must be strictly "
                            f"increasing (t = {t:g} s after {ts[-1]:g} s)")
