@@ -5,6 +5,8 @@ import json
 import numpy as np
 import pytest
 
+import femslide
+import femslide.analysis.excitation
 from femslide.app.cli import main
 from femslide.results.outcome import dotted
 
@@ -127,3 +129,75 @@ def test_at2_header_neither_form_is_bad_input(tmp_path, capsys):
     assert main(["simulate", str(tmp_path / "frame.toml")]) == 2
     err = capsys.readouterr().err
     assert "line 4" in err and "NPTS, DT" in err
+
+
+# -- long runs (SPEC 9.2) ----------------------------------------------------------------------------------
+
+def test_long_runs_are_not_refused_only_absurd_ones():
+    """Before: paper-003 ex. 2 at tolerance 1e-9 was refused beyond t_end = 2.661 s (60 s of work).
+    Now the work bound is 24 h of estimated work or 1e6 periods of the lowest mode: t_end = 3000 s
+    (about 2 h of estimated work there) is accepted, t_end = 1e5 s is bad input naming t_end."""
+    from femslide.analysis.excitation import Ground
+    from femslide.analysis.simulate import Spec, check_work
+    from femslide.errors import BadInput
+    f1 = 1.0 / 0.4443    # belt-ex1's lowest mode
+    steps, work = check_work(Spec(t_end=3000.0, tolerance=1e-9), f1, 20)
+    assert 3600 < work < 86400 and steps > 1e6
+    with pytest.raises(BadInput, match=r"t_end = 100000 s.*allowed: t_end <= .*24 h of work"):
+        check_work(Spec(t_end=1e5, tolerance=1e-9), f1, 20)
+    with pytest.raises(BadInput, match=r"periods of the lowest mode.*allowed: t_end <="):
+        check_work(Spec(t_end=2e6, tolerance=1e-2), 1.0, 2)
+    # a 60 s record at dt = 0.01 s on a frame: a normal job
+    rec = femslide.analysis.excitation.Record(np.arange(6001) * 0.01, np.zeros(6001))
+    check_work(Spec(t_end=60.0, tolerance=1e-6, ground=Ground([1, 0], record=rec)), 1.0, 200)
+
+
+BELT = """
+gravity = [0.0, -9.81]
+[[body]]
+name = "block"
+mass = 1.0
+inertia = 0.01
+centroid = [0.0, 0.1]
+outline = [[-0.1, 0.0], [0.1, 0.0], [0.1, 0.2], [-0.1, 0.2]]
+[[joint]]
+name = "belt"
+type = "slider"
+a = "block"
+b = "ground"
+axis = [1.0, 0.0]
+at = [0.0, 0.1]
+k = 200.0
+mu = 0.1
+[simulate]
+t_end = 2000.0
+tolerance = 1e-6
+ground = {direction = [1.0, 0.0], amplitude = 2.0, frequency = 1.5}
+"""
+
+
+def test_max_time_stops_cleanly_with_the_history_so_far(tmp_path, capsys):
+    """--max-time 1 on a 2000 s run: exit 1, the reason names max_time and the time reached; with
+    --out the history so far (history.csv, the PVD frames, the hysteresis loop, result.json with
+    converged false, t_reached) is written; --json prints the same."""
+    f = tmp_path / "belt.toml"
+    f.write_text(BELT)
+    out = tmp_path / "o"
+    assert main(["simulate", str(f), "--max-time", "1", "--out", str(out), "--json", "--quiet"]) == 1
+    cap = capsys.readouterr()
+    d = json.loads(cap.out)
+    assert d["converged"] is False and "max_time = 1 s" in d["reason"] and "stopped at t =" in d["reason"]
+    assert 0 < d["t_reached"] < 2000 and d["peaks"]["joints"]["belt"]["slide_max"] > 0
+    assert "max_time" in cap.err
+    H = np.loadtxt(out / "history.csv", delimiter=",", skiprows=1)
+    assert H.shape[0] > 10 and H[-1, 0] == pytest.approx(d["t_reached"])
+    res = json.loads((out / "result.json").read_text())
+    assert res["converged"] is False and res["t_reached"] == d["t_reached"]
+    assert (out / "belt.pvd").exists() and (out / "hysteresis_belt.png").exists()
+    # the Python API: SolverFailure carrying what was computed
+    with pytest.raises(femslide.SolverFailure) as info:
+        femslide.simulate(str(f), max_time=0.5)
+    assert info.value.outcome.values["t_reached"] > 0
+    # bad values
+    assert main(["simulate", str(f), "--max-time", "-1"]) == 2
+    assert "max_time" in capsys.readouterr().err

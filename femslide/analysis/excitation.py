@@ -262,3 +262,44 @@ def read_csv_record(path: str):
         raise BadInput(f"parameter record: {path!r} has {len(ts)} data rows; "
                        f"allowed: a CSV file with at least two rows 't, a'")
     return ts, acc
+
+
+def synthetic_record(duration: float = 20.0, dt: float = 0.01, pga: float = 3.0, f_g: float = 2.5,
+                     zeta_g: float = 0.6, rise: float = 2.0, strong: float = 8.0, decay: float = 0.25,
+                     seed: int = 0):
+    """A synthetic ground acceleration (not a recorded earthquake): white noise through the
+    Kanai-Tajimi filter (a ground layer of frequency ``f_g`` [Hz] and damping ratio ``zeta_g``:
+    a_g = 2 zeta_g w_g x' + w_g^2 x with x'' + 2 zeta_g w_g x' + w_g^2 x = -w(t), integrated exactly
+    for piecewise-constant noise), times the Jennings-Housner-Tsai envelope (t/rise)^2 up to
+    ``rise`` [s], 1 up to ``rise + strong``, exp(-decay (t - rise - strong)) after, ending at zero,
+    scaled to the peak ground acceleration ``pga`` [m/s^2].  ``seed`` selects the noise.  Returns
+    (t [s], a [m/s^2]) numpy arrays, n = round(duration / dt) + 1 samples."""
+    import numpy as np
+    from scipy.linalg import expm
+    n = int(round(duration / dt)) + 1
+    t = np.arange(n) * dt
+    w = np.random.default_rng(seed).standard_normal(n)
+    wg = 2.0 * math.pi * f_g
+    A = np.array([[0.0, 1.0], [-wg * wg, -2.0 * zeta_g * wg]])
+    E = expm(A * dt)
+    Bd = np.linalg.solve(A, (E - np.eye(2)) @ np.array([0.0, -1.0]))   # exact for a constant input
+    x = np.zeros(2)
+    a = np.zeros(n)
+    for k in range(n):                   # (a filter: one 2x2 product per sample)
+        a[k] = 2.0 * zeta_g * wg * x[1] + wg * wg * x[0]
+        x = E @ x + Bd * w[k]
+    env = np.where(t < rise, (t / rise) ** 2, np.where(t < rise + strong, 1.0, np.exp(-decay * (t - rise - strong))))
+    a *= env
+    a -= np.linspace(0.0, 1.0, n) * a[-1]   # ends at zero
+    a[0] = 0.0
+    peak = np.abs(a).max()
+    return t, a * (pga / peak if peak > 0 else 0.0)
+
+
+def write_csv_record(path: str, t, a) -> str:
+    """Write a record as CSV (header ``t,a``; t [s], a [m/s^2]) that :func:`read_csv_record` reads."""
+    with open(path, "w") as fh:
+        fh.write("t,a\n")
+        fh.writelines(f"{float(x)!r},{float(y)!r}\n" for x, y in zip(t, a))
+    return path
+

@@ -39,10 +39,13 @@ force|, with a bearing the sum of its two contact forces' magnitudes, as frictio
 [rad/s^2] (counter-clockwise positive, relative to the moving ground); per friction joint
 ``joints.NAME.friction``.
 
-Work is bounded a priori: the number of steps is estimated from the lowest frequency and the
-tolerance (second-order local error control: about 2 pi (c3 / tolerance)^(1/3) steps per period)
-and a run estimated to need more than WORK_BUDGET_S seconds is bad input naming t_end and its
-usable range; the step count and the wall time are limited at run time as a safety net.
+Long runs: a run is never refused for its length, only absurd inputs are bad input up front: a run
+estimated (steps per period of the lowest mode at the tolerance, :func:`steps_per_period`, times a
+measured cost per step) beyond ABSURD_WORK_S (24 h) of work, or t_end beyond MAX_PERIODS (1e6)
+periods of the lowest mode; the step count is limited at run time only as a runaway's safety net
+(RUNAWAY times the estimate).  No built-in wall-time limit: ``max_time`` [s] (``--max-time``, default
+none) is the user's, beyond which the run stops cleanly (SolverFailure naming it), the history so far
+kept on the exception (``exc.outcome``, written by ``--out``).
 Sliders and rollers with ``mu`` carry Coulomb friction (femslide/joints/friction.py: exact stick, events
 located in time); the static start ignores friction.
 """
@@ -64,13 +67,14 @@ from femslide.results.outcome import Frames, Loop, ModeShapes, Outcome, Table
 from femslide.results.history import _peak
 
 DEFAULT_ELEMENTS = 8
-WORK_BUDGET_S = 60.0
+ABSURD_WORK_S = 86400.0     # a run estimated beyond this much work [s] is bad input (24 h)
+MAX_PERIODS = 1e6           # ... and t_end beyond this many periods of the lowest mode
+RUNAWAY = 10                # the step count limit: this many times the estimate (a runaway's safety net)
 STEP_SECONDS = 1.2e-3       # measured cost of one step (2-3 Newton iterations) of a small model ...
 STEP_SECONDS_PER_DOF = 1e-5  # ... plus this per frame dof (2-core development machine, one BLAS thread)
-WALL_LIMIT_S = 110.0
 MODES = 6
 FRAMES = 200                 # at most this many VTU frames in --out
-SIM_KEYS = ("t_end", "tolerance", "damping", "ground", "initial", "elements", "error_estimate")
+SIM_KEYS = ("t_end", "tolerance", "damping", "ground", "initial", "elements", "error_estimate", "max_time")
 
 RADAU_C4 = 0.015   # RADAU5's estimate on a harmonic motion ~ RADAU_C4 (omega h)^4 amplitude (measured 0.0075-0.015 on
                    # section 5.2 at tolerance 1e-9 .. 1e-3: 15 .. 390 steps per period)
@@ -88,6 +92,7 @@ class Spec:
     rotation_damping: dict | None = None   # {body name: c [N m s/rad]}: rotational dashpots
     turning: tuple = ()                   # bodies whose rotation rate's zeros are located (turning points)
     estimate: bool = True                 # a check run at CHECK_FACTOR * tolerance gives error_estimate
+    max_time: float | None = None         # the user's wall-time limit [s] of the run (None: none)
 
 
 def _num(where, x, lo, hi, lo_open=False):
@@ -155,6 +160,8 @@ def parse_spec(table, base_dir=".", where="[simulate]") -> Spec:
         raise BadInput(f"{where} error_estimate = {est!r}; allowed: true (a check run at 10 x tolerance, "
                        f"about +60 % work) or false")
     sp_.estimate = est
+    if table.get("max_time") is not None:
+        sp_.max_time = _num(f"{where} max_time", table["max_time"], 0.0, 1e9, lo_open=True)
     n = parse_elements(table, where)
     if n is not None:
         sp_.elements = n
@@ -303,9 +310,11 @@ def steps_per_period(tolerance: float) -> float:
 
 
 def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
-    """Bad input (naming t_end and the usable range) when the run would take more than WORK_BUDGET_S
-    by the steps its lowest frequency f1 needs; returns the step count allowed at run time (the
-    steps of the highest computed frequency f_top, whose modes a release may excite, times 3)."""
+    """Bad input (naming t_end and the usable range) only for absurd runs: estimated beyond
+    ABSURD_WORK_S of work by the steps its lowest frequency f1 (or a harmonic ground motion, or a
+    record's samples) needs, or t_end beyond MAX_PERIODS periods of f1.  Returns (the step count
+    allowed at run time: RUNAWAY times the steps of the highest computed frequency f_top, whose modes
+    a release may excite, a runaway's safety net; the estimated work [s])."""
     per_period = steps_per_period(spec.tolerance)
     f_forced = spec.ground.frequency if spec.ground is not None and spec.ground.harmonic else 0.0
     periods = spec.t_end * max(f1, f_forced)
@@ -313,15 +322,19 @@ def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
     if spec.ground is not None and spec.ground.times is not None and spec.ground.dt:
         steps = max(steps, min(spec.t_end, float(spec.ground.times[-1])) / spec.ground.dt)
     cost = STEP_SECONDS + STEP_SECONDS_PER_DOF * n_q
-    if steps * cost > WORK_BUDGET_S:
-        t_max = spec.t_end * WORK_BUDGET_S / (steps * cost)
+    if steps * cost > ABSURD_WORK_S:
+        t_max = spec.t_end * ABSURD_WORK_S / (steps * cost)
         raise BadInput(f"[simulate] t_end = {spec.t_end:g} s: about {steps:.3g} steps of ~{cost * 1e3:.2g} ms "
                        f"({per_period:.0f} per period of the lowest mode, {1 / f1:.4g} s, at tolerance "
-                       f"{spec.tolerance:g}) would take ~{steps * cost:.3g} s; allowed: t_end <= {t_max:.4g} s "
-                       f"({WORK_BUDGET_S:g} s of work; a looser tolerance allows more)")
+                       f"{spec.tolerance:g}) would take ~{steps * cost / 3600:.3g} h; allowed: t_end <= {t_max:.4g} s "
+                       f"(24 h of work; a looser tolerance allows more)")
+    if spec.t_end * f1 > MAX_PERIODS:
+        raise BadInput(f"[simulate] t_end = {spec.t_end:g} s is {spec.t_end * f1:.3g} periods of the lowest mode "
+                       f"({1 / f1:.4g} s); allowed: t_end <= {MAX_PERIODS / f1:.4g} s ({MAX_PERIODS:.0e} periods)")
+    work = steps * cost
     if f_top:
         steps = max(steps, steps * f_top / max(f1, 1e-300))
-    return int(3 * max(steps, 1000)) + 1000
+    return int(RUNAWAY * max(steps, 1000)) + 1000, work
 
 
 def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1):
@@ -338,6 +351,8 @@ def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1):
     try:
         run_c, Hc = run_at(tol_c, fr_c, False, None)
     except SolverFailure as exc:
+        if getattr(exc, "time_limit", False):   # the user's max_time: the run stops (simulate)
+            raise
         return {"error_estimate": None,
                 "accuracy": {"check_tolerance": tol_c, "check_failed": str(exc).splitlines()[0]}}
     # the check run's error is (steps / check steps)^ORDER_GLOBAL times the run's
@@ -408,7 +423,7 @@ def release_frequency(model, masses, y_s, e_s, y0):
 
 def check_release(spec: Spec, model, masses, y_s, e_s, y0, f1):
     """Bad input (naming ``initial``) when the motion released from the held start is too fast to
-    follow for t_end within the work budget: e.g. a deck held at a rotation on columns welded to it
+    follow for t_end within ABSURD_WORK_S (24 h) of work: e.g. a deck held at a rotation on columns welded to it
     and to the ground, which only their axial stiffness lets turn (before: 110 s of steps of 1e-7 s,
     then a failure).  Returns that frequency [Hz] (0 when it cannot be computed: a large model)."""
     found = release_frequency(model, masses, y_s, e_s, y0)
@@ -417,13 +432,13 @@ def check_release(spec: Spec, model, masses, y_s, e_s, y0, f1):
     f, share = found
     steps = spec.t_end * f * steps_per_period(spec.tolerance)
     cost = STEP_SECONDS + STEP_SECONDS_PER_DOF * model.n_q
-    if steps * cost > WORK_BUDGET_S:
-        t_max = spec.t_end * WORK_BUDGET_S / (steps * cost)
+    if steps * cost > ABSURD_WORK_S:
+        t_max = spec.t_end * ABSURD_WORK_S / (steps * cost)
         raise BadInput(f"[simulate] initial = {spec.initial}: released there, the structure moves in a mode of "
                        f"{f:.4g} Hz ({share:.0%} of the start's displacement; its lowest mode has {f1:.4g} Hz): "
                        f"holding it there strains its stiffest parts (e.g. the axial stiffness of rods welded "
                        f"to it), and following that motion for t_end = {spec.t_end:g} s at tolerance "
-                       f"{spec.tolerance:g} takes about {steps:.2g} steps (~{steps * cost:.3g} s); allowed: "
+                       f"{spec.tolerance:g} takes about {steps:.2g} steps (~{steps * cost / 3600:.3g} h); allowed: "
                        f"an initial state its soft modes reach (a displacement u of a body, a slide), or "
                        f"t_end <= {t_max:.3g} s")
     return f
@@ -504,10 +519,11 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             # the run-time step allowance follows the highest frequency of either
             f_ref[1] = max(f_ref[1], _stuck_top(fr, y_s, e_s))
     check_work(spec, f_ref[0], model.n_q, f_ref[1])
+    deadline = None if spec.max_time is None else t_wall + spec.max_time
     y0, e0 = (y_s, e_s) if spec.initial is None else _held_start(fs, counts, L, F, y_s, e_s, spec.initial)
     if spec.initial is not None:   # the released motion may be much faster than the lowest mode
         f_ref[1] = max(f_ref[1], check_release(spec, model, masses, y_s, e_s, y0, f_ref[0]))
-    max_steps = check_work(spec, f_ref[0], model.n_q, f_ref[1])
+    max_steps, _ = check_work(spec, f_ref[0], model.n_q, f_ref[1])
     fric_names = {j.name for j in fric_joints}
 
     def forces(y, n, fr):
@@ -575,15 +591,31 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         """The integration at tolerance tol with the friction modes fr: (run, history array); the
         largest step (t_end / 20, 1/20 of a harmonic ground motion's period) scales as the steps
         the tolerance sets, (tol / tolerance)^(1/4), up to a record's sample interval."""
+        kept = []   # the rows so far: on a failure (max_time reached) the exception carries them
+
         def obs(t, y, alpha, v, acc):
-            return observe(t, y, alpha, v, acc, fr, record)
+            row = observe(t, y, alpha, v, acc, fr, record)
+            kept.append(row)
+            return row
         hm = h_max * (tol / spec.tolerance) ** 0.25
         if spec.ground is not None and spec.ground.times is not None and spec.ground.dt:
             hm = min(hm, spec.ground.dt)
-        run = integrate(model, masses, y0, e0, spec.t_end, tol, C=C, ground=spec.ground,
-                        observe=obs, h0=0.02 / f_ref[0] * spec.tolerance ** 0.25, h_max=hm, max_steps=max_steps,
-                        wall_limit=WALL_LIMIT_S, progress=progress, q_ref=y_s, friction=fr,
-                        period=1.0 / f_ref[0], watch=watch)
+        left = None if deadline is None else max(deadline - time.perf_counter(), 1e-9)
+        try:
+            run = integrate(model, masses, y0, e0, spec.t_end, tol, C=C, ground=spec.ground,
+                            observe=obs, h0=0.02 / f_ref[0] * spec.tolerance ** 0.25, h_max=hm,
+                            max_steps=max_steps, wall_limit=left, progress=progress, q_ref=y_s, friction=fr,
+                            period=1.0 / f_ref[0], watch=watch)
+        except SolverFailure as err:
+            exc = err
+            if deadline is not None and time.perf_counter() >= deadline:
+                t_at = kept[-1][0] if kept else 0.0
+                exc = SolverFailure(f"simulate: stopped at t = {t_at:.6g} s of t_end = {spec.t_end:g} s: the time "
+                                    f"limit max_time = {spec.max_time:g} s was reached"
+                                    f"{'' if record else ' in the check run of the error estimate'}")
+                exc.time_limit = True
+            exc.rows = kept
+            raise exc from None
         H = np.array(run.rows)
         if not np.all(np.isfinite(H)):
             raise SolverFailure("simulate: the history holds NaN or inf values")
@@ -607,8 +639,36 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             peaks["joints"][n] = {"slide_min": -peak(-s), "slide_max": peak(s)}
         return peaks
 
+    def outcome(res, H):
+        """The Outcome of the history H (a run's, or the part computed before a failure)."""
+        history = {c: H[:, i] for i, c in enumerate(cols)}   # t first
+        res["wall_time_s"] = time.perf_counter() - t_wall
+        return Outcome(res, name, history=history, tables=[Table("history.csv", cols, list(H.T))],
+                       frames=Frames(model, [(t, y, a, {c: H[i, j] for j, c in enumerate(cols) if j > 0})
+                                             for t, i, y, a in frames if i < H.shape[0]]),
+                       loops=[Loop(n, history[f"joints.{n}.slide"], history[f"joints.{n}.friction"])
+                              for n in sorted(fric_names)])
+
+    def stopped(exc, res=None, H=None):
+        """The failure with the outcome of what was computed (``exc.outcome``): the run's own history
+        (its rows so far, or all of them when the check run failed), converged false and the reason."""
+        if H is None:
+            rows = getattr(exc, "rows", None) or []
+            H = np.array(rows) if rows else np.zeros((0, len(cols)))
+            H = H[np.all(np.isfinite(H), axis=1)] if H.size else H
+        if H.shape[0]:
+            part = {"t_reached": float(H[-1, 0]), "t_end": spec.t_end,
+                    "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of,
+                    **(res or {"events": fr.events if fr is not None else {}, "peaks": peaks_of(H, fr)})}
+            part.update(converged=False, reason=exc.reason)
+            exc.outcome = outcome(part, H)
+        return exc
+
     t_int = time.perf_counter()
-    run, H = run_at(spec.tolerance, fr, True, progress)
+    try:
+        run, H = run_at(spec.tolerance, fr, True, progress)
+    except SolverFailure as exc:
+        raise stopped(exc) from None
     t_int = time.perf_counter() - t_int
     peaks = peaks_of(H, fr)
     res = {"converged": True, "steps": run.steps, "rejected_steps": run.rejected,
@@ -618,20 +678,16 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
            "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of, "peaks": peaks,
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
     if spec.estimate:
-        res.update(_accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, 1.0 / f_ref[0]))
+        try:
+            res.update(_accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, 1.0 / f_ref[0]))
+        except SolverFailure as exc:   # only the user's time limit ends the check run so (module docstring)
+            raise stopped(exc, {**res, "t_reached": spec.t_end}, H) from None
     if spec.turning:   # the located zeros of the bodies' rotation rates (rows of the history)
         T = H[:, 0]
         res["turning_points"] = {
             b: [{"t": t, "rotation": float(H[int(np.searchsorted(T, t)), col[f"bodies.{b}.rotation"]])}
                 for k, t in run.crossings if spec.turning[k] == b] for b in spec.turning}
-    history = {c: H[:, i] for i, c in enumerate(cols)}   # t first
-    res["wall_time_s"] = time.perf_counter() - t_wall
-    return Outcome(res, name, history=history, tables=[Table("history.csv", cols, list(H.T))],
-                   frames=Frames(model, [(t, y, a, {c: H[i, j] for j, c in enumerate(cols) if j > 0})
-                                         for t, i, y, a in frames]),
-                   loops=[Loop(n, history[f"joints.{n}.slide"], history[f"joints.{n}.friction"])
-                          for n in sorted(fric_names)])
-    return res
+    return outcome(res, H)
 
 
 def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):

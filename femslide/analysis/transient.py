@@ -87,9 +87,10 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     None; ``period`` [s]: the time over which the error scale (the motion's amplitude) is
     remembered (default: the whole run); ``watch``: functions g(y, v) (model units) whose sign
     changes are located as events: the step ends there, and ``crossings`` lists (index, t).
+    ``wall_limit`` [s]: the user's limit on the wall time of this integration (None: none).
     Raises SolverFailure when a step cannot be completed
     (Newton fails at the smallest step)
-    or the step count or wall time runs out."""
+    or the step count (a runaway's safety net) or the wall-time limit runs out."""
     n_q = model.n_q
     heavy = masses.massive_dofs()
     if heavy.size == 0:
@@ -169,7 +170,8 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             raise SolverFailure(f"simulate: the step count limit {max_steps} was reached at t = {s.t:.6g} s "
                                 f"(tolerance too tight or the motion too fast for this t_end)")
         if wall_limit and time.perf_counter() - t0 > wall_limit:
-            raise SolverFailure(f"simulate: the wall-time limit {wall_limit:g} s was reached at t = {s.t:.6g} s")
+            raise SolverFailure(f"simulate: stopped at t = {s.t:.6g} s of t_end = {t_end:g} s: the wall-time "
+                                f"limit of {wall_limit:g} s was reached")
         h = min(h, h_max, t_end - s.t)
         t_stop = None
         if stops is not None:

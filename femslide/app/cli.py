@@ -2,7 +2,7 @@
 
     femslide scenes [--json]
     femslide solve SCENE [--set NAME=VALUE]... [--json] [--out DIR]
-    femslide simulate SCENE [--set NAME=VALUE]... [--json] [--out DIR]
+    femslide simulate SCENE [--set NAME=VALUE]... [--json] [--out DIR] [--max-time S]
     femslide sweep SCENE --vary NAME=V1,V2,... [--set NAME=VALUE]... [--json] [--out DIR]
                    [--jobs N] [--dask ADDRESS] [--resume] [--plot FILE]
     femslide modes FILE.toml [--count N] [--set NAME=VALUE]... [--json] [--out DIR]
@@ -117,6 +117,10 @@ def _build_parser() -> argparse.ArgumentParser:
             s.add_argument("--theory", choices=("nonlinear", "linear"),
                            help="nonlinear: exact large rotations (default); linear: first-order theory, "
                            "equilibrium on the undeformed structure (structure files)")
+        if name == "simulate":
+            s.add_argument("--max-time", metavar="S", type=float,
+                           help="stop the run after S seconds of wall time (exit 1, the reason named, the history "
+                           "so far written with --out); default: no limit (also --set simulate.max_time=S)")
         if name == "sweep":
             s.add_argument("--vary", required=True, metavar="NAME=V1,V2,...",
                            help="the varied parameter and its values (commas inside [...] belong to a value)")
@@ -258,6 +262,10 @@ def _solve(args, command):
     if scene.command != command:
         raise BadInput(f"scene {scene.name} is a '{scene.command}' scene; run: femslide {scene.command} {args.scene}")
     given = parse_assignments(args.set)
+    if getattr(args, "max_time", None) is not None:
+        if not hasattr(scene, "simulate_table"):
+            raise BadInput(f"--max-time is for structure files (a [simulate] table); {args.scene} is a scene")
+        given["simulate.max_time"] = args.max_time
     for opt in ("path", "theory"):
         if getattr(args, opt, None) is not None:
             if not getattr(scene, "solve_options", None):
@@ -267,10 +275,18 @@ def _solve(args, command):
     try:
         res = run_case(scene, values, out=args.out, quiet=args.quiet)
     except SolverFailure as exc:
+        part = getattr(exc, "result", None)   # a simulation stopped half way: what it computed
+        extra = {k: part[k] for k in ("t_reached", "t_end", "peaks", "events") if k in part} if part else {}
+        if getattr(exc, "files", None):
+            extra["files"] = exc.files
         if args.json:
-            print(json.dumps({"converged": False, "reason": exc.reason, **_critical(exc),
-                              "history": _clean(exc.history)}))
-        print(f"femslide: {scene.name} failed to converge: {exc}", file=sys.stderr)
+            print(json.dumps(_clean({"converged": False, "reason": exc.reason, **_critical(exc), **extra,
+                                     "history": exc.history})))
+        what = "stopped" if getattr(exc, "time_limit", False) else "failed to converge"
+        print(f"femslide: {scene.name} {what}: {exc}", file=sys.stderr)
+        if extra.get("files") and not args.json:
+            print(f"femslide: what was computed up to t = {extra.get('t_reached', 0.0):g} s is written: "
+                  f"{', '.join(extra['files'][:3])}{' ...' if len(extra['files']) > 3 else ''}", file=sys.stderr)
         return 1
     if args.json:
         print(json.dumps(_clean(res)))

@@ -12,6 +12,7 @@ from __future__ import annotations
 import time
 
 from femslide.app.result import Result
+from femslide.errors import SolverFailure
 
 
 
@@ -19,7 +20,8 @@ def run_case(scene, values, out=None, quiet=False) -> Result:
     """Run a scene (built-in, scene file or structure file) with validated ``values``; the result has
     ``wall_time_s`` (the run itself) and ``import_time_s`` (importing the machinery it needs, the
     first time in a process; 0 afterwards); with ``out`` its files and result.json are written
-    there.  ``quiet`` switches off progress bars."""
+    there, also when the run stops half way (SolverFailure carrying ``outcome``: a simulation's history
+    so far; ``exc.result`` then holds it and ``exc.files`` the files written).  ``quiet`` switches off progress bars."""
     t_imp = time.perf_counter()
     prepare = getattr(scene, "prepare", None)
     if prepare is not None:
@@ -32,6 +34,15 @@ def run_case(scene, values, out=None, quiet=False) -> Result:
         values = {**values, "_progress": bar.at}
     try:
         outcome = scene.run({**values, "_quiet": True} if quiet else values)
+    except SolverFailure as exc:
+        # a run stopped half way (a simulation at its max_time, or failing): what it computed is kept
+        # on the exception (``exc.outcome``) and written with ``out``; ``exc.files`` names the files
+        part = getattr(exc, "outcome", None)
+        if part is not None:
+            exc.result = Result.of(part)
+            if out:
+                exc.files = exc.result.write(out)[:-1]
+        raise
     finally:
         if bar is not None:
             bar.close()
