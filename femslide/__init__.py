@@ -262,7 +262,7 @@ def _is_structure_file(path):
 
 
 def sweep(target: Target, *, fixed: dict[str, Any] | None = None, jobs: int = 1, quiet: bool = False,
-          **varied: Iterable[Any]) -> pandas.DataFrame:
+          dask: str | None = None, **varied: Iterable[Any]) -> pandas.DataFrame:
     """Solve (or simulate) every combination of parameter values; one table row per case.
 
     Parameters
@@ -278,11 +278,17 @@ def sweep(target: Target, *, fixed: dict[str, Any] | None = None, jobs: int = 1,
         it alone.
     quiet : bool, default False
         Switch off the progress bar (shown on stderr only when it is a terminal).
+    dask : str, optional
+        Run the cases on Dask: ``"local"`` (a LocalCluster of ``jobs`` worker processes, or one per
+        case up to the CPU count) or a scheduler address ``"tcp://host:8786"``; needs
+        ``pip install 'femslide[dask]'``.
     **varied : list of values
         The varied parameters, each with a list (tuple, range, numpy array) of values: scene
         parameters (``EI=[1e4, 1e6]``) or structure fields (``**{"right.EI": [1e4, 1e6]}``; a vector
-        field takes a list of vectors).  Several varied parameters give the full grid
-        (``itertools.product``, the first name varying slowest).
+        field takes a list of vectors), or keys of a structure's ``[simulate]`` table
+        (``**{"simulate.ground.scale": [0.5, 1, 2], "simulate.ground.record": ["a.AT2", "b.csv"]}``:
+        every case is then simulated; also with a ``simulate.KEY`` in ``fixed``).  Several varied
+        parameters give the full grid (``itertools.product``, the first name varying slowest).
 
     Returns
     -------
@@ -292,7 +298,9 @@ def sweep(target: Target, *, fixed: dict[str, Any] | None = None, jobs: int = 1,
         work bound that depends on the solution - or "error"), ``reason`` (why a case failed,
         else None), then every scalar value of the result under dotted names
         (``M_max``, ``reactions.B1.Fx``, ``rods.right.M_max``, ``wall_time_s``...; see
-        :meth:`Result.flat`; NaN where a case has no value).  A case that fails does not stop the
+        :meth:`Result.flat`; NaN where a case has no value).  A simulation's row: one column per
+        flattened peak (``peaks.reactions.A1.Fx``), ``events.JOINT`` (the friction events' count),
+        ``error_estimate``.  A case that fails does not stop the
         sweep: its row says why.  ``df.attrs`` holds ``target``, ``varied`` and ``fixed``.
 
     Raises
@@ -307,7 +315,7 @@ def sweep(target: Target, *, fixed: dict[str, Any] | None = None, jobs: int = 1,
     >>> df[["EI", "M_max", "reactions.B1.Fx"]]                           # doctest: +SKIP
     """
     from femslide.app.api import sweep_table
-    return sweep_table(target, varied, fixed=fixed, jobs=jobs, quiet=quiet)
+    return sweep_table(target, varied, fixed=fixed, jobs=jobs, quiet=quiet, dask=dask)
 
 
 def __getattr__(name: str):

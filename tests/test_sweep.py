@@ -41,7 +41,7 @@ def flat(obj, prefix=""):
     for k, v in obj.items():
         if isinstance(v, dict):
             out.update(flat(v, f"{prefix}{k}."))
-        elif k not in ("wall_time_s", "import_time_s", "files"):
+        elif k not in ("wall_time_s", "import_time_s", "files", "status"):   # (status: sweep rows only)
             out[prefix + k] = v
     return out
 

@@ -30,12 +30,13 @@ def run_api(target, params: dict):
     else:
         name = "structure"
     # [simulate] keys, bare or in the command line's --set form simulate.KEY
-    sim = {k[len("simulate."):]: params.pop(k) for k in list(params) if k.startswith("simulate.")}
-    both = sorted(set(sim) & set(params) & set(SIM_KEYS))
+    from femslide.app.structfile import record_paths, simulate_table
+    sim = {k: params.pop(k) for k in list(params) if k.startswith("simulate.")}
+    both = sorted({k.split(".")[1] for k in sim} & set(params) & set(SIM_KEYS))
     if both:
         raise BadInput(f"simulate: {both[0]} given both as {both[0]} and as simulate.{both[0]}; allowed: one of them")
-    sim.update({k: params.pop(k) for k in list(params) if k in SIM_KEYS})
-    table.update(sim)
+    sim.update({f"simulate.{k}": params.pop(k) for k in list(params) if k in SIM_KEYS})
+    table = simulate_table(table, record_paths(sim))
     if isinstance(target, Structure):
         s, elements = apply(target, params)
         fs = s.freeze()
@@ -62,7 +63,8 @@ def _values_of(name, values):
     return items
 
 
-def sweep_table(target, varied: dict, fixed: dict | None = None, jobs: int = 1, quiet: bool = False):
+def sweep_table(target, varied: dict, fixed: dict | None = None, jobs: int = 1, quiet: bool = False,
+                dask: str | None = None):
     """``femslide.sweep``: run every combination of the varied values; one DataFrame row per case.
 
     Columns: the varied names, ``converged``, ``status`` ("converged"; "failed": the solver gave up,
@@ -72,9 +74,13 @@ def sweep_table(target, varied: dict, fixed: dict | None = None, jobs: int = 1, 
     (BadInput, nothing run).
 
     Every case is solved from scratch exactly as ``femslide solve``/``simulate`` solves it alone,
-    through the command line's sweep executors (femslide/app/sweeps.py): in this process, or in a pool of
-    ``jobs`` processes.  A declared :class:`~femslide.Structure` is written to a temporary structure
-    file first, so that worker processes can load it.
+    through the command line's sweep executors (femslide/app/sweeps.py): in this process, in a pool of
+    ``jobs`` processes, or on Dask (``dask`` "local" or a scheduler address; BadInput naming
+    ``pip install 'femslide[dask]'`` without dask.distributed).  A structure file or Structure with a
+    ``simulate.KEY`` among the varied or fixed values is simulated in every case: its rows hold the
+    peaks (one column per flattened peak, ``peaks.reactions.A1.Fx``), the friction events' counts
+    (``events.JOINT``), ``error_estimate`` and ``status``.  A declared :class:`~femslide.Structure` is
+    written to a temporary structure file first, so that worker processes can load it.
     """
     import itertools
     import tempfile
@@ -84,7 +90,7 @@ def sweep_table(target, varied: dict, fixed: dict | None = None, jobs: int = 1, 
     from femslide.app.progress import progress
     from femslide.app.result import dotted
     from femslide.app.run import load_target
-    from femslide.app.sweeps import run_pool, run_serial
+    from femslide.app.sweeps import _run_dask, is_dynamic, run_pool, run_serial
     from femslide.model.frozen import Frozen
     from femslide.model.structure import Structure
 
@@ -96,6 +102,13 @@ def sweep_table(target, varied: dict, fixed: dict | None = None, jobs: int = 1, 
         raise BadInput(f"sweep: {', '.join(both)} both fixed and varied; allowed: each name in one of them")
     if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
         raise BadInput(f"sweep: jobs = {jobs!r}; allowed: an integer >= 1")
+    if dask is not None:
+        if not isinstance(dask, str) or not (dask == "local" or "://" in dask):
+            raise BadInput(f"sweep: dask = {dask!r}; allowed: 'local' or a scheduler address tcp://host:port")
+        try:
+            import dask.distributed as _dd  # noqa: F401  (binds _dd only, not the name 'dask')
+        except ImportError:
+            raise BadInput("sweep: dask needs dask.distributed: pip install 'femslide[dask]'") from None
     lists = {name: _values_of(name, v) for name, v in varied.items()}
     names = list(lists)
     with tempfile.TemporaryDirectory(prefix="femslide-sweep-") as tmp:
@@ -114,6 +127,8 @@ def sweep_table(target, varied: dict, fixed: dict | None = None, jobs: int = 1, 
             raise BadInput(f"sweep: target {target!r}; allowed: a built-in scene name, a scene or structure "
                            f"file path, or a femslide.Structure")
         tgt = load_target(spec)
+        if is_dynamic({**fixed, **varied}) and hasattr(tgt.scene, "for_simulate"):
+            tgt = tgt.scene.for_simulate()
         spec = getattr(tgt.scene, "spec", spec)
         if os.path.isfile(spec):
             spec = os.path.abspath(spec)  # workers may start elsewhere
@@ -124,7 +139,9 @@ def sweep_table(target, varied: dict, fixed: dict | None = None, jobs: int = 1, 
         out_dirs: list = [None] * n
         bar = progress(n, f"sweep {label}", quiet, unit="case")
         try:
-            if jobs > 1 and n > 1:
+            if dask is not None:
+                runs = _run_dask(spec, cases, list(range(n)), out_dirs, dask, jobs if jobs > 1 else None)
+            elif jobs > 1 and n > 1:
                 runs = run_pool(spec, cases, range(n), out_dirs, min(jobs, n))
             else:
                 runs = run_serial(spec, cases, range(n), out_dirs)

@@ -3,7 +3,7 @@
     femslide scenes [--json]
     femslide solve SCENE [--set NAME=VALUE]... [--json] [--out DIR]
     femslide simulate SCENE [--set NAME=VALUE]... [--json] [--out DIR] [--max-time S]
-    femslide sweep SCENE --vary NAME=V1,V2,... [--set NAME=VALUE]... [--json] [--out DIR]
+    femslide sweep SCENE --vary NAME=V1,V2,... [--vary ...] [--set NAME=VALUE]... [--json] [--out DIR]
                    [--jobs N] [--dask ADDRESS] [--resume] [--plot FILE]
     femslide modes FILE.toml [--count N] [--set NAME=VALUE]... [--json] [--out DIR]
     femslide buckling FILE.toml [--count N] [--about equilibrium|reference] [--combination NAME]
@@ -122,8 +122,10 @@ def _build_parser() -> argparse.ArgumentParser:
                            help="stop the run after S seconds of wall time (exit 1, the reason named, the history "
                            "so far written with --out); default: no limit (also --set simulate.max_time=S)")
         if name == "sweep":
-            s.add_argument("--vary", required=True, metavar="NAME=V1,V2,...",
-                           help="the varied parameter and its values (commas inside [...] belong to a value)")
+            s.add_argument("--vary", required=True, action="append", metavar="NAME=V1,V2,...",
+                           help="the varied parameter and its values (commas inside [...] belong to a value); "
+                           "repeatable: every combination (e.g. --vary simulate.ground.record=a.AT2,b.csv --vary "
+                           "simulate.ground.scale=0.5,1,2: an incremental dynamic analysis of a record suite)")
             s.add_argument("--jobs", type=int, default=None, metavar="N",
                            help="solve the cases in N processes; with --dask local: N worker processes "
                            "(default: in this process; --dask local alone: one worker per case, at most the "
@@ -328,7 +330,8 @@ def _parse_vary(text):
 
 def _sweep(args):
     from femslide.app.sweeps import run_sweep
-    name, items = _parse_vary(args.vary)
+    pairs = [_parse_vary(v) for v in args.vary]
+    name, items = (pairs[0] if len(pairs) == 1 else ([p[0] for p in pairs], [p[1] for p in pairs]))
     return run_sweep(_target(args.scene), name, items, parse_assignments(args.set), as_json=args.json,
                      out=args.out, jobs=args.jobs, dask=args.dask, resume=args.resume, plot=args.plot,
                      quiet=args.quiet)

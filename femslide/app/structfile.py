@@ -294,6 +294,7 @@ class StructureFile:
         except BadInput as exc:
             raise BadInput(f"structure file {self.path}: {exc}") from None
         if self.command == "simulate":
+            values = record_paths(values)
             self._spec(values)
         elif any(k.startswith("simulate.") for k in values):
             raise BadInput(f"{next(k for k in values if k.startswith('simulate.'))}: [simulate] keys are for "
@@ -313,10 +314,10 @@ class StructureFile:
         return solve_options(table, f"structure file {self.path}: [solve]")
 
     def _spec(self, values):
-        """The [simulate] table with the ``simulate.KEY`` overrides, checked."""
+        """The [simulate] table with the ``simulate.KEY`` overrides (``simulate.ground.scale``: a key
+        of a table in it), checked."""
         from femslide.analysis.simulate import parse_spec
-        table = dict(self.simulate_table or {})
-        table.update({k.split(".", 1)[1]: v for k, v in values.items() if k.startswith("simulate.")})
+        table = simulate_table(self.simulate_table, values)
         return parse_spec(table if (self.simulate_table is not None or table) else None,
                           os.path.dirname(os.path.abspath(self.path)), f"structure file {self.path}: [simulate]")
 
@@ -356,6 +357,44 @@ class StructureFile:
         s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith(("_", "solve."))})
         return statics(s.freeze(), elements=elements, name=self.name, cache=values.get("_cache"),
                        options=self.solve_options(values))
+
+
+def simulate_table(table: dict | None, values: dict) -> dict:
+    """A copy of a [simulate] table with the ``simulate.KEY`` overrides of ``values`` applied; a dotted
+    key sets a key of a table in it (``simulate.ground.scale = 2`` keeps the ground's record and
+    direction), creating the table if needed."""
+    import copy
+    out = copy.deepcopy(dict(table or {}))
+    for k, v in values.items():
+        if not k.startswith("simulate."):
+            continue
+        path = k.split(".")[1:]
+        node = out
+        for i, part in enumerate(path[:-1]):
+            sub = node.get(part)
+            if not isinstance(sub, dict):
+                if sub is not None:
+                    raise BadInput(f"{k}: simulate.{'.'.join(path[:i + 1])} is {sub!r}, not a table")
+                sub = node[part] = {}
+            node = sub
+        node[path[-1]] = v
+    return out
+
+
+def record_paths(values: dict) -> dict:
+    """Overrides naming a ground record (``simulate.ground.record``, or ``record`` in a
+    ``simulate.ground`` table) made absolute when the file exists relative to the current folder (as a
+    command line's paths are read); otherwise they stay relative to the structure file's folder (as
+    the file's own ``record`` is read)."""
+    def fix(p):
+        return os.path.abspath(p) if isinstance(p, str) and not os.path.isabs(p) and os.path.isfile(p) else p
+    out = dict(values)
+    if "simulate.ground.record" in out:
+        out["simulate.ground.record"] = fix(out["simulate.ground.record"])
+    g = out.get("simulate.ground")
+    if isinstance(g, dict) and "record" in g:
+        out["simulate.ground"] = {**g, "record": fix(g["record"])}
+    return out
 
 
 def _toml_value(x):

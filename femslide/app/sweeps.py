@@ -43,27 +43,56 @@ EXTRA = ("case", "case_dir", "scene", "varied", "fixed", "params", "version", "s
 CASE_DIR = "case_{:03d}"
 
 
+def is_dynamic(values) -> bool:
+    """Whether a structure file's case is a simulation: a ``simulate.KEY`` among its values."""
+    return any(isinstance(k, str) and k.startswith("simulate.") for k in values)
+
+
+def for_case(scene, values):
+    """The target a case runs: a structure file's `simulate` when a ``simulate.KEY`` is given."""
+    if is_dynamic(values) and hasattr(scene, "for_simulate") and getattr(scene, "command", "") != "simulate":
+        return scene.for_simulate()
+    return scene
+
+
+def dynamic_row(res: dict) -> dict:
+    """A simulate result as a sweep row: the friction events as counts (``events``: {joint: number of
+    events after the start}) instead of their lists; the peaks, error_estimate and the rest kept."""
+    ev = res.get("events")
+    if isinstance(ev, dict) and all(isinstance(v, list) for v in ev.values()):
+        res = {**res, "events": {j: sum(1 for e in v if isinstance(e, dict) and e.get("t", 0.0) > 0.0)
+                                 for j, v in ev.items()}}
+    res.pop("turning_points", None)
+    return res
+
+
 def solve_case(scene_name: str, values: dict, out_dir: str | None = None, cache=None):
     """Solve one case cold; return (row without the varied parameter, status).
 
     Status: "converged", "failed" (did not converge), "bad-input" (the run rejected the values) or
     "error" (an internal error).  Runs in worker processes: imports are local, results are plain
     JSON-safe data.  ``scene_name``: a built-in scene or a scene or structure file's path; ``cache``:
-    Jacobian patterns shared by the cases solved in this process.
+    Jacobian patterns shared by the cases solved in this process.  A structure file's case with a
+    ``simulate.KEY`` is simulated (:func:`dynamic_row`); a simulation stopped half way (max_time)
+    keeps its peaks so far and ``t_reached`` in the failed row.
     """
     from femslide.app.result import clean
     from femslide.app.run import load_target, run_case
-    scene = load_target(scene_name).scene
+    scene = for_case(load_target(scene_name).scene, values)
     try:
-        res = run_case(scene, {**values, "_cache": cache} if cache is not None else values, out=out_dir,
-                       quiet=True)  # the sweep has its own bar
+        res = run_case(scene, {**values, "_cache": cache} if cache is not None and not is_dynamic(values)
+                       else values, out=out_dir, quiet=True)  # the sweep has its own bar
     except SolverFailure as exc:
-        return {"converged": False, "reason": exc.reason}, "failed"
+        part = getattr(exc, "result", None)
+        keep = {k: part[k] for k in ("t_reached", "peaks", "events") if k in part} if part else {}
+        return dynamic_row(clean({"converged": False, "reason": exc.reason, **keep})), "failed"
     except BadInput as exc:
         return {"converged": False, "reason": f"bad input: {exc}"}, "bad-input"
     except Exception as exc:  # keep the sweep going; the row says what happened
         return {"converged": False, "reason": f"internal error: {type(exc).__name__}: {exc}"}, "error"
     res = clean(res)
+    if is_dynamic(values):
+        res = dynamic_row(res)
     return res, "converged" if res.get("converged", True) else "failed"
 
 
@@ -84,12 +113,13 @@ def _fixed(target, base, varied):
     are not listed: they follow from these and the varied value."""
     params = getattr(target.scene, "params", None)
     given = {**(getattr(target, "params", None) or {}), **base}
+    skip = set(varied) if isinstance(varied, (list, tuple)) else {varied}
     if params is None:  # a structure file: NAME.FIELD overrides, canonical as its resolve makes them
         from femslide.app.structfile import parse_value
-        fixed = {k: parse_value(v) for k, v in given.items() if k != varied}
+        fixed = {k: parse_value(v) for k, v in given.items() if k not in skip}
     else:
         table = {p.name: p for p in params.params()}
-        fixed = {k: table[k].check(v) for k, v in given.items() if k != varied and k in table}
+        fixed = {k: table[k].check(v) for k, v in given.items() if k not in skip and k in table}
     if getattr(target, "mesh_path", None):
         fixed["mesh file"] = os.path.abspath(target.mesh_path)
     return fixed
@@ -345,12 +375,24 @@ def _lock(out):
 def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, dask=None,
               resume=False, plot=None, quiet=False):
     """Run a sweep from the command line; returns the exit status (0 all converged, 1 a case failed,
-    2 a case was rejected as bad input).  ``jobs``: processes (None: in process), or with ``dask``
-    'local' the LocalCluster's worker processes (None: one per case, at most the CPU count and 8)."""
+    2 a case was rejected as bad input).  ``name``, ``items``: the varied parameter and its values, or
+    lists of them (several ``--vary``: every combination, the first varying slowest).  ``jobs``:
+    processes (None: in process), or with ``dask`` 'local' the LocalCluster's worker processes (None:
+    one per case, at most the CPU count and 8).  A structure file swept with a ``simulate.KEY`` (varied
+    or set) is simulated in every case (SPEC 9.3)."""
+    import itertools
+    names = list(name) if isinstance(name, (list, tuple)) else [name]
+    lists = list(items) if isinstance(name, (list, tuple)) else [items]
+    name = ",".join(names)   # the sweep's varied parameters, as its rows name them
+    if len(set(names)) < len(names):
+        raise BadInput(f"--vary {name}: a parameter varied twice; allowed: each name once")
+    if is_dynamic({**base, **dict.fromkeys(names)}) and hasattr(target.scene, "for_simulate"):
+        target = target.scene.for_simulate()
     scene = target.scene
     spec = getattr(scene, "spec", scene.name)  # what a worker process loads the case from
-    if name in base:
-        raise BadInput(f"parameter {name} is both set and varied")
+    both = [n for n in names if n in base]
+    if both:
+        raise BadInput(f"parameter {both[0]} is both set and varied")
     if jobs is not None and jobs < 1:
         raise BadInput(f"--jobs {jobs}: allowed: an integer >= 1")
     if dask and dask != "local" and jobs is not None:
@@ -358,7 +400,8 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, 
                        f"sets the worker processes of --dask local only (allowed here: no --jobs)")
     if resume and not out:
         raise BadInput("--resume needs --out DIR (the sweep.jsonl of the earlier run)")
-    cases = [target.resolve({**base, name: item}) for item in items]  # all checked before any run
+    combos = [dict(zip(names, c)) for c in itertools.product(*lists)]
+    cases = [target.resolve({**base, **c}) for c in combos]  # all checked before any run
     if plot:
         try:
             import matplotlib  # noqa: F401
@@ -382,7 +425,7 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, 
         lock = _lock(out)
         path = os.path.join(out, JSONL)
         recs = _records(path)
-        fixed = _fixed(target, base, name)
+        fixed = _fixed(target, base, names)
         _check_same_sweep(out, recs, scene.name, name, fixed, resume)
         done = _load_done(recs)
         for i, v in enumerate(cases):
@@ -404,7 +447,7 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, 
         if not as_json:
             for i in range(n):
                 if rows[i] is not None:
-                    bar.write(_row_text(name, rows[i]) + f"  (from {JSONL})")
+                    bar.write(_row_text(names, rows[i]) + f"  (from {JSONL})")
         if not todo:
             runs = iter(())
         elif dask:
@@ -415,7 +458,7 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, 
             runs = run_serial(spec, cases, todo, out_dirs)
         for i, row, status in runs:
             values = cases[i]
-            row = {name: values[name], **row}
+            row = {**{n: values[n] for n in names}, **row}
             rows[i], statuses[i] = row, status
             if stream:
                 rec = {**row, "case": case_no[i], "case_dir": os.path.basename(out_dirs[i]),
@@ -426,10 +469,11 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, 
                 stream.flush()
             if status != "converged":
                 from femslide.app.result import fmt
-                print(f"femslide: {scene.name} {name}={fmt(values[name])} failed: {row.get('reason')}",
+                print(f"femslide: {scene.name} {' '.join(f'{n}={fmt(values[n])}' for n in names)} failed: "
+                      f"{row.get('reason')}",
                       file=sys.stderr)
             if not as_json:
-                bar.write(_row_text(name, row))
+                bar.write(_row_text(names, row))
             bar.update(1)
     finally:
         bar.close()
@@ -437,10 +481,14 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, 
             stream.close()
         if lock is not None:
             lock.close()   # (closing the file releases the lock)
-    if as_json:
-        print(json.dumps(rows))
+    if as_json:   # every row with its status (also rows read back from sweep.jsonl)
+        print(json.dumps([{**r, "status": st} if r is not None else r for r, st in zip(rows, statuses)]))
     if plot:
-        plot_sweep(plot, scene.name, name, cases, rows)
+        if is_dynamic(cases[0]):
+            from femslide.output.plots import ida_plot
+            ida_plot(plot, scene.name, names, cases, rows)
+        else:
+            plot_sweep(plot, scene.name, names[0], cases, rows)
         if not as_json:
             print(f"plot: {plot}")
     if "bad-input" in statuses:
@@ -448,10 +496,11 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, 
     return 0 if all(s == "converged" for s in statuses) else 1
 
 
-def _row_text(name, res):
+def _row_text(names, res):
     from femslide.app.result import fmt as _fmt
-    keys = [k for k in ("phi", "M_max", "slide", "iterations", "error_estimate", "wall_time_s") if k in res]
-    return (f"{name}={_fmt(res[name]):>12}  converged={res.get('converged')}  "
+    keys = [k for k in ("phi", "M_max", "slide", "iterations", "t_reached", "error_estimate", "wall_time_s")
+            if k in res]
+    return ("  ".join(f"{n}={_fmt(res[n]):>12}" for n in names) + f"  converged={res.get('converged')}  "
             + "  ".join(f"{k}={_fmt(res[k])}" for k in keys))
 
 

@@ -6,7 +6,10 @@
 - ``path``: a traced load path, the load factor against one output (its name and unit on the axis),
   limit points marked, full load dashed;
 - ``buckling``: the rods of the base state (grey) and displaced along each buckling mode, one panel
-  per mode with its load factor.
+  per mode with its load factor;
+- :func:`ida_plot`: an incremental dynamic analysis (a dynamic sweep): the scale of the ground motion
+  against the peak responses (the largest over rods, joints, storeys, bodies), one line per record;
+- :func:`peaks_over_time`: a simulation's running peaks (the largest |value| so far) against time.
 
 :func:`draw` draws a :class:`femslide.results.outcome.Figure` into a folder and returns its path.
 """
@@ -106,3 +109,63 @@ def _buckling(plt, data, path):
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+# the response quantities of an IDA curve: (title, unit, the flattened peak keys that count)
+IDA_GROUPS = (("bending moment M_max", "N m", lambda k: k.startswith("peaks.rods.") and k.endswith(".M_max")),
+              ("|slide|", "m", lambda k: k.startswith("peaks.joints.") and k.endswith((".slide_min", ".slide_max"))),
+              ("inter-storey drift", "m", lambda k: k.startswith("peaks.drifts.")),
+              ("absolute acceleration", "m/s^2",
+               lambda k: k.startswith("peaks.bodies.") and k.endswith((".ax", ".ay"))),
+              ("base moment", "N m", lambda k: k.startswith("peaks.reactions.") and k.endswith(".M")))
+
+
+def _flat(row):
+    from femslide.results.outcome import dotted
+    return {k: v for k, v in dotted(row).items() if isinstance(v, (int, float)) and not isinstance(v, bool)}
+
+
+def ida_plot(path, scene, names, cases, rows):
+    """An IDA curve (PNG, PDF, SVG by extension): per response group (:data:`IDA_GROUPS`) a panel of
+    the scale (``simulate.ground.scale``, else the first numeric varied parameter) against the
+    group's largest peak |value| [SI], one line per value of the other varied parameters (a record
+    suite: one line per record); cases that did not converge are left out (crosses at their
+    peaks so far).  Returns the path, or None without matplotlib."""
+    plt = _pyplot()
+    if plt is None:
+        return None
+    x_name = "simulate.ground.scale" if "simulate.ground.scale" in names else next(
+        (n for n in names if all(isinstance(c.get(n), (int, float)) for c in cases)), names[0])
+    others = [n for n in names if n != x_name]
+    flats = [_flat(r or {}) for r in rows]
+    groups = [(t, u, f) for t, u, f in IDA_GROUPS if any(f(k) for fl in flats for k in fl)]
+    if not groups:
+        groups = [("peak", "-", lambda k: k.startswith("peaks."))]
+    fig, axes = plt.subplots(1, len(groups), figsize=(3.6 * len(groups) + 0.8, 4.2), squeeze=False)
+    lines = {}
+    for c, r, fl in zip(cases, rows, flats):
+        label = ", ".join(os.path.basename(str(c.get(n))) for n in others) or scene
+        lines.setdefault(label, []).append((c.get(x_name), bool(r and r.get("converged")), fl))
+    for ax, (title, unit, pick) in zip(axes[0], groups):
+        for k, (label, pts) in enumerate(lines.items()):
+            pts = sorted((p for p in pts if isinstance(p[0], (int, float))), key=lambda p: p[0])
+            ok = [(max((abs(v) for kk, v in fl.items() if pick(kk)), default=np.nan), x) for x, good, fl in pts if good]
+            bad = [(max((abs(v) for kk, v in fl.items() if pick(kk)), default=np.nan), x) for x, good, fl in pts
+                   if not good]
+            if ok:
+                ax.plot([p[0] for p in ok], [p[1] for p in ok], "o-", color=f"C{k % 10}", ms=4, label=label)
+            if bad:
+                ax.plot([p[0] for p in bad], [p[1] for p in bad], "x", color=f"C{k % 10}", ms=7)
+        ax.set_xlabel(f"peak {title} [{unit}]")
+        ax.set_ylabel(x_name)
+        ax.grid(True, alpha=0.3)
+    axes[0][0].legend(loc="best", fontsize=7)
+    fig.suptitle(f"femslide sweep {scene}: incremental dynamic analysis")
+    fig.tight_layout()
+    d = os.path.dirname(path)
+    if d:
+        os.makedirs(d, exist_ok=True)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
