@@ -534,7 +534,8 @@ def test_block_without_spring_on_a_shaken_frictional_ground():
     res, h = _run(s, t_end=0.6, tolerance=1e-8, ground={"direction": [1.0, 0.0], "amplitude": A, "frequency": 1.0})
     ev = res["events"]["belt"]
     assert [e["kind"] for e in ev] == ["stick", "slip-", "stick"]
-    assert res["frequencies_of"] == "structure with its friction joints stuck"
+    assert res["frequencies_of"].startswith("frictionless structure (it has no equilibrium of its own")
+    assert res["frequency_sets"] == {"stuck": [], "free": [0.0]}
     assert abs(ev[1]["t"] - t0) < 1e-9 and abs(ev[2]["t"] - t1) < 1e-6
     assert res["peaks"]["joints"]["belt"]["slide_min"] == pytest.approx(w1, abs=1e-6)
 

@@ -1,6 +1,7 @@
 """The earthquake engineer's day (issue 24): ground records, long runs, dynamic sweeps, modes with
 friction, what seismic engineers read."""
 import json
+import math
 import os
 
 import numpy as np
@@ -299,3 +300,118 @@ def test_dynamic_sweep_on_dask_local(tmp_path, capsys):
     df = femslide.sweep(str(f), quiet=True, dask="local", jobs=2, fixed={"simulate.error_estimate": False},
                         **{"simulate.ground.scale": [0.5, 1.0]})
     assert list(df["peaks.joints.belt.slide_max"]) == [r["peaks"]["joints"]["belt"]["slide_max"] for r in ref]
+
+
+# -- modes of structures with friction (SPEC 9.4) -----------------------------------------------------------
+
+def _chain(k1=0.0, k=500.0, m1=3.0, m2=2.0):
+    """Two blocks: m1 on a frictional ground slider (spring k1, none by default), m2 on m1 by a
+    frictionless slider with a spring k; all along x."""
+    s = femslide.Structure(gravity=(0.0, -9.81))
+    s.body("base", mass=m1, centroid=(0.0, 0.1), inertia=0.1)
+    s.body("top", mass=m2, centroid=(0.0, 0.5), inertia=0.1)
+    s.slider("iso", "base", "ground", axis=(1.0, 0.0), at=(0.0, 0.1), k=k1, mu=0.1)
+    s.slider("link", "top", "base", axis=(1.0, 0.0), at=(0.0, 0.5), k=k)
+    return s
+
+
+@pytest.mark.parametrize("k1", [0.0, 300.0])
+def test_frequency_sets_of_a_two_mass_chain_on_a_friction_slider(k1):
+    """Reference, by hand: stuck (m1 held): omega^2 = k / m2; free: the eigenvalues of
+    [[k1 + k, -k], [-k, k]] x = omega^2 diag(m1, m2) x (k1 = 0: omega = 0, the free base, and
+    omega^2 = k (1/m1 + 1/m2)).  1e-9 relative; the free direction exactly 0."""
+    from scipy.linalg import eigh
+
+    from femslide.analysis.simulate import natural_modes
+    k, m1, m2 = 500.0, 3.0, 2.0
+    w2 = eigh(np.array([[k1 + k, -k], [-k, k]]), np.diag([m1, m2]), eigvals_only=True)
+    free = np.sqrt(np.clip(w2, 0, None)) / (2 * math.pi)
+    stuck = math.sqrt(k / m2) / (2 * math.pi)
+    res = natural_modes(_chain(k1).freeze(), count=4, elements=1)
+    sets = res.values["frequency_sets"]
+    assert sets["stuck"] == pytest.approx([stuck], rel=1e-9)
+    assert res.values["frequencies_hz"] == sets["free"]
+    if k1 == 0.0:
+        assert sets["free"][0] == 0.0 and res.values["periods_s"][0] is None
+        assert sets["free"][1] == pytest.approx(math.sqrt(k * (1 / m1 + 1 / m2)) / (2 * math.pi), rel=1e-9)
+    else:
+        assert sets["free"] == pytest.approx(list(free), rel=1e-9)
+    # simulate reports both sets and labels frequencies_hz as the frictionless structure's
+    from femslide.analysis.simulate import parse_spec, simulate
+    out = simulate(_chain(k1).freeze(), parse_spec({"t_end": 0.05, "error_estimate": False}))
+    for key in ("stuck", "free"):
+        assert out.values["frequency_sets"][key] == pytest.approx(sets[key], rel=1e-12, abs=1e-12)
+    assert out.values["frequencies_of"].startswith("frictionless structure")
+    assert out.values["frequencies_hz"] == out.values["frequency_sets"]["free"]
+
+
+def test_modes_of_a_base_isolated_frame_lists_stuck_and_free(tmp_path, capsys):
+    """`femslide modes` of a two-column frame on a base body that slides on a frictional ground slider
+    without a spring (a mechanism when frictionless: refused before): the free set starts with the
+    zero frequency of the sliding base; the stuck set equals the frequencies of the same frame with
+    the slider replaced by a weld (an independent model: statics and a Cholesky eigen-solve instead of
+    the lock and the condensed solve), 1e-7 (measured 5e-9: the 4 kHz axial modes beside the 5 Hz
+    sway)."""
+    iso = FRAME2.replace('type = "slider"', 'type = "slider"\naxis = [1.0, 0.0]\nmu = 0.1')
+    welded = FRAME2.replace('type = "slider"', 'type = "weld"')
+    (tmp_path / "iso.toml").write_text(iso)
+    (tmp_path / "weld.toml").write_text(welded)
+    assert main(["modes", str(tmp_path / "iso.toml"), "--json", "--count", "3"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert main(["modes", str(tmp_path / "weld.toml"), "--json", "--count", "3"]) == 0
+    w = json.loads(capsys.readouterr().out)
+    assert d["frequency_sets"]["free"][0] == 0.0 and d["frequency_sets"]["free"][1] > 0
+    assert d["frequency_sets"]["stuck"] == pytest.approx(w["frequencies_hz"], rel=1e-7)
+    # the free base's flexible mode is higher than the stuck one (the base moves against the roof)
+    assert d["frequency_sets"]["free"][1] > d["frequency_sets"]["stuck"][0]
+
+
+FRAME2 = """
+gravity = [0.0, -9.81]
+[[rod]]
+name = "left"
+start = [0.0, 0.2]
+end = [0.0, 3.0]
+EI = 4e6
+[[rod]]
+name = "right"
+start = [4.0, 0.2]
+end = [4.0, 3.0]
+EI = 4e6
+[[body]]
+name = "base"
+mass = 2000.0
+inertia = 3000.0
+centroid = [2.0, 0.1]
+[[body]]
+name = "roof"
+mass = 4000.0
+inertia = 6000.0
+centroid = [2.0, 3.1]
+[[joint]]
+name = "A"
+type = "weld"
+a = "left.start"
+b = "base"
+[[joint]]
+name = "B"
+type = "weld"
+a = "right.start"
+b = "base"
+[[joint]]
+name = "C"
+type = "weld"
+a = "left.end"
+b = "roof"
+[[joint]]
+name = "D"
+type = "weld"
+a = "right.end"
+b = "roof"
+[[joint]]
+name = "iso"
+type = "slider"
+a = "base"
+b = "ground"
+at = [2.0, 0.0]
+"""

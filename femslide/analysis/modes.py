@@ -16,6 +16,13 @@ so the problem is solved for 1 / omega^2, which is finite:
 
 Frequencies in Hz, ascending; mode shapes over the frame dofs (model units), scaled to a largest
 translation of 1.
+
+A mechanism (``zero_ok``: a base on a frictionless slider without a spring) has directions free of
+any stiffness: the reduced K is singular (an eigenvalue below FREE = 1e-12 of the largest).  The
+dense path then splits them off (:func:`_mechanism_modes`): each free direction with mass is a zero
+frequency, the rest is solved on the complement with the free part following (its mass condensed
+in), for 1 / omega^2 as the stable path is; an unstable state (a negative eigenvalue) is still a
+SolverFailure.
 """
 from __future__ import annotations
 
@@ -53,10 +60,14 @@ def tangent(model, y, elements):
     return (0.5 * (K + K.T)).tocsc(), S[n_q:, :n_q].tocsc(), S
 
 
-def modes(model, y, elements, masses, count=6):
+def modes(model, y, elements, masses, count=6, zero_ok=False, max_free=None):
     """(frequencies_hz (k,), shapes (k, n_q)): the ``count`` lowest natural frequencies of the
     structure about the static state (y, elements).  Raises SolverFailure when the state is unstable
-    (the reduced stiffness is not positive definite) or nothing has mass."""
+    (the reduced stiffness is not positive definite; with ``zero_ok`` only when it is indefinite: a
+    direction free of stiffness is a zero frequency, module docstring; at most ``max_free`` of them,
+    the number of joints released, when given) or nothing has mass.  ``zero_ok`` is for a state known
+    to be a mechanism (its statics needed the friction joints stuck): a stable state's softest modes
+    may be 1e-12 of its stiffest and are solved by the stable path."""
     n_q = model.n_q
     Mr, Mc, Mv = masses.matrix(y[:n_q])
     M = sp.csc_matrix((Mv, (Mr, Mc)), shape=(n_q, n_q))
@@ -72,11 +83,17 @@ def modes(model, y, elements, masses, count=6):
         Kr = Z.T @ K.toarray() @ Z
         Mrd = Z.T @ M.toarray() @ Z
         Kr, Mrd = 0.5 * (Kr + Kr.T), 0.5 * (Mrd + Mrd.T)
+        if zero_ok:   # (a singular Kr may still pass the Cholesky factorisation by round-off)
+            kw, kV = eigh(Kr)
+            if kw.min() <= FREE * max(float(np.abs(kw).max()), 1e-300):
+                return _mechanism_modes(model, Z, kw, kV, Mrd, count, max_free)
         try:
             w, V = eigh(Mrd, Kr)
         except np.linalg.LinAlgError:
-            raise SolverFailure("the static state is not stable (its reduced stiffness is not positive "
-                                "definite): no natural frequencies") from None
+            if not zero_ok:
+                raise SolverFailure("the static state is not stable (its reduced stiffness is not positive "
+                                    "definite): no natural frequencies") from None
+            return _mechanism_modes(model, Z, Kr, Mrd, count)
         order = np.argsort(w)[::-1]
         w, V = w[order], V[:, order]
         keep = w > 1e-14 * max(w[0], 1e-300)
@@ -104,6 +121,11 @@ def modes(model, y, elements, masses, count=6):
     if w.size == 0:
         raise SolverFailure("no natural frequencies found (massless structure or unstable static state)")
     freq = 1.0 / np.sqrt(w) / (2.0 * math.pi)
+    return freq, _normalised(model, shapes)
+
+
+def _normalised(model, shapes):
+    """Mode shapes scaled to a largest translation of 1, the largest entry positive."""
     for k in range(shapes.shape[0]):
         nod = shapes[k, : 3 * model.n_nodes].reshape(-1, 3)[:, :2]
         body = shapes[k, 3 * model.n_nodes:].reshape(-1, 3)[:, :2]
@@ -112,4 +134,46 @@ def modes(model, y, elements, masses, count=6):
             big = float(np.abs(shapes[k]).max())
         i = int(np.argmax(np.abs(shapes[k])))
         shapes[k] *= np.sign(shapes[k][i]) / big
-    return freq, shapes
+    return shapes
+
+
+FREE = 1e-12   # a direction whose stiffness (an eigenvalue of the reduced K) is below this fraction of the
+               # largest is free of stiffness (round-off is ~1e-16; real soft modes are far above 1e-12)
+
+
+def _mechanism_modes(model, Z, kw, kV, Mr, count, max_free=None):
+    """The modes of a structure with directions free of stiffness (dense; module docstring).
+    ``kw``, ``kV``: the eigenpairs of the reduced K.  The free directions N (kw <= FREE max) are
+    zero frequencies (those with mass; shapes N a with (N^T M N) a = mu a); the others are the
+    motions x = W b + N a with W^T K W b = omega^2 M* b, M* = W^T M W - W^T M N (N^T M N)^+ N^T M W
+    (the free part a = -(N^T M N)^+ N^T M W b follows, carrying no force), solved for 1 / omega^2 as
+    the stable path is.  SolverFailure when K has a negative eigenvalue (an unstable state)."""
+    from scipy.linalg import eigh
+    scale = max(float(np.abs(kw).max()), 1e-300)
+    if kw.min() < -FREE * scale:
+        raise SolverFailure("the static state is not stable (its reduced stiffness has a negative "
+                            "eigenvalue): no natural frequencies")
+    free = kw <= FREE * scale
+    if max_free is not None:   # (eigh: kw ascending)
+        free[max_free:] = False
+    N, W = kV[:, free], kV[:, ~free]
+    Mnn, Mnw = N.T @ Mr @ N, N.T @ Mr @ W
+    Mnn_pinv = np.linalg.pinv(0.5 * (Mnn + Mnn.T), rcond=1e-12, hermitian=True)
+    mu, U = eigh(0.5 * (Mnn + Mnn.T))
+    heavy = mu > 1e-12 * max(float(np.abs(mu).max()), 1e-300)
+    zero_shapes = (N @ U[:, heavy]).T                    # the free directions with mass: zero frequencies
+    freq, shapes = np.zeros(int(heavy.sum())), zero_shapes
+    if W.shape[1]:
+        Meff = W.T @ Mr @ W - Mnw.T @ Mnn_pinv @ Mnw
+        w, V = eigh(0.5 * (Meff + Meff.T), np.diag(kw[~free]))   # w = 1 / omega^2
+        order = np.argsort(w)[::-1]
+        w, V = w[order], V[:, order]
+        keep = w > 1e-14 * max(float(w[0]), 1e-300)
+        w, V = w[keep], V[:, keep]
+        x = W @ V - N @ (Mnn_pinv @ (Mnw @ V))
+        freq = np.concatenate([freq, 1.0 / np.sqrt(w) / (2.0 * math.pi)])
+        shapes = np.vstack([zero_shapes, x.T]) if zero_shapes.size else x.T
+    if freq.size == 0:
+        raise SolverFailure("no natural frequencies found (massless structure)")
+    freq, shapes = freq[:count], shapes[:count]
+    return freq, _normalised(model, (Z @ shapes.T).T)

@@ -11,13 +11,15 @@
 
 The run: the static equilibrium under the loads (femslide.analysis.static, on the fixed mesh; a structure
 that is a mechanism without friction - a block on a ground slider without a spring - starts from the
-equilibrium with its friction joints stuck, and ``frequencies_of`` says so), held - if
+equilibrium with its friction joints stuck), held - if
 ``initial`` says so - at a body's rotation [rad] and/or centroid displacement u [m] (its component
 along u is held, the rest of the structure in equilibrium: the body pulled along u) or at a slider's
 slide [m] (an extra exact constraint, walked there in small steps), then released at rest and
 integrated to ``t_end`` (femslide/analysis/transient.py: Radau IIA, adaptive step).  The lowest natural
 frequencies of the frictionless structure about the static equilibrium (femslide/analysis/modes.py) are
-reported as ``frequencies_hz``.
+reported as ``frequencies_hz`` (a direction free of stiffness, a base on a frictionless slider, as a
+zero frequency); a structure with friction joints also reports ``frequency_sets`` {``stuck``: every
+friction joint locked, ``free``: frictionless} (femslide/analysis/friction_modes.py).
 
 Damping: Rayleigh C = alpha M0 + beta K0 (about the static state), plus rotational dashpots
 (``damping.rotation``, :attr:`Spec.rotation_damping`): a body's moment -c theta' [N m] with c in
@@ -287,20 +289,6 @@ def rotation_dampers(model, dampers, C=None):
     return C
 
 
-def _stuck_top(fr, y_s, e_s):
-    """Highest of the MODES lowest natural frequencies [Hz] with every friction joint stuck (0 when
-    they cannot be computed); about the frictionless static state, where the locks carry no force."""
-    from femslide.analysis.modes import modes
-    from femslide.model.mass import Masses
-    m = fr.stuck_model()
-    y = np.concatenate([y_s, np.zeros(m.n - y_s.size)])
-    try:
-        freq, _ = modes(m, y, e_s, Masses(m), MODES)
-    except SolverFailure:
-        return 0.0
-    return float(freq[-1]) if len(freq) else 0.0
-
-
 def steps_per_period(tolerance: float) -> float:
     """Steps per period of a harmonic motion at the error control's step h = (SAFETY tol / c4)^(1/4) / w
     (RADAU5's estimate ~ c4 (w h)^4 amp; c4 measured on harmonic motions), with 1.5 for rejected
@@ -473,22 +461,29 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         y_s = np.zeros(model.n)
         y_s[:model.n_q] = sol.level.y[:model.n_q]
         e_s = sol.level.elements
-        frequencies_of = ("structure with its friction joints stuck" if any(_has_friction(j) for j in fs.joints)
-                          else "structure with its sliders and rollers held (frictionless it has no equilibrium)")
+        frequencies_of = "frictionless structure (it has no equilibrium of its own: about the static state " \
+                         "with its friction joints stuck; a free direction is a zero frequency)"
     L, F = model.Lref, model.Fref
     masses = Masses(model)
     if masses.massive_dofs().size == 0:
         raise BadInput("simulate: nothing in the structure has mass (give a body a mass or a rod a rhoA)")
-    try:
+    counts = {r.name: r.elements for r in fs.rods}
+    sets = None
+    if any(_has_friction(j) for j in fs.joints):   # both sets, stuck and free (SPEC 9.4)
+        from femslide.analysis.friction_modes import frequency_sets
+        sets = frequency_sets(model, y_s, e_s, [j for j in fs.joints if _has_friction(j)], counts, MODES,
+                              mechanism=frequencies_of != "frictionless structure")[0]
+        freq = np.array(sets["free"])
+    elif frequencies_of == "frictionless structure":
         freq, _ = modes(model, y_s, e_s, masses, MODES)
-    except SolverFailure:
-        if frequencies_of == "frictionless structure":
-            raise
-        m_stuck = sol.level.model
-        try:
-            freq, _ = modes(m_stuck, sol.level.y, sol.level.elements, Masses(m_stuck), MODES)
-        except SolverFailure:   # stuck, nothing can move: no frequencies
-            freq = np.zeros(0)
+    else:   # frictionless sliders held for the start only: their free directions are zero frequencies
+        freq, _ = modes(model, y_s, e_s, masses, MODES, zero_ok=True,
+                         max_free=sum(j.mu is not None for j in fs.joints))
+    # the frequencies that set the steps: the free structure's positive ones (a free direction's zero
+    # sets none); the stuck ones for a structure without an equilibrium of its own (it starts stuck)
+    f_pos = [float(f) for f in freq if f > 0]
+    if sets and (frequencies_of != "frictionless structure" or not f_pos):
+        f_pos = sets["stuck"] or f_pos
     C = None
     if spec.alpha or spec.beta:
         from femslide.analysis.modes import tangent
@@ -499,8 +494,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         C.sum_duplicates()
     if spec.rotation_damping and any(spec.rotation_damping.values()):
         C = rotation_dampers(model, spec.rotation_damping, C)
-    counts = {r.name: r.elements for r in fs.rods}
-    f_ref = [float(freq[0]), float(freq[-1])] if len(freq) else [1.0 / spec.t_end] * 2
+    f_ref = [f_pos[0], f_pos[-1]] if len(f_pos) else [1.0 / spec.t_end] * 2
     # joints with mu0 = 0 have no friction at all (the stick/slip direction of a massless slide is
     # then undetermined): they are frictionless sliders and rollers
     fric_joints = [j for j in fs.joints if _has_friction(j)]
@@ -514,10 +508,9 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         return Friction(model, fric_joints, lambda m, extras: RadauSystem(m, masses, C, spec.ground, extras), counts)
     fr = new_friction()
     if fr is not None:
-        if frequencies_of == "frictionless structure":
-            # stuck phases may be much stiffer (a massless rod clamped in its guide must stretch):
-            # the run-time step allowance follows the highest frequency of either
-            f_ref[1] = max(f_ref[1], _stuck_top(fr, y_s, e_s))
+        # stuck phases may be much stiffer (a massless rod clamped in its guide must stretch):
+        # the run-time step allowance follows the highest frequency of either
+        f_ref[1] = max(f_ref[1], max(sets["stuck"], default=0.0))
     check_work(spec, f_ref[0], model.n_q, f_ref[1])
     deadline = None if spec.max_time is None else t_wall + spec.max_time
     y0, e0 = (y_s, e_s) if spec.initial is None else _held_start(fs, counts, L, F, y_s, e_s, spec.initial)
@@ -659,6 +652,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         if H.shape[0]:
             part = {"t_reached": float(H[-1, 0]), "t_end": spec.t_end,
                     "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of,
+                    **({"frequency_sets": sets} if sets else {}),
                     **(res or {"events": fr.events if fr is not None else {}, "peaks": peaks_of(H, fr)})}
             part.update(converged=False, reason=exc.reason)
             exc.outcome = outcome(part, H)
@@ -675,7 +669,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
            "newton_iterations": run.newton_iterations, "t_end": spec.t_end,
            "energy_balance": run.energy_balance, "energy": run.energy,
            "events": fr.events if fr is not None else {},
-           "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of, "peaks": peaks,
+           "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of,
+           **({"frequency_sets": sets} if sets else {}), "peaks": peaks,
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
     if spec.estimate:
         try:
@@ -693,24 +688,52 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
 def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
     """`femslide modes`: the ``count`` lowest natural frequencies [Hz] of the frictionless structure
     about its static equilibrium (rods without their own `elements` meshed with ``elements``), with
-    the mode shapes to write as VTU files (femslide.output.files.write_modes)."""
+    the mode shapes to write as VTU files (femslide.output.files.write_modes).  A structure with
+    friction joints also gets ``frequency_sets`` {``stuck``, ``free``} (SPEC 9.4); one without an
+    equilibrium of its own when frictionless (a base on a slider without a spring) is taken about
+    its static state with the friction joints stuck, its free directions zero frequencies (periods
+    None)."""
     from femslide.analysis import static
     from femslide.analysis.modes import modes
     from femslide.model.mass import Masses
     t0 = time.perf_counter()
     fs = _fixed_mesh(fs, elements)
-    sol = static.solve(fs)
-    model, y, elements = sol.level.model, sol.level.y, sol.level.elements
+    fric = [j for j in fs.joints if _has_friction(j)]
+    mechanism = False
+    try:
+        sol = static.solve(fs)
+        model, y, elements = sol.level.model, sol.level.y, sol.level.elements
+    except SolverFailure as exc:
+        if not fric:
+            raise
+        mechanism = True
+        sol = _stuck_statics(fs, exc)
+        model = _model_like(fs, sol.level.model)
+        y = np.zeros(model.n)
+        y[:model.n_q] = sol.level.y[:model.n_q]
+        elements = sol.level.elements
     masses = Masses(model)
     if masses.massive_dofs().size == 0:
         raise BadInput("modes: nothing in the structure has mass (give a body a mass or a rod a rhoA)")
-    freq, shapes = modes(model, y, elements, masses, count)
+    sets = None
+    if fric:
+        from femslide.analysis.friction_modes import frequency_sets
+        sets, shapes, _, _ = frequency_sets(model, y, elements, fric, {r.name: r.elements for r in fs.rods}, count,
+                                            mechanism=mechanism)
+        freq = np.array(sets["free"])
+    else:
+        freq, shapes = modes(model, y, elements, masses, count)
     res = {"converged": True, "frequencies_hz": [float(f) for f in freq],
-           "periods_s": [float(1.0 / f) for f in freq], "elements": {r.name: r.elements for r in fs.rods}}
+           "periods_s": [float(1.0 / f) if f > 0 else None for f in freq],
+           **({"frequency_sets": sets} if sets else {}),
+           "elements": {r.name: r.elements for r in fs.rods}}
     if len(freq) < count:   # fewer motions with mass than asked for: say so rather than pad or hide it
         res["notes"] = [f"{len(freq)} of the {count} modes asked for: the structure has no more motions "
                         f"with mass (its massless parts - rods with rhoA = 0, rotations of bodies without "
                         f"inertia - follow the masses quasi-statically)"]
-
+    if sets:
+        res.setdefault("notes", []).append(
+            "frequencies_hz and the mode shapes: the frictionless (free) structure; frequency_sets.stuck: every "
+            "friction joint locked" + ("; a zero frequency is a direction free of stiffness" if 0.0 in freq else ""))
     res["wall_time_s"] = time.perf_counter() - t0
     return Outcome(res, name, modes=ModeShapes(model, y, elements.committed, list(freq), shapes))
