@@ -88,10 +88,36 @@ class Ground:
         self.record = record
         self.times = None if record is None else np.asarray(record.times, float)
         self.dt = float(np.min(np.diff(self.times))) if self.times is not None and self.times.size > 1 else None
+        self._vcum = None   # the record's velocity at its samples (computed when first asked for)
 
     def accel(self, t: float) -> float:
         a = self.amplitude * math.sin(2.0 * math.pi * self.frequency * t) if self.harmonic else 0.0
         return a + self.record.value(t) if self.record is not None else a
+
+    def velocity(self, t: float) -> float:
+        """The ground's velocity [m/s] along the direction at t, from rest at t = 0: exact for the
+        harmonic part (amplitude (1 - cos(2 pi f t)) / (2 pi f)) and for the record, linear between
+        its samples (trapezoids, plus the quadratic within the current sample interval)."""
+        v = 0.0
+        if self.harmonic:
+            w = 2.0 * math.pi * self.frequency
+            v = self.amplitude * (1.0 - math.cos(w * t)) / w
+        if self.record is not None and t > self.record.times[0]:
+            if self._vcum is None:
+                rt, rv = self.record.times, self.record.values
+                cum = [0.0]
+                for k in range(1, len(rt)):
+                    cum.append(cum[-1] + 0.5 * (rv[k] + rv[k - 1]) * (rt[k] - rt[k - 1]))
+                self._vcum = cum
+            rt = self.record.times
+            i = min(bisect.bisect_right(rt, t) - 1, len(rt) - 1)
+            if i >= len(rt) - 1:
+                v += self._vcum[-1]
+            else:
+                p, q, _ = self.record.piece(rt[i])
+                d = t - rt[i]
+                v += self._vcum[i] + p * d + 0.5 * q * d * d
+        return v
 
 
 def at2_header(line: str):

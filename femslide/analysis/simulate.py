@@ -65,8 +65,9 @@ from femslide.analysis.excitation import parse as parse_ground
 from femslide.errors import BadInput, SolverFailure
 from femslide.joints.holds import BodyHold
 from femslide.joints.kinds import kind_of, listed
-from femslide.results.outcome import Frames, Loop, ModeShapes, Outcome, Table
+from femslide.results.outcome import Figure, Frames, Loop, ModeShapes, Outcome, Table
 from femslide.results.history import _peak
+from femslide.results.seismic import drift_columns, drifts, residuals, running_peaks, storey_pairs
 
 DEFAULT_ELEMENTS = 8
 ABSURD_WORK_S = 86400.0     # a run estimated beyond this much work [s] is bad input (24 h)
@@ -534,7 +535,12 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     cols = ["t"] + [f"reactions.{n}.{k}" for n in reac for k in ("Fx", "Fy", "M")] \
         + [f"rods.{n}.M_max" for n in rods] + [f"joints.{n}.{k}" for n in slides for k in ("slide", "normal")] \
         + [f"bodies.{n}.{k}" for n in bodies for k in ("x", "y", "rotation", "rotation_rate", "rotation_accel")] \
-        + [f"joints.{n}.friction" for n in sorted(fric_names)]
+        + [f"joints.{n}.friction" for n in sorted(fric_names)] \
+        + [f"bodies.{n}.{k}" for n in bodies for k in ("vx", "vy", "ax", "ay")]
+    pairs = storey_pairs(fs)
+    cols += drift_columns(pairs)   # (computed from the bodies' centroids after the run)
+    n_raw = len(cols) - 2 * len(pairs)
+    centroid_r = {n: np.asarray(fs.body(n).centroid, float) / L - model.body_X0[model.body_index[n]] for n in bodies}
     bearing = {j.name: (kind_of(j.type), j.bearing / L if j.bearing else None) for j in fs.joints}
     frames, frames_rows = [], []   # (t, row index, y, alpha) every t_end / FRAMES
     next_frame = [0.0]
@@ -564,6 +570,20 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             row += [float(x), float(yy), float(q[d]), float(v[d]), float(acc[d])]
         for n in sorted(fric_names):   # friction force on a along +axis [N]
             row.append(-fr.coefficient(n, y) * F)
+        if bodies:   # absolute velocity and acceleration of the centroids: relative motion + the ground's
+            vg = ag = 0.0
+            if spec.ground is not None:
+                vg, ag = spec.ground.velocity(t), spec.ground.accel(t)
+            e = spec.ground.direction if spec.ground is not None else (0.0, 0.0)
+            for n in bodies:
+                d = model.body_dof(n)
+                r = centroid_r[n]
+                c, s_ = math.cos(q[d + 2]), math.sin(q[d + 2])
+                Rr = (c * r[0] - s_ * r[1], s_ * r[0] + c * r[1])
+                w, al = v[d + 2], acc[d + 2]
+                row += [(v[d] - w * Rr[1]) * L + vg * e[0], (v[d + 1] + w * Rr[0]) * L + vg * e[1],
+                        (acc[d] - al * Rr[1] - w * w * Rr[0]) * L + ag * e[0],
+                        (acc[d + 1] + al * Rr[0] - w * w * Rr[1]) * L + ag * e[1]]
         if record and (t >= next_frame[0] or t >= spec.t_end * (1 - 1e-12)):
             frames.append((t, len(frames_rows), y.copy(), alpha.copy()))
             next_frame[0] = t + spec.t_end / FRAMES
@@ -609,10 +629,16 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
                 exc.time_limit = True
             exc.rows = kept
             raise exc from None
-        H = np.array(run.rows)
+        H = with_drifts(np.array(run.rows))
         if not np.all(np.isfinite(H)):
             raise SolverFailure("simulate: the history holds NaN or inf values")
         return run, H
+
+    def with_drifts(H):
+        """The history rows (n_raw columns) with the drift columns appended."""
+        if H.ndim != 2 or H.shape[1] != n_raw:
+            return H
+        return np.hstack([H, drifts(H, col, pairs)]) if pairs else H
 
     col = {c: i for i, c in enumerate(cols)}
 
@@ -622,7 +648,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
 
         def peak(x):
             return _peak(T, x, breaks=brk)
-        peaks = {"reactions": {}, "rods": {}, "joints": {}}
+        peaks = {"reactions": {}, "rods": {}, "joints": {}, "bodies": {}, "drifts": {}}
         for n in reac:
             peaks["reactions"][n] = {k: peak(np.abs(H[:, col[f"reactions.{n}.{k}"]])) for k in ("Fx", "Fy", "M")}
         for n in rods:
@@ -630,13 +656,21 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         for n in slides:
             s = H[:, col[f"joints.{n}.slide"]]
             peaks["joints"][n] = {"slide_min": -peak(-s), "slide_max": peak(s)}
+        for n in bodies:   # absolute velocities and accelerations of the centroids
+            peaks["bodies"][n] = {k: peak(np.abs(H[:, col[f"bodies.{n}.{k}"]])) for k in ("vx", "vy", "ax", "ay")}
+        for up, low in pairs:
+            pair = f"{up}-{low}"
+            peaks["drifts"][pair] = {k: peak(np.abs(H[:, col[f"drifts.{pair}.{k}"]])) for k in ("dx", "dy")}
         return peaks
 
     def outcome(res, H):
         """The Outcome of the history H (a run's, or the part computed before a failure)."""
         history = {c: H[:, i] for i, c in enumerate(cols)}   # t first
+        res["residual"] = residuals(H, cols)
         res["wall_time_s"] = time.perf_counter() - t_wall
-        return Outcome(res, name, history=history, tables=[Table("history.csv", cols, list(H.T))],
+        figs = [Figure("peaks_over_time.png", "peaks", {"t": H[:, 0], "groups": running_peaks(H, cols),
+                                                        "name": name})]
+        return Outcome(res, name, history=history, tables=[Table("history.csv", cols, list(H.T))], figures=figs,
                        frames=Frames(model, [(t, y, a, {c: H[i, j] for j, c in enumerate(cols) if j > 0})
                                              for t, i, y, a in frames if i < H.shape[0]]),
                        loops=[Loop(n, history[f"joints.{n}.slide"], history[f"joints.{n}.friction"])
@@ -647,7 +681,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         (its rows so far, or all of them when the check run failed), converged false and the reason."""
         if H is None:
             rows = getattr(exc, "rows", None) or []
-            H = np.array(rows) if rows else np.zeros((0, len(cols)))
+            H = with_drifts(np.array(rows)) if rows else np.zeros((0, len(cols)))
             H = H[np.all(np.isfinite(H), axis=1)] if H.size else H
         if H.shape[0]:
             part = {"t_reached": float(H[-1, 0]), "t_end": spec.t_end,

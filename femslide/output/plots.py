@@ -9,7 +9,8 @@
   per mode with its load factor;
 - :func:`ida_plot`: an incremental dynamic analysis (a dynamic sweep): the scale of the ground motion
   against the peak responses (the largest over rods, joints, storeys, bodies), one line per record;
-- :func:`peaks_over_time`: a simulation's running peaks (the largest |value| so far) against time.
+- ``peaks``: a simulation's running peaks (the largest |value| so far of base moments, rod moments,
+  slides, drifts, absolute accelerations) against time (``peaks_over_time.png`` of ``simulate --out``).
 
 :func:`draw` draws a :class:`femslide.results.outcome.Figure` into a folder and returns its path.
 """
@@ -36,7 +37,7 @@ def draw(fig, out_dir) -> str | None:
     if plt is None:
         return None
     path = os.path.join(out_dir, fig.file)
-    {"envelope": _envelope, "path": _path, "buckling": _buckling}[fig.kind](plt, fig.data, path)
+    {"envelope": _envelope, "path": _path, "buckling": _buckling, "peaks": _peaks}[fig.kind](plt, fig.data, path)
     return path
 
 
@@ -108,6 +109,26 @@ def _buckling(plt, data, path):
     fig.suptitle(data.get("title", "buckling modes"), fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _peaks(plt, data, path):
+    """A simulation's running peaks: one panel per group (base moments, rod moments, slides, drifts,
+    absolute accelerations), the largest |value| so far of each quantity against time."""
+    groups = data["groups"]
+    n = max(len(groups), 1)
+    fig, axes = plt.subplots(n, 1, figsize=(7, 2.2 * n + 0.8), squeeze=False, sharex=True)
+    for ax, (title, lines) in zip(axes[:, 0], groups.items()):
+        for k, (c, y) in enumerate(lines.items()):
+            ax.plot(data["t"], y, lw=1.0, color=f"C{k % 10}", label=c)
+        ax.set_ylabel(title, fontsize=8)
+        ax.grid(True, alpha=0.3)
+        if len(lines) <= 8:
+            ax.legend(loc="lower right", fontsize=6)
+    axes[-1, 0].set_xlabel("t [s]")
+    fig.suptitle(f"{data.get('name', '')}: peaks so far (largest |value| up to t)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
     plt.close(fig)
 
 
