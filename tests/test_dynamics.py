@@ -128,7 +128,12 @@ def test_small_amplitude_period_matches_linearised_frequency():
     """Period from the turning points at phi0 = 1e-4 vs 2 pi sqrt(J/K_eff), K_eff from the statics, J
     from rigid-body kinematics (:func:`inertia_A1`).  The quartic hardening shifts the frequency by
     ~3e-5 and generalized-alpha's period error at tolerance 1e-7 is ~1e-5: tolerance 2e-4.  The FE
-    modes' lowest frequency is sqrt(K_eff/J) within 1e-5."""
+    modes' lowest frequency is sqrt(K_eff/J) within 5e-5: the modes are taken about the static state,
+    whose rod (EA = 1e12 N) carries an axial force known only to ~2e-5 relative (its strain, ~1e-11,
+    against the round-off of the node positions, ~2e-16 m), and that force's geometric stiffness moves
+    the lowest frequency by as much: the static states of three equally converged solves (the numpy
+    assembly with LAPACK before and after the load steps' Euler predictor, the compiled kernel) give
+    0.789380, 0.789399 and 0.789361 Hz against 0.789376 Hz (2.9e-5 at most)."""
     v = get("beam-oscillation").resolve({"phi0": 1e-4, "t_end": 1.4, "tolerance": 1e-7})
     res = femslide.simulate("beam-oscillation", phi0=1e-4, t_end=1.4, tolerance=1e-7)
     K = static_stiffness(v, v["n_elements"])
@@ -137,7 +142,7 @@ def test_small_amplitude_period_matches_linearised_frequency():
     tp = res["turning_points"]
     T = 2 * (tp[1]["t"] - tp[0]["t"])
     assert abs(T - T_ref) / T_ref < 2e-4
-    assert res["frequencies_hz"][0] == pytest.approx(math.sqrt(K / J) / (2 * math.pi), rel=1e-5)
+    assert res["frequencies_hz"][0] == pytest.approx(math.sqrt(K / J) / (2 * math.pi), rel=5e-5)
 
 
 def test_viscous_damping_on_phi_decays_by_the_logarithmic_decrement():
