@@ -39,7 +39,8 @@ History columns (SI): ``t``; ``reactions.NAME.Fx, Fy, M`` (forces of the ground 
 force|, with a bearing the sum of its two contact forces' magnitudes, as friction takes it); per body
 ``bodies.NAME.x, y`` (centroid), ``rotation``, ``rotation_rate`` [rad/s] and ``rotation_accel``
 [rad/s^2] (counter-clockwise positive, relative to the moving ground); per friction joint
-``joints.NAME.friction``.
+``joints.NAME.friction``.  A friction event has two rows at its time: the state before the switch
+(the left limit of the forces that jump there) and after it.
 
 Long runs: a run is never refused for its length, only absurd inputs are bad input up front: a run
 estimated (steps per period of the lowest mode at the tolerance, :func:`steps_per_period`, times a
@@ -68,19 +69,13 @@ from femslide.joints.kinds import kind_of, listed
 from femslide.results.outcome import Figure, Frames, Loop, ModeShapes, Outcome, Table
 from femslide.results.history import _peak
 from femslide.results.seismic import drift_columns, drifts, residuals, running_peaks, storey_pairs
+from femslide.analysis.workload import (  # noqa: F401  (check_work and steps_per_period: also imported from here)
+    ABSURD_WORK_S, MAX_PERIODS, check_release, check_work, steps_per_period)
 
 DEFAULT_ELEMENTS = 8
-ABSURD_WORK_S = 86400.0     # a run estimated beyond this much work [s] is bad input (24 h)
-MAX_PERIODS = 1e6           # ... and t_end beyond this many periods of the lowest mode
-RUNAWAY = 10                # the step count limit: this many times the estimate (a runaway's safety net)
-STEP_SECONDS = 1.2e-3       # measured cost of one step (2-3 Newton iterations) of a small model ...
-STEP_SECONDS_PER_DOF = 1e-5  # ... plus this per frame dof (2-core development machine, one BLAS thread)
 MODES = 6
 FRAMES = 200                 # at most this many VTU frames in --out
 SIM_KEYS = ("t_end", "tolerance", "damping", "ground", "initial", "elements", "error_estimate", "max_time")
-
-RADAU_C4 = 0.015   # RADAU5's estimate on a harmonic motion ~ RADAU_C4 (omega h)^4 amplitude (measured 0.0075-0.015 on
-                   # section 5.2 at tolerance 1e-9 .. 1e-3: 15 .. 390 steps per period)
 
 
 @dataclass
@@ -290,43 +285,29 @@ def rotation_dampers(model, dampers, C=None):
     return C
 
 
-def steps_per_period(tolerance: float) -> float:
-    """Steps per period of a harmonic motion at the error control's step h = (SAFETY tol / c4)^(1/4) / w
-    (RADAU5's estimate ~ c4 (w h)^4 amp; c4 measured on harmonic motions), with 1.5 for rejected
-    steps and the control's margin."""
-    from femslide.analysis.radau import ORDER, SAFETY
-    return 2 * math.pi * (RADAU_C4 / (SAFETY * tolerance)) ** (1.0 / ORDER) * 1.5
+UNIT = {"Fx": "N", "Fy": "N", "normal": "N", "friction": "N", "M": "N m", "M_max": "N m", "x": "m", "y": "m",
+        "slide": "m", "rotation": "rad", "rotation_rate": "rad/s", "rotation_accel": "rad/s^2",
+        "vx": "m/s", "vy": "m/s", "ax": "m/s^2", "ay": "m/s^2", "dx": "m", "dy": "m"}
+FLOOR = 1e-2   # a change below this fraction of the motion's size in its unit is not judged relative to itself
 
 
-def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
-    """Bad input (naming t_end and the usable range) only for absurd runs: estimated beyond
-    ABSURD_WORK_S of work by the steps its lowest frequency f1 (or a harmonic ground motion, or a
-    record's samples) needs, or t_end beyond MAX_PERIODS periods of f1.  Returns (the step count
-    allowed at run time: RUNAWAY times the steps of the highest computed frequency f_top, whose modes
-    a release may excite, a runaway's safety net; the estimated work [s])."""
-    per_period = steps_per_period(spec.tolerance)
-    f_forced = spec.ground.frequency if spec.ground is not None and spec.ground.harmonic else 0.0
-    periods = spec.t_end * max(f1, f_forced)
-    steps = periods * per_period
-    if spec.ground is not None and spec.ground.times is not None and spec.ground.dt:
-        steps = max(steps, min(spec.t_end, float(spec.ground.times[-1])) / spec.ground.dt)
-    cost = STEP_SECONDS + STEP_SECONDS_PER_DOF * n_q
-    if steps * cost > ABSURD_WORK_S:
-        t_max = spec.t_end * ABSURD_WORK_S / (steps * cost)
-        raise BadInput(f"[simulate] t_end = {spec.t_end:g} s: about {steps:.3g} steps of ~{cost * 1e3:.2g} ms "
-                       f"({per_period:.0f} per period of the lowest mode, {1 / f1:.4g} s, at tolerance "
-                       f"{spec.tolerance:g}) would take ~{steps * cost / 3600:.3g} h; allowed: t_end <= {t_max:.4g} s "
-                       f"(24 h of work; a looser tolerance allows more)")
-    if spec.t_end * f1 > MAX_PERIODS:
-        raise BadInput(f"[simulate] t_end = {spec.t_end:g} s is {spec.t_end * f1:.3g} periods of the lowest mode "
-                       f"({1 / f1:.4g} s); allowed: t_end <= {MAX_PERIODS / f1:.4g} s ({MAX_PERIODS:.0e} periods)")
-    work = steps * cost
-    if f_top:
-        steps = max(steps, steps * f_top / max(f1, 1e-300))
-    return int(RUNAWAY * max(steps, 1000)) + 1000, work
+def floors(H, cols, offsets, size, T1):
+    """Per history column, the smallest scale its error is measured against (FLOOR of the largest
+    amplitude of the columns of its unit; rotations FLOOR of the largest displacement over the
+    structure's ``size`` [m], their rates and accelerations that times 2 pi / T1 and its square):
+    a quantity the motion hardly changes (a body's rotation in a sway without rocking) is not judged
+    by its own round-off."""
+    amp = np.abs(H - np.asarray(offsets)).max(axis=0) if len(H) else np.zeros(len(cols))
+    unit = [UNIT.get(c.rsplit(".", 1)[-1]) for c in cols]
+    big = {u: max((a for a, v in zip(amp, unit) if v == u), default=0.0) for u in set(unit)}
+    w = 2.0 * math.pi / T1
+    big["rad"] = max(big.get("rad", 0.0), big.get("m", 0.0) / size)
+    big["rad/s"] = max(big.get("rad/s", 0.0), big["rad"] * w)
+    big["rad/s^2"] = max(big.get("rad/s^2", 0.0), big["rad"] * w * w)
+    return [FLOOR * big[u] if u is not None else 0.0 for u in unit]
 
 
-def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1):
+def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1, size):
     """The error estimate of a run (see the module docstring): a check run at CHECK_FACTOR times
     the tolerance and its differences from the run's histories, peaks and event times, divided by
     (steps / check steps)^ORDER_GLOBAL - 1 (the check run's error over the run's, less one).
@@ -357,8 +338,12 @@ def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1):
         windows = [(t - 1e-12, t + 1e-12) for t in times + times_c]
     # positions from their start (the scale of a moving body is its motion, not its place)
     offsets = [H[0, i] if c.endswith((".x", ".y")) else 0.0 for i, c in enumerate(cols)]
-    hist = history_difference(H[:, 0], H[:, 1:], Hc[:, 0], Hc[:, 1:], times, windows, offsets[1:]) / ratio
+    hist = history_difference(H[:, 0], H[:, 1:], Hc[:, 0], Hc[:, 1:], times, windows, offsets[1:],
+                              floors(H, cols, offsets, size, T1)[1:]) / ratio
     pk = peak_difference(res["peaks"], peaks_of(Hc, fr_c))
+    # a rod's largest moment is a maximum over its nodes: its history has kinks where the maximum
+    # moves from one node to another, which no interpolation follows; it is judged by its peak
+    hist[[c.endswith(".M_max") for c in cols[1:]]] = 0.0
     worst_h = int(np.argmax(hist)) if hist.size else None
     e_h = float(hist.max()) if hist.size else 0.0
     e_p = max(pk.values(), default=0.0) / ratio
@@ -368,69 +353,6 @@ def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1):
            "event_times_s": dt / ratio if agree else None, "check_events": sum(len(v) for v in ev_c.values()),
            "energy_balance": res["energy_balance"]}
     return {"error_estimate": max(e_h, e_p), "accuracy": acc}
-
-
-RELEASE_SHARE = 0.1   # a mode that carries this fraction of the start's displacement sets the step size
-
-
-def release_frequency(model, masses, y_s, e_s, y0):
-    """(f [Hz], share): the fastest mode that carries at least RELEASE_SHARE of the displacement of the
-    held start y0 from the static equilibrium y_s (the massive dofs' largest displacement), with that
-    share; None for models above the dense size (modes.DENSE_LIMIT).  The held displacement is split
-    into the modes of the frictionless structure about y_s (dense, every mode); modes with a smaller
-    share (the telescopic piece's 410 kHz axial vibration in section 5.2: 0.25 %) are damped out by the
-    integrator within a few steps and cost nothing."""
-    from scipy.linalg import eigh, null_space
-
-    from femslide.analysis.modes import DENSE_LIMIT, tangent
-    n_q = model.n_q
-    heavy = masses.massive_dofs()
-    dq = y0[:n_q] - y_s[:n_q]
-    A = float(np.abs(dq[heavy]).max()) if heavy.size else 0.0
-    if n_q > DENSE_LIMIT or A == 0.0:
-        return None
-    K, G, _ = tangent(model, y_s, e_s)
-    r, c, v = masses.matrix(y_s[:n_q])
-    M = sp.csc_matrix((v, (r, c)), shape=(n_q, n_q)).toarray()
-    Gd = G.toarray()
-    Z = null_space(Gd) if Gd.shape[0] else np.eye(n_q)
-    Kr, Mr = Z.T @ K.toarray() @ Z, Z.T @ M @ Z
-    try:
-        w, V = eigh(0.5 * (Mr + Mr.T), 0.5 * (Kr + Kr.T))   # w = 1 / omega^2, V^T Kr V = I
-    except np.linalg.LinAlgError:
-        return None
-    keep = w > 1e-14 * max(float(w.max()), 1e-300)
-    w, V = w[keep], V[:, keep]
-    b = V.T @ (Kr @ np.linalg.lstsq(Z, dq, rcond=None)[0])     # the modes' amplitudes
-    shares = np.abs((Z @ (V * b))[heavy]).max(axis=0) / A
-    big = np.nonzero(shares >= RELEASE_SHARE)[0]
-    if big.size == 0:
-        return None
-    k = big[np.argmin(w[big])]
-    return 1.0 / math.sqrt(w[k]) / (2.0 * math.pi), float(shares[k])
-
-
-def check_release(spec: Spec, model, masses, y_s, e_s, y0, f1):
-    """Bad input (naming ``initial``) when the motion released from the held start is too fast to
-    follow for t_end within ABSURD_WORK_S (24 h) of work: e.g. a deck held at a rotation on columns welded to it
-    and to the ground, which only their axial stiffness lets turn (before: 110 s of steps of 1e-7 s,
-    then a failure).  Returns that frequency [Hz] (0 when it cannot be computed: a large model)."""
-    found = release_frequency(model, masses, y_s, e_s, y0)
-    if found is None:
-        return 0.0
-    f, share = found
-    steps = spec.t_end * f * steps_per_period(spec.tolerance)
-    cost = STEP_SECONDS + STEP_SECONDS_PER_DOF * model.n_q
-    if steps * cost > ABSURD_WORK_S:
-        t_max = spec.t_end * ABSURD_WORK_S / (steps * cost)
-        raise BadInput(f"[simulate] initial = {spec.initial}: released there, the structure moves in a mode of "
-                       f"{f:.4g} Hz ({share:.0%} of the start's displacement; its lowest mode has {f1:.4g} Hz): "
-                       f"holding it there strains its stiffest parts (e.g. the axial stiffness of rods welded "
-                       f"to it), and following that motion for t_end = {spec.t_end:g} s at tolerance "
-                       f"{spec.tolerance:g} takes about {steps:.2g} steps (~{steps * cost / 3600:.3g} h); allowed: "
-                       f"an initial state its soft modes reach (a displacement u of a body, a slide), or "
-                       f"t_end <= {t_max:.3g} s")
-    return f
 
 
 def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
@@ -708,7 +630,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
     if spec.estimate:
         try:
-            res.update(_accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, 1.0 / f_ref[0]))
+            res.update(_accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, 1.0 / f_ref[0], model.Lref))
         except SolverFailure as exc:   # only the user's time limit ends the check run so (module docstring)
             raise stopped(exc, {**res, "t_reached": spec.t_end}, H) from None
     if spec.turning:   # the located zeros of the bodies' rotation rates (rows of the history)
