@@ -516,3 +516,16 @@ def test_drifts_peaks_and_residuals_of_a_two_storey_column(tmp_path):
     from femslide.output.vtu import read_meshio
     m = read_meshio(str(vtu))
     assert "drifts.floor2-floor1.dx" in m.field_data and "bodies.floor2.ax" in m.field_data
+
+
+def test_progress_covers_the_run_and_its_check_run():
+    """The progress callback (the bar with the time left) moves monotonically over the run and then its
+    error estimate's check run, reaching t_end only at the end of both."""
+    from femslide.analysis.simulate import parse_spec, simulate
+    f = []
+    s = _chain(300.0)
+    simulate(s.freeze(), parse_spec({"t_end": 0.3}), progress=f.append)
+    assert np.all(np.diff(f) >= 0) and f[-1] == pytest.approx(0.3) and 0.15 < f[len(f) // 2] < 0.3
+    g = []
+    simulate(s.freeze(), parse_spec({"t_end": 0.3, "error_estimate": False}), progress=g.append)
+    assert np.all(np.diff(g) >= 0) and g[-1] == pytest.approx(0.3)

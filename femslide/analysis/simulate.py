@@ -308,7 +308,7 @@ def floors(H, cols, offsets, size, T1):
     return [FLOOR * big[u] if u is not None else 0.0 for u in unit]
 
 
-def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1, size):
+def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1, size, progress=None):
     """The error estimate of a run (see the module docstring): a check run at CHECK_FACTOR times
     the tolerance and its differences from the run's histories, peaks and event times, divided by
     (steps / check steps)^ORDER_GLOBAL - 1 (the check run's error over the run's, less one).
@@ -320,7 +320,7 @@ def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1, size):
     t0 = time.perf_counter()
     fr_c = new_friction()
     try:
-        run_c, Hc = run_at(tol_c, fr_c, False, None)
+        run_c, Hc = run_at(tol_c, fr_c, False, progress)
     except SolverFailure as exc:
         if getattr(exc, "time_limit", False):   # the user's max_time: the run stops (simulate)
             raise
@@ -615,9 +615,13 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             exc.outcome = outcome(part, H)
         return exc
 
+    # the progress bar (simulated time, with the time left) covers the run and its check run, which
+    # takes about CHECK_FACTOR^(-1/5) of its steps (steps ~ tolerance^(-1/5))
+    from femslide.analysis.transient import CHECK_FACTOR
+    share = 1.0 / (1.0 + CHECK_FACTOR ** -0.2) if spec.estimate else 1.0
     t_int = time.perf_counter()
     try:
-        run, H = run_at(spec.tolerance, fr, True, progress)
+        run, H = run_at(spec.tolerance, fr, True, (lambda t: progress(share * t)) if progress else None)
     except SolverFailure as exc:
         raise stopped(exc) from None
     t_int = time.perf_counter() - t_int
@@ -631,7 +635,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
     if spec.estimate:
         try:
-            res.update(_accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, 1.0 / f_ref[0], model.Lref))
+            res.update(_accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, 1.0 / f_ref[0], model.Lref,
+                                 (lambda t: progress(share * spec.t_end + (1.0 - share) * t)) if progress else None))
         except SolverFailure as exc:   # only the user's time limit ends the check run so (module docstring)
             raise stopped(exc, {**res, "t_reached": spec.t_end}, H) from None
     if spec.turning:   # the located zeros of the bodies' rotation rates (rows of the history)
