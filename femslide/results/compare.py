@@ -89,16 +89,20 @@ def _leaves(tree, path=()):
         yield path, tree
 
 
-def peak_difference(pa, pb):
-    """{dotted key: |b - a| / |a|} of two peak tables of the same shape (0 where a is 0 and b too)."""
+def peak_difference(pa, pb, floors=None):
+    """{dotted key: |b - a| / max(|a|, floor)} of two peak tables of the same shape (``floors``
+    {dotted key: smallest scale}, default none; 0 where the scale is 0 and b equals a)."""
     flat_b = dict(_leaves(pb))
+    floors = floors or {}
     out = {}
     for path, a in _leaves(pa):
         b = flat_b.get(path)
         if b is None:
             continue
+        key = ".".join(path)
         d = abs(float(b) - float(a))
-        out[".".join(path)] = d / abs(float(a)) if a else (0.0 if d == 0.0 else float("inf"))
+        scale = max(abs(float(a)), floors.get(key, 0.0))
+        out[key] = d / scale if scale else (0.0 if d == 0.0 else float("inf"))
     return out
 
 
