@@ -288,8 +288,26 @@ def rotation_dampers(model, dampers, C=None):
 UNIT = {"Fx": "N", "Fy": "N", "normal": "N", "friction": "N", "M": "N m", "M_max": "N m", "x": "m", "y": "m",
         "slide": "m", "rotation": "rad", "rotation_rate": "rad/s", "rotation_accel": "rad/s^2",
         "vx": "m/s", "vy": "m/s", "ax": "m/s^2", "ay": "m/s^2", "dx": "m", "dy": "m"}
-# (peaks: slide_min and slide_max are "slide", M_max itself; a peak's unit is UNIT of its name before "_")
 FLOOR = 1e-2   # a change below this fraction of the motion's size in its unit is not judged relative to itself
+
+
+def peak_floors(peaks):
+    """{dotted key: FLOOR times the largest peak of its unit} (a reaction that the motion hardly
+    loads - the axial reaction of a mast shaken sideways without gravity - is not judged by its own
+    round-off)."""
+    flat = {}
+
+    def leaves(d, path):
+        for k, v in d.items():
+            if isinstance(v, dict):
+                leaves(v, path + (k,))
+            else:
+                flat[".".join(path + (k,))] = (UNIT.get(k, "m" if k.startswith("slide") else k), abs(float(v)))
+    leaves(peaks, ())
+    big = {}
+    for u, v in flat.values():
+        big[u] = max(big.get(u, 0.0), v)
+    return {k: FLOOR * big[u] for k, (u, v) in flat.items()}
 
 
 def floors(H, cols, offsets, size, T1):
@@ -341,7 +359,7 @@ def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1, size, prog
     offsets = [H[0, i] if c.endswith((".x", ".y")) else 0.0 for i, c in enumerate(cols)]
     hist = history_difference(H[:, 0], H[:, 1:], Hc[:, 0], Hc[:, 1:], times, windows, offsets[1:],
                               floors(H, cols, offsets, size, T1)[1:]) / ratio
-    pk = peak_difference(res["peaks"], peaks_of(Hc, fr_c), unit=lambda k: UNIT.get(k.split("_")[0], k), floor=FLOOR)
+    pk = peak_difference(res["peaks"], peaks_of(Hc, fr_c), peak_floors(res["peaks"]))
     # a rod's largest moment is a maximum over its nodes: its history has kinks where the maximum
     # moves from one node to another, which no interpolation follows; it is judged by its peak
     hist[[c.endswith(".M_max") for c in cols[1:]]] = 0.0

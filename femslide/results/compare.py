@@ -89,26 +89,20 @@ def _leaves(tree, path=()):
         yield path, tree
 
 
-def peak_difference(pa, pb, unit=None, floor=0.0):
-    """{dotted key: |b - a| / |a|} of two peak tables of the same shape (0 where a is 0 and b too).
-    With ``unit`` (a function of the key's last part -> its unit, or None) a peak is measured against
-    at least ``floor`` times the largest peak of its unit (a peak the motion hardly has - a block's
-    vertical velocity on a horizontal guide - is not judged by its own round-off)."""
+def peak_difference(pa, pb, floors=None):
+    """{dotted key: |b - a| / max(|a|, floor)} of two peak tables of the same shape (``floors``
+    {dotted key: smallest scale}, default none; 0 where the scale is 0 and b equals a)."""
     flat_b = dict(_leaves(pb))
-    leaves = list(_leaves(pa))
-    big = {}
-    if unit is not None:
-        for path, a in leaves:
-            u = unit(path[-1])
-            big[u] = max(big.get(u, 0.0), abs(float(a)))
+    floors = floors or {}
     out = {}
-    for path, a in leaves:
+    for path, a in _leaves(pa):
         b = flat_b.get(path)
         if b is None:
             continue
+        key = ".".join(path)
         d = abs(float(b) - float(a))
-        ref = max(abs(float(a)), floor * big.get(unit(path[-1]), 0.0) if unit is not None else 0.0)
-        out[".".join(path)] = d / ref if ref else (0.0 if d == 0.0 else float("inf"))
+        scale = max(abs(float(a)), floors.get(key, 0.0))
+        out[key] = d / scale if scale else (0.0 if d == 0.0 else float("inf"))
     return out
 
 
