@@ -335,10 +335,10 @@ class StructureFile:
             return buckling(s.freeze(), count=values.get("_count") or 4, about=values.get("_about", "equilibrium"),
                             elements=elements, combination=values.get("_combination"), name=self.name)
         if self.command == "modes":
-            from femslide.analysis.simulate import DEFAULT_ELEMENTS, MODES, natural_modes
+            from femslide.analysis.simulate import MODES, natural_modes
             s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
             return natural_modes(s.freeze(), values.get("_count") or MODES,
-                                 elements or self._sim_elements(DEFAULT_ELEMENTS), name=self.name)
+                                 elements or self._sim_elements(None), name=self.name)
         if self.command == "simulate":
             from femslide.analysis.simulate import simulate
             s, elements = apply(self.structure, {k: v for k, v in values.items()
