@@ -137,6 +137,29 @@ def test_kernel_equals_the_numpy_path_on_a_frame_of_every_piece(lam):
         _same(m, *_both(m, yc, es, control=hold), control=hold.dof)
 
 
+@pytest.mark.parametrize("lam", [0.0, 0.37, 1.0])
+def test_kernel_equals_the_numpy_path_with_thermal_loads(lam):
+    """The frame of every piece with thermal loads (uniform dT and a gradient) on both rods: the free
+    basic forces in the elements and their share of d r / d lam, bit for bit, also in displacement
+    control."""
+    s = frame()
+    for rod, a in (("left", 1.2e-5), ("right", 1e-5)):
+        s.set(f"{rod}.alpha", a)
+        s.set(f"{rod}.depth", 0.2)
+    s.thermal("heat", "left", dT=30.0, dT_gradient=8.0)
+    s.thermal("cool", "right", dT=-20.0, case="winter")
+    m = _model(s)
+    m.finalize()
+    assert m.free_T is not None and np.abs(m.free_T[0]).min() > 0 and np.abs(m.free_T[1]).max() > 0
+    for _ in range(2):
+        y, es = _state(m)
+        _same(m, *_both(m, y, es, lam=lam, dense=True))
+        _same(m, *_both(m, y, es, lam=lam, jacobian=False))
+        hold = DofHold(int(m.body_dof("deck")) + 2, 0.03)
+        yc = np.concatenate([y, [lam]])
+        _same(m, *_both(m, yc, es, control=hold), control=hold.dof)
+
+
 @pytest.mark.parametrize("storage", ["band", "sparse"])
 def test_kernel_equals_the_numpy_path_in_band_and_sparse_storage(storage, monkeypatch):
     """A fine mesh (band storage), and the same frame forced into sparse storage."""

@@ -79,6 +79,10 @@ def scales(fs: Frozen):
     for ld in fs.loads:
         if ld.type == "distributed":
             F += math.hypot(*ld.force) * fs.rod(ld.on).length
+        elif ld.type == "thermal":   # the moment a gradient locks in, the bending force of dT, over L
+            r = fs.rod(ld.on)
+            EI = r.EI if isinstance(r.EI, float) else r.EI.max
+            F += EI * r.alpha * (abs(ld.dT) / L + (abs(ld.dT_gradient) / r.depth if ld.dT_gradient else 0.0)) / L
         else:
             F += math.hypot(*ld.force) + abs(ld.moment) / L
     F += sum(abs(j.preload) for j in fs.joints)

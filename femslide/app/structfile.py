@@ -130,8 +130,12 @@ def parse(data: dict, path: str = "<structure>") -> Structure:
                         if set(e) - {"name", "on", "force", "case"}:
                             raise BadInput("a distributed load has only name, on, force and case")
                         s.distributed(**e)
+                    elif typ == "thermal":
+                        if set(e) - {"name", "on", "dT", "dT_gradient", "case"}:
+                            raise BadInput("a thermal load has only name, on, dT, dT_gradient and case")
+                        s.thermal(**e)
                     else:
-                        raise BadInput(f"type {typ!r}; allowed: force, distributed")
+                        raise BadInput(f"type {typ!r}; allowed: force, distributed, thermal")
             except BadInput as exc:
                 raise BadInput(f"{where}: {exc}") from None
             except TypeError as exc:

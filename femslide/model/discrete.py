@@ -38,7 +38,7 @@ class _Topology:
     """Dof layout of a finalized model and the scatter patterns of its Jacobian (static; shared by
     models of the same topology through a :class:`PatternCache`)."""
 
-    def __init__(self, model, con_dofs, term_dofs, lin_dofs):
+    def __init__(self, model, con_dofs, term_dofs, lin_dofs, free_dofs=None):
         n_q = model.n_q
         sizes = [c.size for c in model.constraints]
         self.c_off = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
@@ -63,7 +63,9 @@ class _Topology:
         self.cols = np.concatenate(cols).astype(np.intp)
         self.con_mu = [slice(self.c_off[i], self.c_off[i + 1]) for i in range(len(sizes))]
         # loads act on few dofs: d r / d lam is sparse with a static pattern
-        self.load_dofs = _unique(np.concatenate([*term_dofs, lin_dofs])).astype(np.intp)
+        # (a thermal load's free forces act through the elements: their dofs too)
+        self.load_dofs = _unique(np.concatenate([*term_dofs, lin_dofs, *([] if free_dofs is None else [free_dofs])]
+                                                )).astype(np.intp)
         self.patterns = {}
         # the residual is one bincount of the element forces, the loads, the terms' forces and the
         # joints' forces and equations (Model.system), in this order; d r / d lam one of the loads
@@ -132,7 +134,7 @@ def _scaled(x, f, L):
 
 
 class _RodPlan:
-    __slots__ = ("name", "S", "E", "length", "EI", "EA", "q", "loaded")
+    __slots__ = ("name", "S", "E", "length", "EI", "EA", "q", "loaded", "strain", "curvature")
 
 
 class _Mesh:
@@ -216,9 +218,17 @@ class _Plan:
             body_w = {k: (dead * v[0], dead * v[1]) for k, v in body_w.items()}
             rod_w = {k: (dead * v[0], dead * v[1]) for k, v in rod_w.items()}
         dist = {r.name: np.zeros(2) for r in rods}
+        therm = {r.name: [0.0, 0.0] for r in rods}   # free strain alpha dT, free curvature [1/m]
         for ld in fs.loads:
             if ld.type == "distributed":
                 dist[ld.on] += _times(fac(ld.case), np.asarray(ld.force))
+            elif ld.type == "thermal":
+                rod = fs.rod(ld.on)
+                f = fac(ld.case)
+                f = 1.0 if f is None else f
+                therm[ld.on][0] += f * rod.alpha * ld.dT
+                if ld.dT_gradient:
+                    therm[ld.on][1] -= f * rod.alpha * ld.dT_gradient / rod.depth
         self.rods = []
         self.rod_index = {}
         self.geometry = tuple((r.start, r.end) for r in rods) + (L,)
@@ -230,6 +240,7 @@ class _Plan:
             rp.EI, rp.EA = _scaled(rod.EI, 1.0 / (F * L * L), L), _scaled(rod.EA, 1.0 / F, L)
             rp.q = (dist[rod.name] + np.asarray(rod_w[rod.name])) * (L / F)
             rp.loaded = bool(rp.q.any())
+            rp.strain, rp.curvature = therm[rod.name][0], therm[rod.name][1] * L
             self.rods.append(rp)
             self.rod_index[rod.name] = k
         self.body_index = {b.name: i for i, b in enumerate(fs.bodies)}
@@ -272,7 +283,9 @@ class _Plan:
             self.joints.append(jp)
         # everything a model's frames, joints, springs and loads depend on, not the rods' stiffness:
         # models of one key and mesh share them (the cases of a sweep over EI, Model._share)
-        self.key = (L, F, self.geometry, tuple((rp.name, tuple(rp.q.tolist())) for rp in self.rods),
+        self.thermal = any(rp.strain or rp.curvature for rp in self.rods)
+        self.key = (L, F, self.geometry, tuple((rp.name, tuple(rp.q.tolist()), rp.strain, rp.curvature)
+                                               for rp in self.rods),
                     tuple(self.body_index), self.body_X0.tobytes(), self.body_p.tobytes(),
                     tuple((r, e, tuple(v.tolist())) for r, e, v in self.node_loads), tuple(self.point_forces),
                     tuple((j.name, j.kind, j.ra, j.rb, j.at, j.axis, j.k, j.preload, j.c, j.springs)
@@ -336,6 +349,14 @@ class Model:
         else:
             self.elements = None
             self.elem_rod = np.zeros(0, np.intp)
+        # a thermal load: the elements' free basic forces at full load (femslide.elements.corotational
+        # .free_forces), ramped with the load factor like every load
+        self.free_T = None
+        if plan.thermal and self.elements is not None:
+            counts_a = np.array(counts)
+            strain = np.repeat([rp.strain for rp in plan.rods], counts_a)
+            curv = np.repeat([rp.curvature for rp in plan.rods], counts_a)
+            self.free_T = corotational.free_forces(self.elements, strain, curv)
         if finalize:
             shared = self.cache.frames((plan.key, counts))
             if shared is not None:
@@ -390,7 +411,7 @@ class Model:
     _pack = None
 
     _OWN = frozenset(("structure", "Lref", "Fref", "cache", "factors", "rod_index", "X0", "rod_nodes", "n_nodes",
-                      "node_first", "mesh", "elements", "elem_rod", "last_tangent", "_kern"))
+                      "node_first", "mesh", "elements", "elem_rod", "last_tangent", "_kern", "free_T"))
 
     def _share(self, other: "Model"):
         """Take the frames, joints, terms, loads and dof layout of a finalized model of the same
@@ -446,8 +467,12 @@ class Model:
         lin_dofs = np.nonzero(self.p_lin)[0].astype(np.intp)
         key = (self.n_q, self.elements.conn.tobytes() if self.elements is not None else b"",
                tuple((c.size, d.tobytes()) for c, d in zip(self.constraints, con_dofs)),
-               tuple(d.tobytes() for d in term_dofs), lin_dofs.tobytes())
-        topo = self.cache.topology(key, lambda: _Topology(self, con_dofs, term_dofs, lin_dofs))
+               tuple(d.tobytes() for d in term_dofs), lin_dofs.tobytes(), self.free_T is not None)
+        free_dofs = None
+        if self.free_T is not None:
+            c = self.elements.conn
+            free_dofs = (3 * c[:, :, None] + np.arange(3)).ravel()
+        topo = self.cache.topology(key, lambda: _Topology(self, con_dofs, term_dofs, lin_dofs, free_dofs))
         self._topo = topo
         self.c_off, self.n_c, self.n = topo.c_off, topo.n_c, topo.n
         self._load_dofs, self._term_dofs = topo.load_dofs, term_dofs
@@ -513,7 +538,8 @@ class Model:
         """Basic forces (N, M1, M2) of every element and the chord rotations alpha."""
         if self.elements is None:
             return np.zeros((0, 3)), np.zeros(0)
-        _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False)
+        _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False,
+                                                free=self.free_T)
         return qb, alpha
 
     def potential(self, y, alpha_ref, skip=None):
@@ -521,7 +547,8 @@ class Model:
         dead loads' potential (gravity included); the term ``skip`` (an extra term of a caller)
         left out."""
         q = y[:self.n_q]
-        V = corotational.strain_energy(self.elements, self.nodal(q), alpha_ref) if self.elements is not None else 0.0
+        V = corotational.strain_energy(self.elements, self.nodal(q), alpha_ref, self.free_T) \
+            if self.elements is not None else 0.0
         V += float(np.dot(self.p_lin, q))
         for t, d in zip(self.terms, self._term_dofs):
             if t is not skip:
@@ -599,15 +626,24 @@ class Model:
         parts = []
         info = _Info(lam=lam)
         if self.elements is not None:
-            F, K, _, alpha, noise = corotational.element_terms(self.elements, q, alpha_ref, jacobian)
+            free = None if self.free_T is None else lam * self.free_T
+            F, K, _, alpha, noise = corotational.element_terms(self.elements, q, alpha_ref, jacobian, free)
             parts.append(F.ravel())
             fmax = float(np.abs(F).max())
             if jacobian:
                 info.later("noise", lambda: 4.0 * float(noise().max()))
         if self._p_sel.size:
             parts.append(lam * self._p_sel)
-        info.later("fl", lambda: np.bincount(topo.fbins, weights=np.concatenate([self._p_sel, fv]), minlength=n_q)
-                   if topo.fbins.size else np.zeros(n_q))
+        qc = q.copy() if self.free_T is not None else None
+
+        def fl():
+            out = np.bincount(topo.fbins, weights=np.concatenate([self._p_sel, fv]), minlength=n_q) \
+                if topo.fbins.size else np.zeros(n_q)
+            if self.free_T is not None:   # d (element forces) / d lam = -B^T S_T
+                fT = corotational.free_nodal(self.elements, qc, alpha_ref, self.free_T)
+                out -= np.bincount(topo.ebinT, fT.ravel(), minlength=n_q)
+            return out
+        info.later("fl", fl)
         if control is not None:
             dof, value = control.dof, control.target
             rv.append(float(q[dof]) - value)

@@ -117,7 +117,11 @@ class Frozen:
                     raise BadInput(f"{w}: elements = {n!r}; allowed: an integer in [1, {MAX_ELEMENTS}] "
                                    f"(or absent: adaptive)")
                 n = int(n)
-            rods.append(Rod(r.name, start, end, EI, EA, rhoA, n))
+            alpha = _num(f"{w}: alpha", getattr(r, "alpha", 0.0), 0.0, allowed="a number >= 0 [1/K]")
+            depth = getattr(r, "depth", None)
+            if depth is not None:
+                depth = _num(f"{w}: depth", depth, 0.0, lo_open=True, allowed="a positive number [m]")
+            rods.append(Rod(r.name, start, end, EI, EA, rhoA, n, alpha=alpha, depth=depth))
         # (the frozen rod keeps EI and EA only: E, I, A are folded into them)
         rodnames = {r.name for r in rods}
         bodies = []
@@ -276,6 +280,24 @@ class Frozen:
                 if ld.moment or ld.at is not None:
                     raise BadInput(f"{w}: a distributed load has no moment or at")
                 loads.append(Load(ld.name, ld.type, ld.on, F, case=_case(w, ld.case)))
+                refs[ld.name] = (ref, None)
+                continue
+            if ld.type == "thermal":
+                ref = resolve(f"{w}: on", ld.on, allow_ground=False, allow_rod=True)
+                if ref.kind != "rod":
+                    raise BadInput(f"{w}: a thermal load acts on a rod; on = {ld.on!r} is not a rod")
+                if ld.moment or ld.at is not None or tuple(ld.force) != (0.0, 0.0):
+                    raise BadInput(f"{w}: a thermal load has only on, dT, dT_gradient and case")
+                dT = _num(f"{w}: dT", ld.dT, allowed="a finite temperature change [K]")
+                dTg = _num(f"{w}: dT_gradient", ld.dT_gradient, allowed="a finite temperature difference [K]")
+                rod = next(r for r in rods if r.name == ref.name)
+                if rod.alpha == 0.0 and (dT or dTg):
+                    raise BadInput(f"{w}: rod {rod.name} has no thermal expansion coefficient; give the rod's "
+                                   f"alpha [1/K] (a number > 0)")
+                if dTg and rod.depth is None:
+                    raise BadInput(f"{w}: dT_gradient needs the depth of rod {rod.name}; give the rod's depth [m] "
+                                   f"(a positive number)")
+                loads.append(Load(ld.name, ld.type, ld.on, case=_case(w, ld.case), dT=dT, dT_gradient=dTg))
                 refs[ld.name] = (ref, None)
                 continue
             ref = resolve(f"{w}: on", ld.on, allow_ground=False)

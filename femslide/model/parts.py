@@ -21,7 +21,7 @@ if TYPE_CHECKING:
 
 
 GROUND = "ground"
-LOAD_TYPES = ("force", "distributed")
+LOAD_TYPES = ("force", "distributed", "thermal")
 EA_PER_EI = 1e6  # m^-2: default EA/EI, a nearly inextensible rod (SPEC section 3)
 MAX_ELEMENTS = 16384  # per rod: beyond it round-off of the stiff axial terms outgrows the discretisation error
 
@@ -76,6 +76,8 @@ class Rod:
     E: float | None = None
     I: float | None = None  # noqa: E741 - the second moment of area, as engineers write it
     A: float | None = None
+    alpha: float = 0.0          # 1/K: thermal expansion coefficient
+    depth: float | None = None  # m: section depth (for a temperature gradient)
 
     @property
     def length(self) -> float:
@@ -126,7 +128,9 @@ DEAD = "dead"
 
 @dataclass(frozen=True)
 class Load:
-    """A load as declared; ``case`` names its load case (default "dead", the case of gravity)."""
+    """A load as declared; ``case`` names its load case (default "dead", the case of gravity).
+    A thermal load (``type = "thermal"``, on a rod) has a uniform temperature change ``dT`` [K] and a
+    gradient ``dT_gradient`` [K] (the +n face minus the -n face)."""
 
     name: str
     type: str
@@ -135,6 +139,8 @@ class Load:
     moment: float = 0.0
     at: tuple | None = None
     case: str = DEAD
+    dT: float = 0.0
+    dT_gradient: float = 0.0
 
 
 @dataclass(frozen=True)

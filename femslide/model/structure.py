@@ -95,7 +95,7 @@ class Structure:
 
     def rod(self, name: str, start: Vec, end: Vec, EI: Field | None = None, EA: Field | None = None,
             rhoA: Field = 0.0, elements: int | None = None, E: float | None = None, I: float | None = None,  # noqa: E741
-            A: float | None = None) -> Rod:
+            A: float | None = None, alpha: float = 0.0, depth: float | None = None) -> Rod:
         """Declare a flexible rod: a mesh of corotational Euler-Bernoulli beams from ``start`` to ``end``.
 
         Parameters
@@ -117,8 +117,12 @@ class Structure:
         E, I, A : float, optional
             The section instead of EI and EA: Young's modulus [Pa], second moment of area [m^4]
             and area [m^2]; EI = E I and EA = E A (without A: the default EA above).
+        alpha : float, default 0
+            Thermal expansion coefficient [1/K], >= 0 (for thermal loads).
+        depth : float, optional
+            Section depth [m], > 0: needed by a thermal load with a gradient ``dT_gradient``.
         """
-        r = Rod(self._name(name), tuple(start), tuple(end), EI, EA, rhoA, elements, E, I, A)
+        r = Rod(self._name(name), tuple(start), tuple(end), EI, EA, rhoA, elements, E, I, A, alpha, depth)
         self.rods[name] = r
         return r
 
@@ -305,6 +309,32 @@ class Structure:
             Its load case.
         """
         ld = Load(self._name(name), "distributed", on, tuple(force), case=case)
+        self.loads[name] = ld
+        return ld
+
+    def thermal(self, name: str, on: str, dT: float = 0.0, dT_gradient: float = 0.0, case: str = DEAD) -> Load:
+        """A temperature change of a whole rod (it needs ``alpha``; a gradient also ``depth``).
+
+        The rod's free strain is alpha dT and its free curvature kappa_T = -alpha dT_gradient / depth
+        (it bends away from its hotter face); its forces are N = EA (stretch - alpha dT) and
+        M = EI (dtheta/ds - kappa_T).  Ramped with the other loads; a case factor scales dT and
+        dT_gradient.
+
+        Parameters
+        ----------
+        name : str
+            Its name.
+        on : str
+            The rod's name.
+        dT : float, default 0
+            Uniform temperature change [K] (> 0 heats, the rod lengthens).
+        dT_gradient : float, default 0
+            Temperature of the rod's +n face minus its -n face [K] (n = the rod's reference tangent
+            turned by +90 degrees).
+        case : str, default "dead"
+            Its load case.
+        """
+        ld = Load(self._name(name), "thermal", on, case=case, dT=dT, dT_gradient=dT_gradient)
         self.loads[name] = ld
         return ld
 

