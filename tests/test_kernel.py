@@ -378,3 +378,26 @@ def test_extra_terms_equal_adding_them_afterwards(counts):
             assert np.abs(_dense(m, A1) - _dense(m, A0)).max() <= 1e-15 * np.abs(_dense(m, A0)).max()
     with pytest.raises(ValueError, match="outside the Jacobian's pattern"):
         m.pattern_positions([0], [m.n - 1])
+
+
+@pytest.mark.parametrize("theory", ["nonlinear", "linear"])
+def test_elastic_support_holding_some_equations(theory):
+    """A weld to the ground with a rotational spring kr holds two of its three equations: the kernel
+    hands it to Python (it used to evaluate all three into the slots of two: a segfault) and the
+    Python pieces' values land on their own rows (a Python term and a Python constraint together used
+    to swap them).  Kernel against the numpy path (1e-12) and the closed form of the cantilever on a
+    rotational spring, tip v = -(P L^3/(3 EI) + P L^2/kr) (1e-9)."""
+    L, EI, P, kr = 2.5, 3e5, 4e3, 2e6
+    s = femslide.Structure(gravity=(0.0, 0.0))
+    s.rod("c", (0.0, 0.0), (L, 0.0), EI=EI, EA=4e9, elements=4)
+    s.weld("root", "c.start", "ground", kr=kr)
+    s.force("P", "c.end", force=(0.0, -P))
+    m = _model(s)
+    m.finalize()
+    y, es = _state(m, 1e-3)
+    (r0, A0, i0, _), (r1, A1, i1, _) = _both(m, y, es, lam=0.7, dense=True)
+    assert np.abs(r0 - r1).max() <= 1e-12 * np.abs(r0).max()
+    assert np.abs(A0 - A1).max() <= 1e-12 * np.abs(A0).max()
+    r = femslide.solve(s, theory=theory)
+    v = -(P * L**3 / (3 * EI) + P * L**2 / kr)
+    assert abs(r["rods"]["c"]["end"]["v"] - v) <= (1e-9 if theory == "linear" else 1e-3) * abs(v)

@@ -45,8 +45,8 @@ def status() -> str:
 
 def _kind_code(link) -> int | None:
     """The kernel's code of a link of a built-in kind, None for anything else."""
-    if type(link) is not Link:
-        return None
+    if type(link) is not Link or link.keep is not None:   # an elastic support holds some equations only:
+        return None                                        # evaluated in Python (its assemble keeps them)
     return _BUILTIN.get(type(link.joint_kind))
 
 
@@ -162,10 +162,11 @@ def system(model, kern, y, elements, lam, control, jacobian, dense, info, extra=
         mu = y[n_q:n_q + model.n_c].tolist()
         rv, fv = [], []
         jv = [] if jacobian else None
-        for ev, a, b in pack.py_terms:
-            ev(z[a:b], lam, rv, jv, fv)
+        # in the order of Pack's index maps: the constraints' values, then the terms'
         for ev, a, b, ma, mb in pack.py_cons:
             ev(z[a:b], mu[ma:mb], rv, jv)
+        for ev, a, b in pack.py_terms:
+            ev(z[a:b], lam, rv, jv, fv)
         xr, xrv, xf, xfv = pack.xr, np.array(rv, float), pack.xf, np.array(fv, float)
         if jacobian:
             xj, xjv = pack.xj, np.array(jv, float)
@@ -221,10 +222,10 @@ def applied(model, kern, y, lam):
         z = y[:n_q][model._topo.jt_dofs].tolist()
         mu = y[n_q:n_q + model.n_c].tolist()
         rv, fv = [], []
-        for ev, a, b in pack.py_terms:
-            ev(z[a:b], lam, rv, None, fv)
         for ev, a, b, ma, mb in pack.py_cons:
             ev(z[a:b], mu[ma:mb], rv, None)
+        for ev, a, b in pack.py_terms:
+            ev(z[a:b], lam, rv, None, fv)
         xr, xrv = pack.xr, np.array(rv, float)
     r = np.empty(model.n)
     kern.assemble(y, None, None, float(lam), -1, 0.0, r, None, None, None, None, xr, xrv, None, None, None, None, False)
