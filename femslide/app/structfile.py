@@ -127,8 +127,8 @@ def parse(data: dict, path: str = "<structure>") -> Structure:
                     if typ == "force":
                         s.force(**e)
                     elif typ == "distributed":
-                        if set(e) - {"name", "on", "force", "case"}:
-                            raise BadInput("a distributed load has only name, on, force and case")
+                        if set(e) - {"name", "on", "force", "case", "force_end", "frame"}:
+                            raise BadInput("a distributed load has only name, on, force, force_end, frame and case")
                         s.distributed(**e)
                     elif typ == "thermal":
                         if set(e) - {"name", "on", "dT", "dT_gradient", "case"}:

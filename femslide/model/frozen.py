@@ -265,7 +265,22 @@ class Frozen:
                     raise BadInput(f"{w}: bearing is for {accepting('bearing')}")
                 bearing = _num(f"{w}: bearing", j.bearing, 0.0, lo_open=True)
             springs = _support_springs(w, j, kind, rb, axis, mu is not None)
-            joints.append(Joint(j.name, j.type, j.a, j.b, at, axis, c, k, pre, mu, mu0, bearing, *springs))
+            disp = rot = None
+            if j.displacement is not None or j.rotation is not None:
+                if rb.kind != "ground":
+                    raise BadInput(f"{w}: displacement and rotation move a support: they need b = \"ground\"")
+                if any(v is not None for v in springs):
+                    raise BadInput(f"{w}: a prescribed support motion needs rigid constraints; drop kx, ky, kr")
+                if j.displacement is not None:
+                    disp = _vec(f"{w}: displacement", j.displacement)
+                if j.rotation is not None:
+                    if "kr" not in kind.springs:
+                        raise BadInput(f"{w}: rotation is for a joint that holds the rotation (weld, slider), "
+                                       f"not a {j.type}")
+                    rot = _num(f"{w}: rotation", j.rotation, -math.pi, math.pi,
+                               allowed="a rotation in [-pi, pi] rad")
+            joints.append(Joint(j.name, j.type, j.a, j.b, at, axis, c, k, pre, mu, mu0, bearing, *springs,
+                                displacement=disp, rotation=rot))
 
         loads = []
         for ld in s.loads.values():
@@ -277,9 +292,13 @@ class Frozen:
                 ref = resolve(f"{w}: on", ld.on, allow_ground=False, allow_rod=True)
                 if ref.kind != "rod":
                     raise BadInput(f"{w}: a distributed load acts on a rod; on = {ld.on!r} is not a rod")
-                if ld.moment or ld.at is not None:
-                    raise BadInput(f"{w}: a distributed load has no moment or at")
-                loads.append(Load(ld.name, ld.type, ld.on, F, case=_case(w, ld.case)))
+                if ld.moment or ld.at is not None or ld.s is not None:
+                    raise BadInput(f"{w}: a distributed load has no moment, at or s")
+                Fe = None if ld.force_end is None else _vec(f"{w}: force_end", ld.force_end)
+                if ld.frame not in ("global", "rod"):
+                    raise BadInput(f"{w}: frame = {ld.frame!r}; allowed: \"global\" (x, y components) or \"rod\" "
+                                   f"(along the rod's tangent and normal)")
+                loads.append(Load(ld.name, ld.type, ld.on, F, case=_case(w, ld.case), force_end=Fe, frame=ld.frame))
                 refs[ld.name] = (ref, None)
                 continue
             if ld.type == "thermal":
@@ -300,8 +319,29 @@ class Frozen:
                 loads.append(Load(ld.name, ld.type, ld.on, case=_case(w, ld.case), dT=dT, dT_gradient=dTg))
                 refs[ld.name] = (ref, None)
                 continue
-            ref = resolve(f"{w}: on", ld.on, allow_ground=False)
+            if ld.force_end is not None or ld.frame != "global":
+                raise BadInput(f"{w}: force_end and frame are for a distributed load, not a {ld.type} load")
+            ref = resolve(f"{w}: on", ld.on, allow_ground=False, allow_rod=True)
             M = _num(f"{w}: moment", ld.moment)
+            if ld.s is not None:
+                if ref.kind != "rod":
+                    raise BadInput(f"{w}: s places a force inside a rod; on = {ld.on!r} must name the rod")
+                if ld.at is not None:
+                    raise BadInput(f"{w}: give s (the arc length on the rod) or at, not both")
+                rod = next(r for r in rods if r.name == ref.name)
+                sv = _num(f"{w}: s", ld.s, 0.0, rod.length, allowed=f"an arc length in [0, {rod.length:g}] m "
+                                                                      f"(the length of rod {rod.name})")
+                if sv == 0.0 or sv == rod.length:   # at a rod end: the end's own load
+                    ref = PointRef("rod_end", rod.name, 0 if sv == 0.0 else -1)
+                    loads.append(Load(ld.name, ld.type, f"{rod.name}.{'start' if sv == 0.0 else 'end'}", F, M,
+                                      pos(ref), _case(w, ld.case)))
+                else:
+                    loads.append(Load(ld.name, ld.type, ld.on, F, M, None, _case(w, ld.case), s=sv))
+                refs[ld.name] = (ref, None)
+                continue
+            if ref.kind == "rod":
+                raise BadInput(f"{w}: on = {ld.on!r} is a rod: give the arc length s of the point on it "
+                               f"(or on = \"{ld.on}.start\" / \"{ld.on}.end\")")
             at = None
             if ld.at is not None:
                 at = _vec(f"{w}: at", ld.at)

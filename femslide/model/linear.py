@@ -89,6 +89,8 @@ class LinearModel(Model):
         else:
             lam = y[-1]
             r[-1] -= control.target
+        if self._motion_rows.size:   # prescribed support motion
+            r[self._motion_rows] += lam * self._motion_vals
         info = _Info(lam=lam)
         fe = self.element_forces_linear(y[:n_q], lam)
         info["fmax"] = float(np.abs(fe).max()) if fe.size else 0.0

@@ -120,6 +120,8 @@ class Joint:
     kx: float | None = None
     ky: float | None = None
     kr: float | None = None
+    displacement: tuple | None = None   # with the ground: prescribed support motion [m] (settlement)
+    rotation: float | None = None       # with the ground (weld, slider): prescribed support rotation [rad]
 
 
 #: the load case of gravity and of loads declared without one
@@ -130,7 +132,10 @@ DEAD = "dead"
 class Load:
     """A load as declared; ``case`` names its load case (default "dead", the case of gravity).
     A thermal load (``type = "thermal"``, on a rod) has a uniform temperature change ``dT`` [K] and a
-    gradient ``dT_gradient`` [K] (the +n face minus the -n face)."""
+    gradient ``dT_gradient`` [K] (the +n face minus the -n face).  A force on a rod (``on`` = the rod)
+    acts at the arc length ``s`` [m]; a distributed load varies linearly from ``force`` to
+    ``force_end`` and its components are global or, with ``frame = "rod"``, along the rod's
+    reference tangent and normal."""
 
     name: str
     type: str
@@ -141,6 +146,9 @@ class Load:
     case: str = DEAD
     dT: float = 0.0
     dT_gradient: float = 0.0
+    s: float | None = None             # force on a rod: arc length [m] from the rod's start
+    force_end: tuple | None = None     # distributed: the load at the rod's end (linear in s between)
+    frame: str = "global"              # distributed: "global" or "rod" (along the reference tangent, normal)
 
 
 @dataclass(frozen=True)

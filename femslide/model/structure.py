@@ -170,7 +170,10 @@ class Structure:
             methods of each type; on a joint with the ground also ``kx``, ``ky`` [N/m] and ``kr``
             [N m/rad]: elastic springs instead of its rigid constraints in x, y and rotation (a pin
             or weld takes kx and ky, a weld or slider kr, a slider or roller the k across its guide
-            when the guide is along y (kx) or x (ky)).
+            when the guide is along y (kx) or x (ky)); and a prescribed support motion
+            ``displacement = (dx, dy)`` [m] (any kind: its ground point moves; a guide along it
+            passes the motion across the guide only) and ``rotation`` [rad] (weld, slider: the
+            held rotation), ramped with the loads of case "dead" (a settlement).
         """
         unknown = set(options) - _JOINT_FIELDS
         if unknown:
@@ -181,7 +184,7 @@ class Structure:
         return j
 
     def pin(self, name: str, a: str, b: str, at: Vec | None = None, c: float = 0.0, kx: float | None = None,
-            ky: float | None = None) -> Joint:
+            ky: float | None = None, displacement: Vec | None = None) -> Joint:
         """A pin: a's point and b's point stay together; rotations are free relative to each other.
 
         Parameters
@@ -195,11 +198,15 @@ class Structure:
         kx, ky : float, optional
             With b = "ground": an elastic support, springs [N/m] in x and y instead of the rigid
             constraints there (default: rigid).
+        displacement : (float, float), optional
+            With b = "ground": the support moves by (dx, dy) [m] (a settlement), ramped with the
+            loads of case "dead".
         """
-        return self.joint(name, "pin", a, b, at=at, c=c, kx=kx, ky=ky)
+        return self.joint(name, "pin", a, b, at=at, c=c, kx=kx, ky=ky, displacement=displacement)
 
     def weld(self, name: str, a: str, b: str, at: Vec | None = None, kx: float | None = None,
-             ky: float | None = None, kr: float | None = None) -> Joint:
+             ky: float | None = None, kr: float | None = None, displacement: Vec | None = None,
+             rotation: float | None = None) -> Joint:
         """A weld: a's point and rotation stay those of b.
 
         Parameters
@@ -214,8 +221,15 @@ class Structure:
         kr : float, optional
             With b = "ground": a rotational spring [N m/rad] instead of the rigid rotation (a
             cantilever on an elastic foundation; default: rigid).
+        displacement : (float, float), optional
+            With b = "ground": the support moves by (dx, dy) [m] (a settlement), ramped with the
+            loads of case "dead".
+        rotation : float, optional
+            With b = "ground": the support turns by this much [rad] (counter-clockwise), ramped
+            likewise.
         """
-        return self.joint(name, "weld", a, b, at=at, kx=kx, ky=ky, kr=kr)
+        return self.joint(name, "weld", a, b, at=at, kx=kx, ky=ky, kr=kr, displacement=displacement,
+                          rotation=rotation)
 
     def slider(self, name: str, a: str, b: str, axis: Vec, at: Vec | None = None, k: float = 0.0,
                preload: float = 0.0, mu: float | None = None, mu0: float | None = None,
@@ -272,15 +286,16 @@ class Structure:
                           kx=kx, ky=ky)
 
     def force(self, name: str, on: str, force: Vec = (0.0, 0.0), moment: float = 0.0,
-              at: Vec | None = None, case: str = DEAD) -> Load:
-        """A dead force (and moment) on a body or a rod end, applied together with gravity.
+              at: Vec | None = None, case: str = DEAD, s: float | None = None) -> Load:
+        """A dead force (and moment) on a body, a rod end or a point inside a rod, applied together
+        with gravity.
 
         Parameters
         ----------
         name : str
             Its name.
         on : str
-            A body or a rod end (``"ROD.start"``, ``"ROD.end"``).
+            A body, a rod end (``"ROD.start"``, ``"ROD.end"``) or a rod (``"ROD"``, with ``s``).
         force : (float, float), default (0, 0)
             Force [N], global components.
         moment : float, default 0
@@ -289,13 +304,18 @@ class Structure:
             Point of application [m] on a body; default: its centroid (or the rod end).
         case : str, default "dead"
             Its load case (gravity is case "dead"); combinations give factors per case.
+        s : float, optional
+            With ``on`` a rod: the arc length [m] from the rod's start, in [0, length]; every mesh
+            has a node there.
         """
-        ld = Load(self._name(name), "force", on, tuple(force), moment, None if at is None else tuple(at), case)
+        ld = Load(self._name(name), "force", on, tuple(force), moment, None if at is None else tuple(at), case,
+                  s=s)
         self.loads[name] = ld
         return ld
 
-    def distributed(self, name: str, on: str, force: Vec, case: str = DEAD) -> Load:
-        """A dead load distributed uniformly along a whole rod.
+    def distributed(self, name: str, on: str, force: Vec, case: str = DEAD, force_end: Vec | None = None,
+                    frame: str = "global") -> Load:
+        """A dead load distributed along a whole rod, uniform or varying linearly in the arc length.
 
         Parameters
         ----------
@@ -304,11 +324,19 @@ class Structure:
         on : str
             The rod's name.
         force : (float, float)
-            Force per unit reference length [N/m], global components.
+            Force per unit reference length [N/m] at the rod's start (everywhere without
+            ``force_end``).
         case : str, default "dead"
             Its load case.
+        force_end : (float, float), optional
+            Force per unit length [N/m] at the rod's end: the load varies linearly between.
+        frame : {"global", "rod"}, default "global"
+            The components' axes: global x, y, or the rod's reference tangent (start to end) and
+            normal (the tangent turned by +90 degrees).  Dead loads either way: they do not turn
+            with the rod.
         """
-        ld = Load(self._name(name), "distributed", on, tuple(force), case=case)
+        ld = Load(self._name(name), "distributed", on, tuple(force), case=case,
+                  force_end=None if force_end is None else tuple(force_end), frame=frame)
         self.loads[name] = ld
         return ld
 
