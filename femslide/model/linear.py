@@ -78,9 +78,10 @@ class LinearModel(Model):
         return out
 
     # -- the model's interface ------------------------------------------------------------------------
-    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False):
+    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False, extra=None):
         """Residual and Jacobian of the linear equations (same interface and storage as
-        :meth:`Model.system`; the Jacobian is the same at every state)."""
+        :meth:`Model.system`; the Jacobian is the same at every state but for the caller's ``extra``
+        terms, added as there)."""
         S, fl, _ = self._parts(control)
         r = S @ y
         n_q = self.n_q
@@ -91,6 +92,8 @@ class LinearModel(Model):
             r[-1] -= control.target
         if self._motion_rows.size:   # prescribed support motion
             r[self._motion_rows] += lam * self._motion_vals
+        if extra is not None and extra[0] is not None:
+            np.add.at(r, extra[0], extra[1])
         info = _Info(lam=lam)
         fe = self.element_forces_linear(y[:n_q], lam)
         info["fmax"] = float(np.abs(fe).max()) if fe.size else 0.0
@@ -100,7 +103,8 @@ class LinearModel(Model):
         if not jacobian:
             return r, None, info
         z0, es0 = self._reference(control)
-        _, A, _ = Model.system(self, z0, es0, 0.0, control, True, dense)
+        jx = None if extra is None or extra[2] is None else (None, None, extra[2], extra[3])
+        _, A, _ = Model.system(self, z0, es0, 0.0, control, True, dense, extra=jx)
         return r, A, info
 
     def applied(self, y, lam=1.0):
@@ -150,5 +154,6 @@ def _to_csc(model, A, control):
     if isinstance(A, BandMatrix):
         rows, cols, size, band, _, _ = model._pattern(None if control is None else control.dof)
         flat, idx = np.unique(band.flat, return_index=True)
-        return sp.csc_matrix((A.ab.ravel()[flat], (rows[idx], cols[idx])), shape=(size, size))
+        # band.flat indexes the (size, nrow) C-order array behind the Fortran-order band ab
+        return sp.csc_matrix((A.ab.T.ravel()[flat], (rows[idx], cols[idx])), shape=(size, size))
     return sp.csc_matrix(A)
