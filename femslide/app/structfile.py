@@ -43,7 +43,7 @@ except ModuleNotFoundError:  # Python 3.10
     import tomli as tomllib
 
 TABLES = {"rod": Rod, "body": Body, "joint": Joint, "load": Load}
-TOP_KEYS = ("gravity", "description", "rod", "body", "joint", "load", "combination", "solve", "simulate")
+TOP_KEYS = ("gravity", "description", "rod", "body", "joint", "load", "combination", "step", "solve", "simulate")
 MESH_KEYS = ("mesh", "group")
 
 
@@ -155,6 +155,19 @@ def parse(data: dict, path: str = "<structure>") -> Structure:
             s.combination(e["name"], e["factors"])
         except BadInput as exc:
             raise BadInput(f"structure file {path}: combination {e['name']!r}: {exc}") from None
+    steps = data.get("step", [])
+    if not isinstance(steps, list) or not all(isinstance(e, dict) for e in steps):
+        raise BadInput(f"structure file {path}: step must be an array of tables ([[step]])")
+    for i, e in enumerate(steps):
+        bad = [k for k in e if k not in ("name", "factors")]
+        if bad or "factors" not in e:
+            raise BadInput(f"structure file {path}: [[step]] #{i + 1}: "
+                           + (f"unknown field {bad[0]!r}" if bad else "missing field 'factors'")
+                           + "; allowed: name, factors")
+        try:
+            s.step(e["factors"], e.get("name"))
+        except BadInput as exc:
+            raise BadInput(f"structure file {path}: [[step]] #{i + 1}: {exc}") from None
     if "solve" in data and not isinstance(data["solve"], dict):
         raise BadInput(f"structure file {path}: solve must be a table ([solve])")
     return s

@@ -53,6 +53,7 @@ class Frozen:
     loads: tuple
     refs: dict = field(default_factory=dict)   # joint/load name -> (PointRef a, PointRef b or None)
     combinations: tuple = ()                   # Combination records, factors checked
+    steps: tuple = ()                          # the load history's states ([[step]]), as Combination records
     derived: dict = field(default_factory=dict, compare=False, repr=False)  # data derived by solvers
 
     # -- lookup -------------------------------------------------------------------------------------
@@ -369,8 +370,25 @@ class Frozen:
                 raise BadInput(f"{w}: factors is empty; allowed: a table {{case = factor, ...}} naming at least "
                                f"one case")
             combos.append(Combination(cb.name, tuple(factors)))
+        steps = []
+        for i, st in enumerate(getattr(s, "steps", [])):
+            w = f"step {st.name or i + 1}"
+            factors = []
+            for case, f in st.factors:
+                if case not in cases:
+                    raise BadInput(f"{w}: factors name the load case {case!r}, which no load has; cases: "
+                                   f"{', '.join(sorted(cases))} (gravity is case {DEAD!r})")
+                factors.append((case, _num(f"{w}: factor of {case}", f)))
+            steps.append(Combination(st.name or f"step{i + 1}", tuple(factors)))
+        if steps and combos:
+            raise BadInput("a structure declares either [[step]] (a load history) or [[combination]] (separate "
+                           "equilibria), not both")
+        names = [st.name for st in steps]
+        if len(set(names)) != len(names):
+            raise BadInput(f"[[step]]: the name {next(n for n in names if names.count(n) > 1)!r} is used twice")
 
-        fr = Frozen(gravity, tuple(rods), tuple(bodies), tuple(joints), tuple(loads), refs, tuple(combos))
+        fr = Frozen(gravity, tuple(rods), tuple(bodies), tuple(joints), tuple(loads), refs, tuple(combos),
+                    tuple(steps))
         fr._check_connected()
         return fr
 

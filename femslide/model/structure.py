@@ -82,6 +82,7 @@ class Structure:
         self.joints: dict[str, Joint] = {}
         self.loads: dict[str, Load] = {}
         self.combinations: dict[str, Combination] = {}
+        self.steps: list[Combination] = []
 
     # -- declaring ----------------------------------------------------------------------------------
     def _name(self, name):
@@ -366,6 +367,27 @@ class Structure:
         self.loads[name] = ld
         return ld
 
+    def step(self, factors: dict, name: str | None = None) -> Combination:
+        """Append a state to the load history (SPEC section 10): the structure is brought from the
+        previous step's load state (the unloaded one for the first) to this one by ramping every
+        case's factor linearly, quasi-statically.  With steps, sliders and rollers with ``mu`` carry
+        Coulomb friction in statics (stuck or slipping, path-dependent) and :func:`femslide.solve`
+        reports every step's result.
+
+        Parameters
+        ----------
+        factors : dict
+            {case: factor} of this state; cases not named have factor 0 (gravity is case "dead").
+        name : str, optional
+            Its name in the results (default "stepN").
+        """
+        if not isinstance(factors, dict):
+            raise BadInput(f"step {name or len(self.steps) + 1}: factors = {factors!r}; allowed: a table "
+                           f"{{case = factor, ...}}")
+        st = Combination(name or "", tuple(factors.items()))
+        self.steps.append(st)
+        return st
+
     def combination(self, name: str, factors: dict) -> Combination:
         """A load combination: a factor per load case, e.g. ``{"dead": 1.35, "wind": 1.5}`` (cases
         not named have factor 0).  With combinations declared, :func:`femslide.solve` solves each
@@ -423,6 +445,7 @@ class Structure:
         s = Structure(self.gravity)
         s.rods, s.bodies, s.joints, s.loads = dict(self.rods), dict(self.bodies), dict(self.joints), dict(self.loads)
         s.combinations = dict(self.combinations)
+        s.steps = list(self.steps)
         return s
 
     def freeze(self) -> Frozen:
