@@ -224,12 +224,12 @@ class History:
                 stage, y, es, fjs, t = st1, y1, es1, fj1, t1
                 self._record(stage, y, fjs)
                 continue
-            te, jt, kind, (ste, ye, ese, fje) = ev
+            te, jt, kind, (ste, ye, ese, fje), direction = ev
             # the state at the switch, then the joint in its new mode (and any joint that is then
             # out of its law switched too, at the same load)
             stage, y, es, fjs, t = ste, ye, ese, fje, te
             self._record(stage, y, fjs)
-            self._switch(jt, kind, stage, y, fjs, name, te)
+            self._switch(jt, kind, stage, y, fjs, name, te, direction)
             stage, y, es, fjs = self._settle(factors(te), stage, y, es, name, te)
             self._record(stage, y, fjs)
         return stage, y, es
@@ -251,17 +251,21 @@ class History:
     def _scale(self, stage, y, fjs):
         return max([1e-300] + [abs(fjs[jt.name].normal(y)[0]) * jt.joint.mu0 for jt in self.joints])
 
-    def _switch(self, jt, kind, stage, y, fjs, name, t):
+    def _switch(self, jt, kind, stage, y, fjs, name, t, direction=None):
+        """Switch a joint's mode at the state (stage, y); a breakaway's ``direction`` is the sign of
+        the lock force just past the switch (the state at the switch itself may carry it only to
+        round-off: a joint that slips from the first load on)."""
         if kind == "slip":
-            lam = self._lock_force(stage, y, jt)
-            jt.stuck, jt.sigma = False, math.copysign(1.0, lam)
-            kind = "slip+" if lam > 0 else "slip-"
+            lam = self._lock_force(stage, y, jt) if direction is None else direction
+            jt.stuck, jt.sigma = False, (1.0 if lam > 0 else -1.0)
+            kind = "slip+" if jt.sigma > 0 else "slip-"
         else:
             jt.stuck, jt.lock, jt.sigma = True, self._slide(stage, y, fjs[jt.name]), 0.0
         self.events.append({"step": name, "load_parameter": t, "joint": jt.name, "kind": kind})
 
     def _first_event(self, factors, st0, y0, es0, fj0, st1, y1, fj1, t0, t1):
-        """The earliest switch in (t0, t1], or None: (t, joint, "slip" | "stick", state at t)."""
+        """The earliest switch in (t0, t1], or None: (t, joint, "slip" | "stick", state at t, the lock
+        force at t1 for a breakaway: its direction)."""
         scale = self._scale(st1, y1, fj1)
         best = None
         for jt in self.joints:
@@ -274,6 +278,7 @@ class History:
                     return self._excess(s[0], s[1], s[3], jt), s
                 te, state = _bisect(g, t0, t1)
                 kind = "slip"
+                direction = self._lock_force(st1, y1, jt)
             else:
                 fj_a, fj_b = fj0[jt.name], fj1[jt.name]
                 s_a, s_b = self._slide(st0, y0, fj_a), self._slide(st1, y1, fj_b)
@@ -284,9 +289,9 @@ class History:
                     s = self._solve(factors(t), y0, es0, st0)
                     return jt.sigma * self._slide(s[0], s[1], s[3][jt.name]), s
                 te, state = _golden_max(h, t0, t1)
-                kind = "stick"
+                kind, direction = "stick", None
             if best is None or te < best[0]:
-                best = (te, jt, kind, state)
+                best = (te, jt, kind, state, direction)
         return best
 
     def _record(self, stage, y, fjs):
