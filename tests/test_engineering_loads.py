@@ -140,3 +140,15 @@ def test_a_force_at_a_rod_end_by_s_is_the_end_load():
     s.force("P", "r", force=(0.0, -10.0), s=2.0)
     r = femslide.solve(s, theory="linear")
     assert r["reactions"]["A"]["M"] == pytest.approx(20.0, rel=1e-12)
+
+
+def test_dumps_round_trip(tmp_path):
+    """A structure with every new key written as a structure file and read back solves the same."""
+    from femslide.app.structfile import dumps, load
+    p = tmp_path / "h.toml"
+    p.write_text(FILE)
+    s = load(str(p)).structure
+    q = tmp_path / "again.toml"
+    q.write_text(dumps(s))
+    a, b = femslide.solve(str(p)), femslide.solve(str(q))
+    assert a["steps"][-1]["friction"] == b["steps"][-1]["friction"]

@@ -412,6 +412,9 @@ def dumps(structure: Structure, header: str = "") -> str:
                 if v is None or (f.name not in ("name", "type") and v == defaults.get(f.name)):
                     continue
                 lines.append(f"{f.name} = {_toml_value(v)}")
+    for st in getattr(structure, "steps", []):   # the load history, in order
+        lines += ["", "[[step]]"] + ([f"name = {_toml_value(st.name)}"] if st.name else [])
+        lines.append(f"factors = {_toml_value(dict(st.factors))}")
     return "\n".join(lines) + "\n"
 
 
