@@ -152,3 +152,20 @@ def test_dumps_round_trip(tmp_path):
     q.write_text(dumps(s))
     a, b = femslide.solve(str(p)), femslide.solve(str(q))
     assert a["steps"][-1]["friction"] == b["steps"][-1]["friction"]
+
+
+def test_a_history_that_becomes_a_mechanism_keeps_its_steps(tmp_path):
+    """A rod on two frictional rollers (no other support along it) pushed along by a force beyond
+    the friction: the second step has no equilibrium; the first is kept, exit 1 with the reason."""
+    s = Structure(gravity=(0.0, 0.0))
+    s.rod("r", (0.0, 0.0), (4.0, 0.0), EI=1e5, EA=1e8)
+    s.roller("A", "r.start", "ground", axis=(1.0, 0.0), mu=0.2, mu0=0.2)
+    s.roller("B", "r.end", "ground", axis=(1.0, 0.0), mu=0.2, mu0=0.2)
+    s.force("W", "r.end", force=(0.0, -1e3))
+    s.force("V", "r.start", force=(0.0, -1e3))
+    s.force("H", "r.end", force=(1.0, 0.0), case="push")
+    s.step({"dead": 1.0, "push": 100.0})
+    s.step({"dead": 1.0, "push": 1000.0})
+    r = femslide.solve(s)
+    assert r["converged"] is False and "step step2" in r["reason"] and "mechanism" in r["reason"]
+    assert len(r["steps"]) == 1 and r["steps"][0]["friction"]["B"]["state"] == "stuck"

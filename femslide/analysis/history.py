@@ -117,6 +117,7 @@ class History:
         self.joints = [_Joint(j) for j in fs.joints if j.mu is not None and j.mu0 is not None and j.mu0 > 0]
         self.events = []
         self.iterations = 0
+        self.failure = None     # the reason a step failed (the steps before it are kept)
         self.trace = {jt.name: [] for jt in self.joints}   # (slide [m], friction force [N]) along the history
 
     # -- models ------------------------------------------------------------------------------------------
@@ -182,7 +183,8 @@ class History:
 
     # -- the history -------------------------------------------------------------------------------------
     def run(self):
-        """Every step's state: a list of (name, factors, model, y, alpha, friction) (model units)."""
+        """Every step's state: a list of (name, factors, model, y, alpha, friction) (model units); a step
+        that fails ends the list, its reason in ``self.failure``."""
         y = None
         es = None
         prev = {}
@@ -199,7 +201,13 @@ class History:
             if y is None:
                 stage, _ = self._stage(factors(0.0))
                 y, es = stage.model.zero_state()
-            stage, y, es = self._step(factors, stage, y, es, st.name)
+            try:
+                stage, y, es = self._step(factors, stage, y, es, st.name)
+            except SolverFailure as exc:
+                modes = ", ".join(f"{jt.name} {'stuck' if jt.stuck else 'slipping'}" for jt in self.joints)
+                self.failure = (f"step {st.name}: {exc.reason}" + (f" (friction joints: {modes}; a structure "
+                                "whose slipping joints leave a free motion is a mechanism)" if modes else ""))
+                break
             fjs = {jt.name: FrictionJoint(stage.model, jt.joint) for jt in self.joints}
             out.append((st.name, target, stage, y, es.committed.copy(), self._report(stage, y, fjs)))
             prev = target

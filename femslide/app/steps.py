@@ -28,7 +28,9 @@ def history(fs, elements, name, cache, opts) -> Outcome:
     steps, h = run_history(fs, meshes.counts(n), L, F, cache, meshes.make)
     its = h.iterations
     estimate = None
-    if meshes.adaptive and n >= 2:
+    if not steps:
+        raise SolverFailure(h.failure or "the load history has no step")
+    if meshes.adaptive and n >= 2 and h.failure is None:
         try:
             coarse, hc = run_history(fs, meshes.counts(n // 2), L, F, cache, meshes.make)
             its += hc.iterations
@@ -39,10 +41,12 @@ def history(fs, elements, name, cache, opts) -> Outcome:
     for sname, factors, res, _, _, _ in steps:
         out_steps.append({"name": sname, "factors": factors, "converged": True, **res})
     last = out_steps[-1]
-    values = {"converged": True, "M_max": last["M_max"], "bodies": last["bodies"], "rods": last["rods"],
+    values = {"converged": h.failure is None, "M_max": last["M_max"], "bodies": last["bodies"], "rods": last["rods"],
               "joints": last["joints"], "reactions": last["reactions"], "friction": last["friction"],
               "steps": out_steps, "events": h.events, "iterations": its, "error_estimate": estimate,
               "elements": {r.name: int(c) for r, c in zip(fs.rods, meshes.counts(n).values())}}
+    if h.failure is not None:   # the steps before the failed one are kept (exit 1)
+        values["reason"] = h.failure
     if opts["theory"] == "linear":
         values["theory"] = "linear"
     out = Outcome(values, name)
