@@ -229,6 +229,28 @@ def test_python_pieces_mixed_in_equal_the_numpy_path():
         unregister("kerneltie")
 
 
+def test_elastic_supports_next_to_python_constraints_equal_the_numpy_path():
+    """Elastic supports (Python terms) on links that keep only some of their kind's equations
+    (Python constraints): the kernel must place the Python terms' values before the constraints'
+    (it crashed when a partial weld was packed as a whole one, and a weld with kr alone read its
+    rows swapped: 'rod c ... is free to move')."""
+    s = frame()
+    s.rod("post", (4.0, 0.0), (4.0, 1.0), EI=1e4, EA=1e8, elements=3)
+    s.weld("foot", "post.start", "ground", kr=2e3)
+    s.pin("top", "post.end", "ground", kx=5e3)
+    s.force("kick", "post.end", force=(0.0, -20.0))
+    m = _model(s)
+    m.finalize()
+    with fast.forced(True):
+        m.finalize()
+        assert m._pack.python and len(m._pack.py_cons) == 2 and len(m._pack.py_terms) == 2
+    for lam in (0.3, 1.0):
+        y, es = _state(m)
+        (r0, A0, i0, t0), (r1, A1, i1, t1) = _both(m, y, es, lam=lam, dense=True)
+        assert np.abs(r1 - r0).max() <= 1e-14 * np.abs(r0).max()
+        assert np.abs(A1 - A0).max() <= 1e-14 * np.abs(A0).max()
+
+
 def test_solutions_through_kernel_and_numpy_agree():
     """The whole statics of the frame (adaptive meshes) through the kernel and the numpy path: every
     named result within 1e-10 of its group's scale (the LU's round-off differs, Newton's tolerance is
@@ -356,9 +378,9 @@ def test_rcm_ordering_equals_the_python_one():
 def test_extra_terms_equal_adding_them_afterwards(counts):
     """Model.system(..., extra=(rows, values, positions, jvalues)) - a caller's terms added in the same
     pass, at Jacobian positions from Model.pattern_positions - equals adding them to the residual and
-    the Jacobian afterwards (generalized_alpha.add_coo), dense and banded, kernel and numpy path; an
+    the Jacobian afterwards (linalg.add_coo), dense and banded, kernel and numpy path; an
     entry outside the pattern is a ValueError."""
-    from femslide.analysis.generalized_alpha import add_coo
+    from femslide.model.linalg import add_coo
     m = _model(frame(), counts)
     m.finalize()
     y, es = _state(m, 0.01)

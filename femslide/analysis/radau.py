@@ -358,9 +358,69 @@ def consistent_start(sysm: RadauSystem, s: MotionState, h_s: float) -> MotionSta
         if info.converged:
             y, _, acc = sysm.end(Y)
             y0 = s.y.copy()
-            y0[sysm.nq:] = y[sysm.nq:]
+            acc, y0[sysm.nq:] = start_multipliers(sysm, s, acc.copy(), y[sysm.nq:])
             sysm.previous = None
-            return MotionState(s.t, y0, s.v, acc.copy(), s.elements)
+            return MotionState(s.t, y0, s.v, acc, s.elements)
         h_s *= 4.0
     raise SolverFailure("simulate: no consistent initial acceleration (Newton failed on the start step)",
                         info.history)
+
+
+def start_multipliers(sysm: RadauSystem, s: MotionState, acc, mu_step):
+    """(accelerations, multipliers) at the start s that satisfy its equations of motion exactly: the
+    massive dofs' accelerations a_M and the multipliers mu from the least-squares solution of
+
+        M[:, M] a_M + G^T mu = -(F + M[:, m] a_m),     G[:, M] a_M = -(gamma + G[:, m] a_m)
+
+    (M the mass matrix, F the forces at s - elements, springs, loads, damping, friction, the inertia
+    terms of the velocities and of the ground's acceleration -, G the constraints' gradient, gamma
+    = d(G)/dt v their curvature along the velocities, by a central difference of the constraints'
+    values) with the massless dofs' accelerations a_m from the tiny start step.  The start step's
+    own accelerations and multipliers carry Newton's tolerance on the constrained positions divided
+    by its step squared: 3e-3 of a block's weight in its slider's reaction at tolerance 1e-9.
+    Returns the step's own (acc, mu_step) if the solve fails."""
+    m, nq, nc = sysm.model, sysm.nq, sysm.nc
+    heavy = sysm.masses.massive_dofs()
+    if heavy.size < nq:
+        # massless dofs (rods without rhoA, node rotations): their accelerations follow the masses'
+        # through the constraints and their own statics' time derivatives, which this solve does not
+        # hold; the step's accelerations are kept (corrected alone, the massive ones made a massless
+        # slide's reversal in beam-friction a continued slip)
+        return acc, mu_step
+    q, v = s.y[:nq], s.v
+    es = ElementState(s.alpha)
+    r, (rows, cols, vals), _ = m.system(np.concatenate([q, np.zeros(nc)]), es, 1.0, None, True, dense="coo")
+    ag = sysm.ground.accel(s.t) * sysm.ground.direction / m.Lref if sysm.ground is not None else None
+    F = r[:nq] + sysm.masses.inertia(q, v, np.zeros(nq), 0.0, 0.0, ag)[0]
+    if sysm.Csr is not None:
+        F = F + sysm.Csr @ v
+    for ex in sysm.extra:
+        F = F + ex(np.concatenate([q, mu_step]), v, 0.0)[0]
+    gamma = np.zeros(nc)
+    vmax = float(np.abs(v).max(initial=0.0))
+    if nc and vmax > 0.0:
+        eps = 1e-4 / vmax
+        g = [m.system(np.concatenate([q + k * eps * v, np.zeros(nc)]), ElementState(s.alpha), 1.0, None,
+                      False)[0][nq:] for k in (-1.0, 1.0)]
+        gamma = (g[0] - 2.0 * r[nq:] + g[1]) / (eps * eps)
+    light = np.setdiff1d(np.arange(nq), heavy)
+    mr, mc, mv = sysm.masses.matrix(q)
+    M = np.zeros((nq, nq))
+    np.add.at(M, (mr, mc), mv)
+    G = np.zeros((nc, nq))
+    sel = (rows >= nq) & (cols < nq)
+    np.add.at(G, (rows[sel] - nq, cols[sel]), vals[sel])
+    GT = np.zeros((nq, nc))
+    sel = (rows < nq) & (cols >= nq)
+    np.add.at(GT, (rows[sel], cols[sel] - nq), vals[sel])
+    A = np.block([[M[:, heavy], GT], [G[:, heavy], np.zeros((nc, nc))]])
+    b = -np.concatenate([F + M[:, light] @ acc[light], gamma + G[:, light] @ acc[light]])
+    try:
+        x = np.linalg.lstsq(A, b, rcond=None)[0]
+    except np.linalg.LinAlgError:
+        return acc, mu_step
+    if not np.all(np.isfinite(x)):
+        return acc, mu_step
+    out = acc.copy()
+    out[heavy] = x[:heavy.size]
+    return out, x[heavy.size:]

@@ -37,7 +37,8 @@ History columns (SI): ``t``; ``reactions.NAME.Fx, Fy, M`` (forces of the ground 
 force|, with a bearing the sum of its two contact forces' magnitudes, as friction takes it); per body
 ``bodies.NAME.x, y`` (centroid), ``rotation``, ``rotation_rate`` [rad/s] and ``rotation_accel``
 [rad/s^2] (counter-clockwise positive, relative to the moving ground); per friction joint
-``joints.NAME.friction``.
+``joints.NAME.friction``.  A friction event has two rows at its time: the state before the switch
+(the left limit of the forces that jump there) and after it.
 
 Work is bounded a priori: the number of steps is estimated from the lowest frequency and the
 tolerance (second-order local error control: about 2 pi (c3 / tolerance)^(1/3) steps per period)
@@ -324,7 +325,29 @@ def check_work(spec: Spec, f1: float, n_q: int, f_top=None):
     return int(3 * max(steps, 1000)) + 1000
 
 
-def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1):
+# the units of the history columns (by the last part of their names)
+UNIT = {"Fx": "N", "Fy": "N", "normal": "N", "friction": "N", "M": "N m", "M_max": "N m", "x": "m", "y": "m",
+        "slide": "m", "rotation": "rad", "rotation_rate": "rad/s", "rotation_accel": "rad/s^2"}
+FLOOR = 1e-2   # a change below this fraction of the motion's size in its unit is not judged relative to itself
+
+
+def floors(H, cols, offsets, size, T1):
+    """Per history column, the smallest scale its error is measured against (FLOOR of the largest
+    amplitude of the columns of its unit; rotations FLOOR of the largest displacement over the
+    structure's ``size`` [m], their rates and accelerations that times 2 pi / T1 and its square):
+    a quantity the motion hardly changes (a body's rotation in a sway without rocking) is not judged
+    by its own round-off."""
+    amp = np.abs(H - np.asarray(offsets)).max(axis=0) if len(H) else np.zeros(len(cols))
+    unit = [UNIT.get(c.rsplit(".", 1)[-1]) for c in cols]
+    big = {u: max((a for a, v in zip(amp, unit) if v == u), default=0.0) for u in set(unit)}
+    w = 2.0 * math.pi / T1
+    big["rad"] = max(big.get("rad", 0.0), big.get("m", 0.0) / size)
+    big["rad/s"] = max(big.get("rad/s", 0.0), big["rad"] * w)
+    big["rad/s^2"] = max(big.get("rad/s^2", 0.0), big["rad"] * w * w)
+    return [FLOOR * big[u] if u is not None else 0.0 for u in unit]
+
+
+def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1, size):
     """The error estimate of a run (see the module docstring): a check run at CHECK_FACTOR times
     the tolerance and its differences from the run's histories, peaks and event times, divided by
     (steps / check steps)^ORDER_GLOBAL - 1 (the check run's error over the run's, less one).
@@ -353,8 +376,12 @@ def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1):
         windows = [(t - 1e-12, t + 1e-12) for t in times + times_c]
     # positions from their start (the scale of a moving body is its motion, not its place)
     offsets = [H[0, i] if c.endswith((".x", ".y")) else 0.0 for i, c in enumerate(cols)]
-    hist = history_difference(H[:, 0], H[:, 1:], Hc[:, 0], Hc[:, 1:], times, windows, offsets[1:]) / ratio
+    hist = history_difference(H[:, 0], H[:, 1:], Hc[:, 0], Hc[:, 1:], times, windows, offsets[1:],
+                              floors(H, cols, offsets, size, T1)[1:]) / ratio
     pk = peak_difference(res["peaks"], peaks_of(Hc, fr_c))
+    # a rod's largest moment is a maximum over its nodes: its history has kinks where the maximum
+    # moves from one node to another, which no interpolation follows; it is judged by its peak
+    hist[[c.endswith(".M_max") for c in cols[1:]]] = 0.0
     worst_h = int(np.argmax(hist)) if hist.size else None
     e_h = float(hist.max()) if hist.size else 0.0
     e_p = max(pk.values(), default=0.0) / ratio
@@ -618,7 +645,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
            "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of, "peaks": peaks,
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
     if spec.estimate:
-        res.update(_accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, 1.0 / f_ref[0]))
+        res.update(_accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, 1.0 / f_ref[0], model.Lref))
     if spec.turning:   # the located zeros of the bodies' rotation rates (rows of the history)
         T = H[:, 0]
         res["turning_points"] = {

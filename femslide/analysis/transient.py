@@ -227,15 +227,27 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         # watched quantity changes sign; the step is cut at the first, located on the step's own
         # solution (femslide.analysis.events.locate_step)
         nf = len(fr.joints) if fr is not None else 0
-        ev0 = np.concatenate([ph if fr is not None else np.zeros(0), wsign * wvals])
+        ws, started = wsign, np.zeros(len(watch), dtype=bool)
+        if watch and not wsign.all():
+            # a watched quantity at zero at the step's start (a start from rest, a zero just located)
+            # takes the sign it moves towards, from its rate along the start's motion: its zero
+            # within the step is found (beam-friction's first turning point, 2e-4 s after the
+            # release, falls on a friction event and was lost to round-off)
+            eps = 1e-6 * h
+            y_ = s.y.copy()
+            y_[:n_q] += eps * s.v
+            dg = np.array([g(y_, s.v + eps * s.acc) for g in watch]) - wvals
+            ws = np.where(wsign != 0.0, wsign, np.sign(dg))
+            started = (wsign == 0.0) & (ws != 0.0)
+        ev0 = np.concatenate([ph if fr is not None else np.zeros(0), ws * wvals])
 
-        def event_values(y_, v_, ws=wsign):
+        def event_values(y_, v_, ws=ws):
             f = fr.phi(y_, v_) if fr is not None else np.zeros(0)
             return np.concatenate([f, ws * np.array([g(y_, v_) for g in watch])]) if watch else f
         ev1 = at = event_values(y, v1)
         cross = (ev1 < 0.0) & (ev0 >= 0.0)
         if watch:
-            cross[nf:] &= wsign != 0.0
+            cross[nf:] &= ws != 0.0
         crossed, due = [], []
         if cross.any():
             # an event function that reaches zero within the resolution of event times (t_same: a
@@ -246,6 +258,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             tau = np.where(cross, ev0 / np.maximum(ev0 - ev1, 1e-300) * h, np.inf)
             early = cross & (tau <= t_same(s.t))
             early[:nf] &= (ev0[:nf] > 0.0) & ~np.array(fresh, dtype=bool) if nf else False
+            early[nf:] &= ~started   # (its zero at the start is where it comes from, not a crossing)
             for k in np.nonzero(early[nf:])[0]:
                 if not any(kk == k and abs(tt - s.t) <= t_same(s.t) for kk, tt in out.crossings[-len(watch):]):
                     out.crossings.append((int(k), s.t))
@@ -302,6 +315,11 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         if fr is not None and not due:
             ph, ph_of = at[:nf], s   # (evaluated at this state's (y, v1) above)
         out.steps += 1
+        if due and observe:
+            # the state before the switch, at the event's instant (its left limit: the friction force
+            # and the reactions jump there, and the largest of them is often just before the jump);
+            # the row after the switch follows at the same time
+            out.rows.append(observe(t1, s.y, s.alpha, s.v, s.acc))
         for i in due:   # (several joints may change modes at one instant: each in turn)
             s, sysm, released = _switch(fr, s, i, START_STEP * h_next)
             D += released

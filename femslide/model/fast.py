@@ -45,8 +45,8 @@ def status() -> str:
 
 def _kind_code(link) -> int | None:
     """The kernel's code of a link of a built-in kind, None for anything else."""
-    if type(link) is not Link or link.keep is not None:   # an elastic support holds some equations only:
-        return None                                        # evaluated in Python (its assemble keeps them)
+    if type(link) is not Link or link.keep is not None:
+        return None   # (a link holding only some of its kind's equations - an elastic support's - is Python's)
     return _BUILTIN.get(type(link.joint_kind))
 
 
@@ -74,6 +74,7 @@ class Pack:
         lint, ldbl, lrow = [], [], {}
         self.py_terms, self.py_cons = [], []        # evaluators of the Python-evaluated ones
         xr, xj, xf = [], [], []                      # their residual rows, pattern positions, fl rows
+        cr, cj = [], []                              # (the constraints' rows and positions, after the terms')
         for c, d, ev, mu, p0 in zip(model.constraints, con_dofs, model._con_evals, topo.con_mu, con_p):
             k, m = d.size, c.size
             row0 = n_q + mu.start
@@ -86,8 +87,8 @@ class Pack:
                 ldbl.append([*a.X, *a.r, *b.X, *b.r, *c.e0, *c.n0])
             else:
                 self.py_cons.append(ev)
-                xr += [d, np.arange(row0, row0 + m)]
-                xj.append(np.arange(p0, p0 + k * k + 2 * m * k))
+                cr += [d, np.arange(row0, row0 + m)]
+                cj.append(np.arange(p0, p0 + k * k + 2 * m * k))
         tint, tdbl = [], []
         for t, d, ev, p0 in zip(model.terms, term_dofs, model._term_evals, term_p):
             k = d.size
@@ -106,6 +107,8 @@ class Pack:
                 xr.append(d)
                 xj.append(np.arange(p0, p0 + k * k))
                 xf.append(d)
+        # (system() evaluates the Python terms first, then the Python constraints)
+        xr, xj = xr + cr, xj + cj
         ip = np.intp
         self.lint = np.array(lint, np.int64).reshape(-1, 8)
         self.ldbl = np.array(ldbl, float).reshape(-1, 12)
@@ -162,11 +165,10 @@ def system(model, kern, y, elements, lam, control, jacobian, dense, info, extra=
         mu = y[n_q:n_q + model.n_c].tolist()
         rv, fv = [], []
         jv = [] if jacobian else None
-        # in the order of Pack's index maps: the constraints' values, then the terms'
-        for ev, a, b, ma, mb in pack.py_cons:
-            ev(z[a:b], mu[ma:mb], rv, jv)
         for ev, a, b in pack.py_terms:
             ev(z[a:b], lam, rv, jv, fv)
+        for ev, a, b, ma, mb in pack.py_cons:
+            ev(z[a:b], mu[ma:mb], rv, jv)
         xr, xrv, xf, xfv = pack.xr, np.array(rv, float), pack.xf, np.array(fv, float)
         if jacobian:
             xj, xjv = pack.xj, np.array(jv, float)
@@ -222,10 +224,10 @@ def applied(model, kern, y, lam):
         z = y[:n_q][model._topo.jt_dofs].tolist()
         mu = y[n_q:n_q + model.n_c].tolist()
         rv, fv = [], []
-        for ev, a, b, ma, mb in pack.py_cons:
-            ev(z[a:b], mu[ma:mb], rv, None)
         for ev, a, b in pack.py_terms:
             ev(z[a:b], lam, rv, None, fv)
+        for ev, a, b, ma, mb in pack.py_cons:
+            ev(z[a:b], mu[ma:mb], rv, None)
         xr, xrv = pack.xr, np.array(rv, float)
     r = np.empty(model.n)
     kern.assemble(y, None, None, float(lam), -1, 0.0, r, None, None, None, None, xr, xrv, None, None, None, None, False)

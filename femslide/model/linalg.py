@@ -292,8 +292,23 @@ class Factorized:
     complex) kept for several solves: ``solve(b)``.  LinAlgError when the matrix is singular."""
 
     def __init__(self, A):
-        self.band = self.dense = self.sparse = None
-        if isinstance(A, BandMatrix):
+        self.band = self.dense = self.sparse = self.kern = None
+        real = not np.iscomplexobj(A.ab if isinstance(A, BandMatrix) else A) if not hasattr(A, "tocsc") else False
+        if real and kernel_enabled() and isinstance(A, (BandMatrix, np.ndarray)):
+            # the kernel's LU (single-threaded C: a threaded BLAS on a small matrix of a busy machine
+            # spends 10-100x its time waiting for its threads)
+            if isinstance(A, BandMatrix):
+                p = A.pattern
+                lu, kl, ku = np.array(A.ab.T, dtype=float, order="C"), p.kl, p.ku
+                self.pattern = p
+            else:
+                lu, kl, ku = np.array(A, dtype=float, order="C"), -1, 0
+            piv = np.empty(lu.shape[0], np.intp)
+            info = _kernel.factor(lu, piv, lu.shape[0], kl, ku)
+            if info != 0:
+                raise np.linalg.LinAlgError(f"singular matrix (zero pivot {info} of the LU)")
+            self.kern = (lu, piv, kl, ku)
+        elif isinstance(A, BandMatrix):
             p = A.pattern
             pre = "z" if np.iscomplexobj(A.ab) else "d"
             lu, piv, info = _lapack(pre + "gbtrf")(A.ab, p.kl, p.ku)
@@ -314,6 +329,18 @@ class Factorized:
                 raise np.linalg.LinAlgError(f"singular matrix ({exc})") from None
 
     def solve(self, b):
+        if self.kern is not None:
+            lu, piv, kl, ku = self.kern
+            if kl < 0:
+                x = np.array(b, dtype=float)
+                _kernel.solve(lu, piv, x, kl, ku)
+                return x
+            p = self.pattern
+            x = np.array(b, dtype=float)[p.perm]
+            _kernel.solve(lu, piv, x, kl, ku)
+            out = np.empty_like(x)
+            out[p.perm] = x
+            return out
         if self.sparse is not None:
             return self.sparse.solve(b)
         if self.dense is not None:

@@ -68,7 +68,6 @@ def arrows(fr, units: str = "N", size: float | None = None):
     (or None for the unlabelled arrows of a distributed load)}."""
     import numpy as np
 
-    from femslide.output.diagrams import size_of
     size = size_of(fr) if size is None else size
     ell = ARROW_FRACTION * size
     out = []
@@ -126,3 +125,15 @@ def bearing_labels(fr, units: str = "N"):
             text = f"{j['name']}: M = {value_text(float(j['force'][2]), 'N m', units)}"
             out.append((np.asarray(j["X"], float), text))
     return out
+
+
+def size_of(fr) -> float:
+    """Largest extent [m] of the drawn structure (undeformed and drawn shapes)."""
+    import numpy as np
+    pts = [r[k] for r in fr["rods"] for k in ("X", "X0")] + [b[k] for b in fr["bodies"] + fr["links"]
+                                                              for k in ("X", "X0")]
+    pts += [np.array([j["X0"]]) for j in fr["joints"]]
+    if not pts:
+        return 1.0
+    P = np.concatenate(pts)
+    return float(np.ptp(P, axis=0).max()) or 1.0

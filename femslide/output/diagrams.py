@@ -51,6 +51,7 @@ import warnings
 # light for the command line's fast paths
 from femslide.errors import BadInput
 from femslide.joints.kinds import KINDS, name_of_code
+from femslide.output.arrows import size_of
 
 DIAGRAMS = {"M": ("bending_moment", "N m", "bending moment M"),
             "V": ("shear_force", "N", "shear force V"),
@@ -231,18 +232,6 @@ def _chain(conn):
 
 
 # -- the diagram ---------------------------------------------------------------------------------------
-
-def size_of(fr) -> float:
-    """Largest extent [m] of the drawn structure (undeformed and drawn shapes)."""
-    import numpy as np
-    pts = [r[k] for r in fr["rods"] for k in ("X", "X0")] + [b[k] for b in fr["bodies"] + fr["links"]
-                                                              for k in ("X", "X0")]
-    pts += [np.array([j["X0"]]) for j in fr["joints"]]
-    if not pts:
-        return 1.0
-    P = np.concatenate(pts)
-    return float(np.ptp(P, axis=0).max()) or 1.0
-
 
 def samples(rod, diagram):
     """(points on the drawn rod (k, 2), unit normals (k, 2), values (k,)) of one rod's diagram: the nodes,

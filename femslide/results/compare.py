@@ -31,11 +31,16 @@ def _lagrange(ts, t):
 def interpolate(ta, Xa, tb, breaks=()):
     """The rows of Xa (samples at the increasing times ta) at the times tb: local Lagrange
     interpolation within the segments between ``breaks`` (a row at a break time belongs to the
-    segment after it); NaN where a segment has no sample."""
+    segment after it, unless another row at that time follows it: then it is the left limit and
+    belongs to the segment before); NaN where a segment has no sample."""
     ta = np.asarray(ta, dtype=float)
     Xa = np.asarray(Xa, dtype=float)
     br = np.sort(np.asarray(list(breaks), dtype=float))
     seg_a = np.searchsorted(br, ta, side="right")     # segment index of every sample
+    # a row followed by another at the same time is a left limit (the state before an event's
+    # switch): it belongs to the segment before
+    dup = np.nonzero(ta[:-1] == ta[1:])[0]
+    seg_a[dup] = np.searchsorted(br, ta[dup], side="left")
     out = np.full((len(tb), Xa.shape[1]), np.nan)
     for i, t in enumerate(tb):
         k = int(np.searchsorted(br, t, side="right"))
@@ -54,10 +59,13 @@ def interpolate(ta, Xa, tb, breaks=()):
     return out
 
 
-def history_difference(ta, Xa, tb, Xb, breaks=(), windows=(), offsets=None):
-    """Per column, max |Xb - Xa(tb)| / max |Xa - offset| over the samples of b outside the
-    ``windows`` [(t0, t1)]; ``offsets`` (per column, default 0) are subtracted for the scale only
-    (positions are measured from their start).  A column of a that is zero throughout gives 0."""
+def history_difference(ta, Xa, tb, Xb, breaks=(), windows=(), offsets=None, floors=None):
+    """Per column, max |Xb - Xa(tb)| / scale over the samples of b outside the ``windows``
+    [(t0, t1)], the scale being max |Xa - offset| of the column and at least its ``floors`` entry
+    (the size of a change that matters for that quantity: a body's vertical position that moves by
+    1e-9 m while the others sway by 0.1 m is not judged by its own round-off).  ``offsets`` (per
+    column, default 0) are subtracted for the scale only (positions are measured from their start).
+    A column whose scale is zero gives 0."""
     tb = np.asarray(tb, dtype=float)
     keep = np.ones(tb.size, dtype=bool)
     for t0, t1 in windows:
@@ -65,7 +73,9 @@ def history_difference(ta, Xa, tb, Xb, breaks=(), windows=(), offsets=None):
     Xi = interpolate(ta, Xa, tb[keep], breaks)
     D = np.abs(np.asarray(Xb, dtype=float)[keep] - Xi)
     off = np.zeros(Xa.shape[1]) if offsets is None else np.asarray(offsets, dtype=float)
-    scale = np.abs(np.asarray(Xa, dtype=float) - off).max(axis=0)
+    scale = np.abs(np.asarray(Xa, dtype=float) - off).max(axis=0) if len(Xa) else np.zeros(Xa.shape[1])
+    if floors is not None:
+        scale = np.maximum(scale, np.asarray(floors, dtype=float))
     with np.errstate(invalid="ignore", divide="ignore"):
         rel = np.where(scale > 0.0, np.nanmax(np.where(np.isnan(D), 0.0, D), axis=0, initial=0.0) / scale, 0.0)
     return rel
