@@ -78,12 +78,11 @@ def _estimate(fs, fine, coarse):
 
 
 def _table(steps):
-    from femslide.app.cases import _unit
-    from femslide.app.result import dotted
+    from femslide.app.result import dotted, unit_of
     flat = [dotted({k: v for k, v in s.items() if k not in ("converged", "name")}) for s in steps]
     keys = [k for k in flat[0] if all(isinstance(f.get(k), (int, float)) and not isinstance(f.get(k), bool)
                                       for f in flat)]
-    header = ["step"] + [f"{k} [{_unit(k)}]" for k in keys]
+    header = ["step"] + [f"{k} [{unit_of(k) or '-'}]" for k in keys]
     cols = [np.array([s["name"] for s in steps], object)] + [np.array([float(f[k]) for f in flat], object)
                                                             for k in keys]
     return Table("steps.csv", header, cols, ["%s"] + ["%.17g"] * len(keys))
