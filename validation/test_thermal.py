@@ -136,3 +136,21 @@ def test_dynamics_carry_the_thermal_state():
     assert d0["converged"] and d1["converged"] and max(d0["error_estimate"], d1["error_estimate"]) < 1e-3
     m0, m1 = d0["peaks"]["rods"]["r"]["M_max"], d1["peaks"]["rods"]["r"]["M_max"]
     assert abs(m1 - m0) <= 1e-3 * m0, (m0, m1)
+
+
+@pytest.mark.parametrize("about", ["reference", "equilibrium"])
+def test_thermal_buckling_of_a_restrained_rod(about):
+    """A rod pinned at both ends (axially restrained) and heated by dT buckles when its thermal
+    compression EA alpha dT reaches the Euler load pi^2 EI / L^2: the lowest load factor is
+    pi^2 EI / (EA alpha L^2 dT) (1e-6, converging with the mesh), about the reference and about the
+    heated equilibrium (whose thermal stresses are the geometric stiffness: before, they were left
+    out of it and the factor came out as 1e16)."""
+    dT = 10.0
+    s = Structure(gravity=(0.0, 0.0))
+    s.rod("c", (0.0, 0.0), (4.0, 0.0), EI=1e5, EA=1e9, alpha=ALPHA)
+    s.pin("A", "c.start", "ground")
+    s.pin("B", "c.end", "ground")
+    s.thermal("T", "c", dT=dT)
+    r = femslide.buckling(s, about=about)
+    ref = math.pi ** 2 * 1e5 / (1e9 * ALPHA * 16.0 * dT)
+    assert abs(r["load_factors"][0] - ref) <= TOL * ref, (r["load_factors"][0], ref)
