@@ -111,9 +111,8 @@ class _Joint:
 class History:
     """The load history of a frozen structure on one mesh (module docstring)."""
 
-    def __init__(self, fs, counts, Lref, Fref, cache, make, theory="nonlinear"):
+    def __init__(self, fs, counts, Lref, Fref, cache, make):
         self.fs, self.counts, self.L, self.F, self.cache, self.make = fs, counts, Lref, Fref, cache, make
-        self.theory = theory
         self.joints = [_Joint(j) for j in fs.joints if j.mu is not None and j.mu0 is not None and j.mu0 > 0]
         self.events = []
         self.iterations = 0
@@ -140,7 +139,8 @@ class History:
 
     def _carry(self, y, old, new):
         """A state of the stage ``old`` laid out for ``new``: frame dofs and the joints' multipliers kept
-        (the locks come after the joints), the new locks' multipliers from the old slip forces."""
+        (the locks come after the joints), a lock's multiplier kept if the joint was locked before,
+        else 0 (Newton finds it: the locks are linear in their multipliers)."""
         yn = np.zeros(new.n)
         k = min(old.model.n_q + _joint_mults(old.model), new.model.n_q + _joint_mults(new.model))
         yn[:k] = y[:k]
