@@ -270,3 +270,25 @@ def test_combination_factors_not_named_are_zero():
     close(r["reactions"]["A"]["Fx"] + r["reactions"]["D"]["Fx"], -H, H)
     close(r["reactions"]["A"]["Fy"] + r["reactions"]["D"]["Fy"], 0.0, H)
     assert math.isfinite(r["M_max"])
+
+
+@pytest.mark.parametrize("elements", [8, 64])
+def test_linear_theory_on_banded_meshes(elements):
+    """First-order theory on meshes whose Jacobian is stored banded (above 100 unknowns): an inclined
+    cantilever under a tip force (P across, H along) against the closed forms P L^3/(3 EI) across and
+    H L/EA along (exact for the linear elements), 1e-9.  Regression (review of the merges of issues
+    23 and 27): the linear model read the Fortran-ordered band in C order and its solve failed
+    ("the linear system could not be solved") on every mesh of more than ~30 elements."""
+    L, EI, EA, P, H = 3.0, 2.1e6, 1.05e9, 2e4, 5e4
+    c, s_ = 0.6, 0.8
+    s = Structure(gravity=(0.0, 0.0))
+    s.rod("c", (0.0, 0.0), (L * c, L * s_), EI=EI, EA=EA, elements=elements)
+    s.weld("root", "c.start", "ground")
+    # P across the rod (its normal turned +90 degrees), H along it
+    s.force("tip", "c.end", force=(H * c - P * s_, H * s_ + P * c))
+    r = femslide.solve(s, theory="linear")
+    w, u = P * L**3 / (3 * EI), H * L / EA
+    end = r["rods"]["c"]["end"]
+    close(end["u"], u * c - w * s_, w)
+    close(end["v"], u * s_ + w * c, w)
+    close(end["theta"], P * L**2 / (2 * EI), P * L**2 / (2 * EI))

@@ -65,7 +65,8 @@ def test_limit_point_of_a_random_frame_is_real():
     from femslide.joints.holds import DofHold
     from femslide.model.discrete import Model
     s = structure(35)
-    with pytest.raises(femslide.SolverFailure, match=r"load factor 0\.83\d*: a limit point"):
+    # the limit point, located on the refined meshes (issue 27's message: "limit point at load factor X")
+    with pytest.raises(femslide.SolverFailure, match=r"limit point at load factor 0\.8[23]\d*"):
         femslide.solve(s)
     fs = s.freeze()
     L, F = scales(fs)

@@ -154,6 +154,6 @@ def _to_csc(model, A, control):
     if isinstance(A, BandMatrix):
         rows, cols, size, band, _, _ = model._pattern(None if control is None else control.dof)
         flat, idx = np.unique(band.flat, return_index=True)
-        # band.flat indexes the (size, nrow) C-order array behind the Fortran-order band ab
+        # ab is the Fortran-ordered band (femslide.model.linalg.Banded): flat indexes its transpose
         return sp.csc_matrix((A.ab.T.ravel()[flat], (rows[idx], cols[idx])), shape=(size, size))
     return sp.csc_matrix(A)
