@@ -19,6 +19,7 @@ EXPECTED = {
     "load_combinations.py": ["combinations.csv", "envelope_M.csv", "envelope_M.png", "structure_SLS.vtu"],
     "column_buckling.py": ["buckling_modes.png", "structure_buckling.pvd", "structure_buckling_0000.vtu"],
     "snap_through.py": ["path.csv", "path.png", "snapped-M.png", "structure.vtu"],
+    "thermal_friction_deck.py": ["columns_M.png", "friction/steps.csv", "friction/hysteresis_C.png"],
 }
 
 
