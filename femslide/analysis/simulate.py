@@ -331,6 +331,32 @@ UNIT = {"Fx": "N", "Fy": "N", "normal": "N", "friction": "N", "M": "N m", "M_max
 FLOOR = 1e-2   # a change below this fraction of the motion's size in its unit is not judged relative to itself
 
 
+ENERGY_TRUST = 1e4     # a run whose energy balance exceeds max(ENERGY_TRUST tolerance, ENERGY_FLOOR) fails
+ENERGY_FLOOR = 1e-2
+CHATTER_SHARE = 0.5    # a run with friction events on more than this share of its steps (and over
+CHATTER_EVENTS = 100   # CHATTER_EVENTS events) fails: stick/slip chatter, not a motion
+
+
+def check_trust(res, tolerance, unit=0.0):
+    """SolverFailure (exit 1, the reason named) for a run that completed but cannot be trusted: an
+    energy balance far beyond what the tolerance allows (Radau IIA keeps it near the tolerance: 1e-7
+    at 1e-6 on section 5.2, 2e-6 at 1e-3 on the base-isolated frame; a run that chattered between
+    stick and slip or took a wrong breakaway read 1e-2 .. 1), or friction events on most steps.
+    ``unit`` [J]: the model's energy unit (its forces times its length); a run whose energies are all
+    below 1e-9 of it (t_end = 1e-6 s) has a balance of round-off and is not judged by it."""
+    E = res["energy_balance"]
+    scale = max((abs(x) for x in res.get("energy", {}).values()), default=0.0)
+    if not E <= max(ENERGY_TRUST * tolerance, ENERGY_FLOOR) and not scale < 1e-9 * unit:
+        raise SolverFailure(f"simulate: the energy balance {E:.3g} (kinetic + potential + dissipated - work "
+                            f"in, relative) is far beyond what tolerance {tolerance:g} allows (at most "
+                            f"{max(ENERGY_TRUST * tolerance, ENERGY_FLOOR):g}): the motion cannot be trusted; "
+                            f"try a tighter tolerance")
+    events = sum(max(len(v) - 1, 0) for v in res["events"].values())
+    if events > CHATTER_EVENTS and events > CHATTER_SHARE * res["steps"]:
+        raise SolverFailure(f"simulate: {events} friction events in {res['steps']} steps: the stick/slip "
+                            f"modes chatter; try a tighter tolerance")
+
+
 def peak_floors(peaks):
     """{dotted key: FLOOR times the largest peak of its unit} (a reaction that the motion hardly
     loads - the axial reaction of a mast shaken sideways without gravity - is not judged by its own
@@ -663,6 +689,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
            "events": fr.events if fr is not None else {},
            "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of, "peaks": peaks,
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
+    check_trust(res, spec.tolerance, model.Fref * model.Lref)
     if spec.estimate:
         res.update(_accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, 1.0 / f_ref[0], model.Lref))
     if spec.turning:   # the located zeros of the bodies' rotation rates (rows of the history)
