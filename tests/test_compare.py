@@ -48,3 +48,20 @@ def test_peak_and_event_differences():
     assert event_difference(ea, {"j": [{"t": 0.0, "kind": "stick"}, {"t": 1.001, "kind": "slip+"}]}) == \
         (True, pytest.approx(1e-3))
     assert event_difference(ea, {"j": [{"t": 0.0, "kind": "stick"}]})[0] is False
+
+
+def test_untrustworthy_runs_fail():
+    """A completed run whose energy balance is far beyond its tolerance, or whose friction events fall
+    on most of its steps, is a SolverFailure naming the reason (the chatter of issue 22 returned
+    converged with energy_balance 1.01 and 947 events)."""
+    import pytest
+
+    from femslide.analysis.simulate import check_trust
+    from femslide.errors import SolverFailure
+    ok = {"energy_balance": 1e-7, "events": {"iso": [{"t": 0.0, "kind": "stick"}] * 130}, "steps": 2000}
+    check_trust(ok, 1e-6)
+    with pytest.raises(SolverFailure, match="energy balance 1.01"):
+        check_trust({**ok, "energy_balance": 1.01}, 1e-4)
+    check_trust({**ok, "energy_balance": 5e-3}, 1e-6)        # below the floor 1e-2
+    with pytest.raises(SolverFailure, match="chatter"):
+        check_trust({**ok, "events": {"iso": [{"t": 0.0, "kind": "slip+"}] * 948}, "steps": 1500}, 1e-4)

@@ -20,6 +20,7 @@ EXPECTED = {
     "column_buckling.py": ["buckling_modes.png", "structure_buckling.pvd", "structure_buckling_0000.vtu"],
     "snap_through.py": ["path.csv", "path.png", "snapped-M.png", "structure.vtu"],
     "seismic_isolation.py": ["comparison.csv", "comparison.png", "records.png", "record_1.csv"],
+    "thermal_friction_deck.py": ["columns_M.png", "friction/steps.csv", "friction/hysteresis_C.png"],
 }
 
 

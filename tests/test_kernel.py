@@ -137,6 +137,29 @@ def test_kernel_equals_the_numpy_path_on_a_frame_of_every_piece(lam):
         _same(m, *_both(m, yc, es, control=hold), control=hold.dof)
 
 
+@pytest.mark.parametrize("lam", [0.0, 0.37, 1.0])
+def test_kernel_equals_the_numpy_path_with_thermal_loads(lam):
+    """The frame of every piece with thermal loads (uniform dT and a gradient) on both rods: the free
+    basic forces in the elements and their share of d r / d lam, bit for bit, also in displacement
+    control."""
+    s = frame()
+    for rod, a in (("left", 1.2e-5), ("right", 1e-5)):
+        s.set(f"{rod}.alpha", a)
+        s.set(f"{rod}.depth", 0.2)
+    s.thermal("heat", "left", dT=30.0, dT_gradient=8.0)
+    s.thermal("cool", "right", dT=-20.0, case="winter")
+    m = _model(s)
+    m.finalize()
+    assert m.free_T is not None and np.abs(m.free_T[0]).min() > 0 and np.abs(m.free_T[1]).max() > 0
+    for _ in range(2):
+        y, es = _state(m)
+        _same(m, *_both(m, y, es, lam=lam, dense=True))
+        _same(m, *_both(m, y, es, lam=lam, jacobian=False))
+        hold = DofHold(int(m.body_dof("deck")) + 2, 0.03)
+        yc = np.concatenate([y, [lam]])
+        _same(m, *_both(m, yc, es, control=hold), control=hold.dof)
+
+
 @pytest.mark.parametrize("storage", ["band", "sparse"])
 def test_kernel_equals_the_numpy_path_in_band_and_sparse_storage(storage, monkeypatch):
     """A fine mesh (band storage), and the same frame forced into sparse storage."""
@@ -377,3 +400,26 @@ def test_extra_terms_equal_adding_them_afterwards(counts):
             assert np.abs(_dense(m, A1) - _dense(m, A0)).max() <= 1e-15 * np.abs(_dense(m, A0)).max()
     with pytest.raises(ValueError, match="outside the Jacobian's pattern"):
         m.pattern_positions([0], [m.n - 1])
+
+
+@pytest.mark.parametrize("theory", ["nonlinear", "linear"])
+def test_elastic_support_holding_some_equations(theory):
+    """A weld to the ground with a rotational spring kr holds two of its three equations: the kernel
+    hands it to Python (it used to evaluate all three into the slots of two: a segfault) and the
+    Python pieces' values land on their own rows (a Python term and a Python constraint together used
+    to swap them).  Kernel against the numpy path (1e-12) and the closed form of the cantilever on a
+    rotational spring, tip v = -(P L^3/(3 EI) + P L^2/kr) (1e-9)."""
+    L, EI, P, kr = 2.5, 3e5, 4e3, 2e6
+    s = femslide.Structure(gravity=(0.0, 0.0))
+    s.rod("c", (0.0, 0.0), (L, 0.0), EI=EI, EA=4e9, elements=4)
+    s.weld("root", "c.start", "ground", kr=kr)
+    s.force("P", "c.end", force=(0.0, -P))
+    m = _model(s)
+    m.finalize()
+    y, es = _state(m, 1e-3)
+    (r0, A0, i0, _), (r1, A1, i1, _) = _both(m, y, es, lam=0.7, dense=True)
+    assert np.abs(r0 - r1).max() <= 1e-12 * np.abs(r0).max()
+    assert np.abs(A0 - A1).max() <= 1e-12 * np.abs(A0).max()
+    r = femslide.solve(s, theory=theory)
+    v = -(P * L**3 / (3 * EI) + P * L**2 / kr)
+    assert abs(r["rods"]["c"]["end"]["v"] - v) <= (1e-9 if theory == "linear" else 1e-3) * abs(v)

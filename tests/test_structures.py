@@ -86,7 +86,7 @@ def test_solve_structure_file_json_keys(frame_file):
             "reactions"} <= set(res)
     assert res["converged"] is True and res["error_estimate"] <= 1e-6
     assert set(res["bodies"]["deck"]) == {"x", "y", "rotation"}
-    assert set(res["rods"]["col"]) == {"M_max", "N_max", "V_max", "start", "end"}
+    assert set(res["rods"]["col"]) == {"M_max", "N_max", "V_max", "s_M_max", "s_N_max", "s_V_max", "start", "end"}
     assert set(res["rods"]["col"]["end"]) == {"u", "v", "theta"}
     assert set(res["joints"]["prop"]) == {"Fx", "Fy", "M", "slide"}
     assert set(res["joints"]["top"]) == {"Fx", "Fy", "M", "rotation"}

@@ -203,7 +203,7 @@ def _peak3(t, y):
 
 
 def opensees_oscillation(dt=1e-3, t_end=3.0, rotation=-0.01, penalty=1e9, axial=1e15, start_step=1e-6,
-                         tol=1e-12, hold_steps=10, history=True, data=None):
+                         tol=1e-12, hold_steps=10, history=True, data=None, integrator=("Newmark", 0.5, 0.25)):
     """The section 5.2 structure (meshes/structures/beam-oscillation.toml) as an OpenSees (openseespy)
     Newmark transient: held statically at the deck rotation ``rotation`` [rad, counter-clockwise], released
     at rest at t = 0, run to ``t_end`` [s] with the constant step ``dt`` [s].
@@ -317,7 +317,7 @@ def opensees_oscillation(dt=1e-3, t_end=3.0, rotation=-0.01, penalty=1e9, axial=
     ops.constraints("Plain")
     ops.test("NormDispIncr", tol, 50, 0)
     ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
+    ops.integrator(*integrator)   # (``integrator``: OpenSees' arguments, e.g. ("HHT", 0.9))
     ops.analysis("Transient")
     build_s = time.perf_counter() - t_build
 

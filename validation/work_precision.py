@@ -28,7 +28,7 @@ Dynamics:
   decrement formula / femslide's validated exact solution), with its output directed to a temporary
   directory, and its rows are copied here.
 * beam-oscillation (FE section 5.2; default scene, t_end = 3 s): the scene runs on the FE transient
-  (generalized-alpha, femslide.analysis.transient) at its parameter ``tolerance``; this script runs it at
+  (Radau IIA, femslide.analysis.transient) at its parameter ``tolerance``; this script runs it at
   tolerance 1e-3 .. 1e-9 and compares the turning points (phi [rad], times [s]) and F2_max with the
   reduced 1-DOF model (validation/reduced_dynamics.py: DOP853 at rtol 1e-11 on the massless rod's
   statics, energy balance ~1e-11 - an independent formulation of the same structure on the same
@@ -182,7 +182,7 @@ def oscillation_rows():
         dt = time.perf_counter() - t0
         e, te = _tp_error(r["turning_points"], refr["turning_points"], amp)
         rows.append(dict(part="dynamics", problem="beam-oscillation (default, t_end 3 s)",
-                         method="femslide FE generalized-alpha",
+                         method="femslide FE Radau IIA",
                          setting=f"tolerance={tol:g}" + (" (default)" if tol == 1e-6 else ""),
                          n_elements=r["n_elements"], value=r["F2_max"], err_state=e,
                          err_M=abs(r["F2_max"] - refr["F2_max"]) / refr["F2_max"],

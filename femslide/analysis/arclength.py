@@ -100,6 +100,9 @@ def _border(model, A, fl, c):
         B = np.zeros((n + 1, n + 1))
         B[:n, :n] = A
         B[:model.n_q, n] = fl
+        rows = getattr(model, "_motion_rows", None)
+        if rows is not None and rows.size:   # a prescribed support motion: d g / d lam
+            B[rows, n] = model._motion_vals
         B[n] = c
         return B
     import scipy.sparse as sp
@@ -107,6 +110,9 @@ def _border(model, A, fl, c):
     from femslide.analysis.modes import to_sparse
     col = np.zeros((n, 1))
     col[:model.n_q, 0] = fl
+    rows = getattr(model, "_motion_rows", None)
+    if rows is not None and rows.size:
+        col[rows, 0] = model._motion_vals
     return sp.bmat([[to_sparse(model, A), sp.csc_matrix(col)], [sp.csc_matrix(c[None, :]), None]]).tocsc()
 
 

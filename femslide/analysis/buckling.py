@@ -190,8 +190,9 @@ def split(model, y, es, lin_model=None):
         _, A, _ = model.system(y, es, 1.0)
         es.revert()
         x, alpha, z = y[:n_q], es.committed, y
-        NM = corotational.element_terms(model.elements, x, alpha, tangent=False)[2] \
-            if model.elements is not None else None
+        NM = corotational.element_terms(model.elements, x, alpha, tangent=False,
+                                        free=getattr(model, "free_T", None))[2] \
+            if model.elements is not None else None   # (a thermal load's free forces are stresses too)
     else:
         y0, e0 = model.zero_state()
         _, A, _ = model.system(y0, e0, 0.0)

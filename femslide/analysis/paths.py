@@ -335,6 +335,9 @@ def _load_tangent(model: Model, y, elements, lam):
     sign = float(np.linalg.slogdet(A)[0]) if isinstance(A, np.ndarray) else None
     rhs = np.zeros(model.n)
     rhs[:model.n_q] = -info["fl"]
+    rows = getattr(model, "_motion_rows", None)
+    if rows is not None and rows.size:   # a prescribed support motion: its equations move with lam
+        rhs[rows] = -model._motion_vals
     try:
         dy = solve_linear(A, rhs)
     except np.linalg.LinAlgError:

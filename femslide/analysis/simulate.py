@@ -56,13 +56,11 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 import scipy.sparse as sp
 
-from femslide.analysis.excitation import Ground
-from femslide.analysis.excitation import parse as parse_ground
 from femslide.errors import BadInput, SolverFailure
 from femslide.joints.holds import BodyHold
 from femslide.joints.kinds import kind_of, listed
@@ -71,110 +69,11 @@ from femslide.results.history import _peak
 from femslide.results.seismic import drift_columns, drifts, residuals, running_peaks, storey_pairs
 from femslide.analysis.workload import (  # noqa: F401  (check_work and steps_per_period: also imported from here)
     ABSURD_WORK_S, MAX_PERIODS, check_release, check_work, steps_per_period)
+from femslide.analysis.simspec import (  # noqa: F401  (the [simulate] table's parsing: also imported from here)
+    DEFAULT_ELEMENTS, SIM_KEYS, Spec, parse_elements, parse_spec)
 
-DEFAULT_ELEMENTS = 8
 MODES = 6
 FRAMES = 200                 # at most this many VTU frames in --out
-SIM_KEYS = ("t_end", "tolerance", "damping", "ground", "initial", "elements", "error_estimate", "max_time")
-
-
-@dataclass
-class Spec:
-    t_end: float = 1.0
-    tolerance: float = 1e-6
-    alpha: float = 0.0
-    beta: float = 0.0
-    ground: Ground | None = None
-    initial: dict | None = None
-    elements: int = DEFAULT_ELEMENTS
-    rotation_damping: dict | None = None   # {body name: c [N m s/rad]}: rotational dashpots
-    turning: tuple = ()                   # bodies whose rotation rate's zeros are located (turning points)
-    estimate: bool = True                 # a check run at CHECK_FACTOR * tolerance gives error_estimate
-    max_time: float | None = None         # the user's wall-time limit [s] of the run (None: none)
-
-
-def _num(where, x, lo, hi, lo_open=False):
-    if isinstance(x, (str, bool)):   # one rule for every number of a file: text and true/false are not numbers
-        raise BadInput(f"{where} = {x!r} is not a number; allowed: a number in [{lo:g}, {hi:g}] (without quotes)")
-    try:
-        v = float(x)
-    except (TypeError, ValueError):
-        raise BadInput(f"{where} = {x!r} is not a number; allowed: [{lo:g}, {hi:g}]") from None
-    if not math.isfinite(v) or v < lo or v > hi or (lo_open and v == lo):
-        raise BadInput(f"{where} = {x!r}; allowed: {'(' if lo_open else '['}{lo:g}, {hi:g}]")
-    return v
-
-
-def parse_spec(table, base_dir=".", where="[simulate]") -> Spec:
-    """A :class:`Spec` from a structure file's ``[simulate]`` table (see the module docstring)."""
-    if table is None:
-        raise BadInput(f"{where}: a structure file needs a [simulate] table (t_end, tolerance, ...) to be simulated")
-    if not isinstance(table, dict):
-        raise BadInput(f"{where}: must be a table")
-    bad = sorted(set(table) - set(SIM_KEYS))
-    if bad:
-        raise BadInput(f"{where}: unknown key {bad[0]!r}; allowed: {', '.join(SIM_KEYS)}")
-    sp_ = Spec()
-    sp_.t_end = _num(f"{where} t_end", table.get("t_end", 1.0), 0.0, 1e7, lo_open=True)
-    sp_.tolerance = _num(f"{where} tolerance", table.get("tolerance", 1e-6), 1e-12, 1e-2)
-    damp = table.get("damping", {}) or {}
-    if not isinstance(damp, dict) or set(damp) - {"alpha", "beta", "rotation"}:
-        raise BadInput(f"{where} damping: a table {{alpha = ..., beta = ...}} (Rayleigh, C = alpha M + beta K) "
-                       f"and/or rotation = {{BODY = c}} (rotational dashpots, N m s/rad)")
-    sp_.alpha = _num(f"{where} damping.alpha", damp.get("alpha", 0.0), 0.0, 1e6)
-    sp_.beta = _num(f"{where} damping.beta", damp.get("beta", 0.0), 0.0, 1e3)
-    rot = damp.get("rotation")
-    if rot is not None:
-        if not isinstance(rot, dict):
-            raise BadInput(f"{where} damping.rotation: a table {{BODY = c}} (c in N m s/rad)")
-        sp_.rotation_damping = {str(k): _num(f"{where} damping.rotation.{k}", c, 0.0, 1e12) for k, c in rot.items()}
-    sp_.ground = parse_ground(table.get("ground"), base_dir, f"{where} ground")
-    ini = table.get("initial")
-    if ini is not None:
-        if not isinstance(ini, dict):
-            raise BadInput(f"{where} initial: a table {{body, rotation, u}} or {{joint, slide}}")
-        if "body" in ini:
-            bad = sorted(set(ini) - {"body", "rotation", "u"})
-            if bad or not ({"rotation", "u"} & set(ini)):
-                raise BadInput(f"{where} initial: a body's hold needs rotation [rad] and/or u = [dx, dy] [m] "
-                               f"(and nothing else{'; got ' + bad[0] if bad else ''})")
-            ini = dict(ini)
-            if "rotation" in ini:
-                ini["rotation"] = _num(f"{where} initial.rotation", ini["rotation"], -math.pi, math.pi)
-            if "u" in ini:
-                u = ini["u"]
-                if not isinstance(u, (list, tuple)) or len(u) != 2:
-                    raise BadInput(f"{where} initial.u = {u!r}; allowed: [dx, dy] in m")
-                ini["u"] = [_num(f"{where} initial.u", x, -1e6, 1e6) for x in u]
-        elif "joint" in ini:
-            if set(ini) != {"joint", "slide"}:
-                raise BadInput(f"{where} initial: a joint's hold is {{joint = NAME, slide = VALUE [m]}}")
-            ini = {"joint": ini["joint"], "slide": _num(f"{where} initial.slide", ini["slide"], -1e6, 1e6)}
-        else:
-            raise BadInput(f"{where} initial: name a body (rotation, u) or a slider/roller joint (slide)")
-    sp_.initial = ini
-    est = table.get("error_estimate", True)
-    if not isinstance(est, bool):
-        raise BadInput(f"{where} error_estimate = {est!r}; allowed: true (a check run at 10 x tolerance, "
-                       f"about +60 % work) or false")
-    sp_.estimate = est
-    if table.get("max_time") is not None:
-        sp_.max_time = _num(f"{where} max_time", table["max_time"], 0.0, 1e9, lo_open=True)
-    n = parse_elements(table, where)
-    if n is not None:
-        sp_.elements = n
-    return sp_
-
-
-def parse_elements(table, where="[simulate]"):
-    """The table's ``elements`` (elements per rod without its own mesh): an integer in [1, 512], or
-    None when absent; BadInput naming it otherwise (simulate and modes read it)."""
-    if not isinstance(table, dict) or "elements" not in table:
-        return None
-    n = table["elements"]
-    if isinstance(n, bool) or not isinstance(n, (int, float)) or n != int(n) or not 1 <= n <= 512:
-        raise BadInput(f"{where} elements = {n!r}; allowed: an integer in [1, 512]")
-    return int(n)
 
 
 def _held_start(fs, counts, L, F, y, elements, ini):
@@ -289,6 +188,32 @@ UNIT = {"Fx": "N", "Fy": "N", "normal": "N", "friction": "N", "M": "N m", "M_max
         "slide": "m", "rotation": "rad", "rotation_rate": "rad/s", "rotation_accel": "rad/s^2",
         "vx": "m/s", "vy": "m/s", "ax": "m/s^2", "ay": "m/s^2", "dx": "m", "dy": "m"}
 FLOOR = 1e-2   # a change below this fraction of the motion's size in its unit is not judged relative to itself
+
+
+ENERGY_TRUST = 1e4     # a run whose energy balance exceeds max(ENERGY_TRUST tolerance, ENERGY_FLOOR) fails
+ENERGY_FLOOR = 1e-2
+CHATTER_SHARE = 0.5    # a run with friction events on more than this share of its steps (and over
+CHATTER_EVENTS = 100   # CHATTER_EVENTS events) fails: stick/slip chatter, not a motion
+
+
+def check_trust(res, tolerance, unit=0.0):
+    """SolverFailure (exit 1, the reason named) for a run that completed but cannot be trusted: an
+    energy balance far beyond what the tolerance allows (Radau IIA keeps it near the tolerance: 1e-7
+    at 1e-6 on section 5.2, 2e-6 at 1e-3 on the base-isolated frame; a run that chattered between
+    stick and slip or took a wrong breakaway read 1e-2 .. 1), or friction events on most steps.
+    ``unit`` [J]: the model's energy unit (its forces times its length); a run whose energies are all
+    below 1e-9 of it (t_end = 1e-6 s) has a balance of round-off and is not judged by it."""
+    E = res["energy_balance"]
+    scale = max((abs(x) for x in res.get("energy", {}).values()), default=0.0)
+    if not E <= max(ENERGY_TRUST * tolerance, ENERGY_FLOOR) and not scale < 1e-9 * unit:
+        raise SolverFailure(f"simulate: the energy balance {E:.3g} (kinetic + potential + dissipated - work "
+                            f"in, relative) is far beyond what tolerance {tolerance:g} allows (at most "
+                            f"{max(ENERGY_TRUST * tolerance, ENERGY_FLOOR):g}): the motion cannot be trusted; "
+                            f"try a tighter tolerance")
+    events = sum(max(len(v) - 1, 0) for v in res["events"].values())
+    if events > CHATTER_EVENTS and events > CHATTER_SHARE * res["steps"]:
+        raise SolverFailure(f"simulate: {events} friction events in {res['steps']} steps: the stick/slip "
+                            f"modes chatter; try a tighter tolerance")
 
 
 def peak_floors(peaks):
@@ -651,6 +576,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
            "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of,
            **({"frequency_sets": sets} if sets else {}), "peaks": peaks,
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
+    check_trust(res, spec.tolerance, model.Fref * model.Lref)
     if spec.estimate:
         try:
             res.update(_accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, 1.0 / f_ref[0], model.Lref,
@@ -665,19 +591,21 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     return outcome(res, H)
 
 
-def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
-    """`femslide modes`: the ``count`` lowest natural frequencies [Hz] of the frictionless structure
-    about its static equilibrium (rods without their own `elements` meshed with ``elements``), with
-    the mode shapes to write as VTU files (femslide.output.files.write_modes).  A structure with
-    friction joints also gets ``frequency_sets`` {``stuck``, ``free``} (SPEC 9.4); one without an
-    equilibrium of its own when frictionless (a base on a slider without a spring) is taken about
-    its static state with the friction joints stuck, its free directions zero frequencies (periods
-    None)."""
+MODES_TARGET = 2e-7    # estimated relative error the refinement of `femslide modes` aims for (below 1e-6)
+MODES_N_MAX = 1024     # elements per massive rod at most
+
+
+def _modes_on(fs, n, count):
+    """(model, y, elements, masses, freq, shapes, stuck) with every rod without its own mesh in n
+    elements; a structure with friction joints: freq the free (frictionless) set, a direction free
+    of stiffness a zero frequency, and ``stuck`` the set with every friction joint locked
+    (femslide.analysis.friction_modes; None without friction joints).  One without an equilibrium
+    of its own when frictionless (a base on a slider without a spring) is taken about its static
+    state with the friction joints stuck."""
     from femslide.analysis import static
     from femslide.analysis.modes import modes
     from femslide.model.mass import Masses
-    t0 = time.perf_counter()
-    fs = _fixed_mesh(fs, elements)
+    fs = _fixed_mesh(fs, n)
     fric = [j for j in fs.joints if _has_friction(j)]
     mechanism = False
     try:
@@ -695,25 +623,98 @@ def natural_modes(fs, count=MODES, elements=DEFAULT_ELEMENTS, name="structure"):
     masses = Masses(model)
     if masses.massive_dofs().size == 0:
         raise BadInput("modes: nothing in the structure has mass (give a body a mass or a rod a rhoA)")
-    sets = None
+    stuck = None
     if fric:
         from femslide.analysis.friction_modes import frequency_sets
         sets, shapes, _, _ = frequency_sets(model, y, elements, fric, {r.name: r.elements for r in fs.rods}, count,
                                             mechanism=mechanism)
-        freq = np.array(sets["free"])
+        freq, stuck = sets["free"], np.asarray(sets["stuck"], dtype=float)
     else:
         freq, shapes = modes(model, y, elements, masses, count)
+    return model, y, elements, masses, np.asarray(freq, dtype=float), shapes, stuck
+
+
+def _extrapolated(f, f_c):
+    """Richardson's (4 f - f_c) / 3 of two meshes' frequencies (their common count)."""
+    k = min(len(f), len(f_c))
+    return (4.0 * f[:k] - f_c[:k]) / 3.0
+
+
+def natural_modes(fs, count=MODES, elements=None, name="structure"):
+    """`femslide modes`: the ``count`` lowest natural frequencies [Hz] of the frictionless structure
+    about its static equilibrium, with the mode shapes to write as VTU files
+    (femslide.output.files.write_modes) and ``error_estimate``.  A structure with friction joints
+    also gets ``frequency_sets`` {``stuck``: every friction joint locked, ``free``: frictionless, as
+    ``frequencies_hz``} (SPEC 9.4); a direction free of any stiffness is a zero frequency (period
+    None), not a refusal.
+
+    ``elements`` fixes the mesh of the rods without their own `elements`.  Without it, a structure
+    whose rods carry mass is solved on meshes of 8, 16, 32, ... elements per rod: the lumped masses
+    (no rotary inertia) make the frequencies converge like h^2, and Richardson's extrapolation of two
+    meshes, (4 f_2n - f_n) / 3, like h^4; its estimated error is the change of the extrapolation from
+    the previous pair over 15 (the h^4 term's ratio), and the refinement stops when that is below
+    MODES_TARGET for every mode, or when it grows again (the round-off of fine meshes' eigenproblem):
+    a cantilever's f4 is 5.5e-2 off at 8 elements, 1.0e-7 after extrapolating 64 and 128 (estimate
+    1.1e-7).  The shapes are the finest mesh's.  Rods without mass are exact in the static condensation up to their
+    element's cubic: their mesh stays at DEFAULT_ELEMENTS."""
+    t0 = time.perf_counter()
+    massive = any(r.rhoA for r in fs.rods if not r.elements)
+    notes = []
+    if elements is not None or not massive:
+        n = elements or DEFAULT_ELEMENTS
+        model, y, es, masses, freq, shapes, stuck = _modes_on(fs, n, count)
+        estimate = None
+    else:
+        n = DEFAULT_ELEMENTS
+        level = _modes_on(fs, n, count)
+        prev, prev_ext, best = level, None, None
+        while 2 * n <= MODES_N_MAX:
+            n *= 2
+            level = _modes_on(fs, n, count)
+            f, f_c = level[4], prev[4]
+            k = min(len(f), len(f_c))
+            ext = _extrapolated(f, f_c)
+            if prev_ext is not None:
+                k = min(k, len(prev_ext))
+                # the extrapolation's error falls like h^4: its change from the previous pair is 15x it
+                # (a zero frequency - a direction free of stiffness - is exact)
+                nz = np.abs(ext[:k]) > 0.0
+                est = float(np.max(np.abs(ext[:k] - prev_ext[:k])[nz] / np.abs(ext[:k])[nz])) / 15.0 \
+                    if nz.any() else 0.0
+                if best is not None and est > best[0]:
+                    # the estimate grows again: the round-off of the fine meshes' eigenproblem (a
+                    # cantilever's EA L_e^2 / EI beyond 1e8 at 256 elements); the previous level stands
+                    notes.append(f"the frequencies' refinement stopped at the round-off floor of the "
+                                 f"finer meshes: estimated accurate to {best[0]:.2g} (relative)")
+                    break
+                stuck_ext = None if level[6] is None else np.concatenate(
+                    [_extrapolated(level[6], prev[6]), level[6][min(len(level[6]), len(prev[6])):]])
+                best = (est, np.concatenate([ext[:k], f[k:]]), level, n, stuck_ext)
+                if est <= MODES_TARGET:
+                    break
+            prev, prev_ext = level, ext
+        if best is None:
+            model, y, es, masses, freq, shapes, stuck = level
+            estimate = None
+        else:
+            estimate, freq, (model, y, es, masses, _, shapes, _), n, stuck = best
+            if estimate > MODES_TARGET and not notes:
+                notes.append(f"the frequencies are estimated accurate to {estimate:.2g} (relative) at {n} "
+                             f"elements per rod, the most the refinement uses")
     res = {"converged": True, "frequencies_hz": [float(f) for f in freq],
            "periods_s": [float(1.0 / f) if f > 0 else None for f in freq],
-           **({"frequency_sets": sets} if sets else {}),
-           "elements": {r.name: r.elements for r in fs.rods}}
+           **({"frequency_sets": {"stuck": [float(f) for f in stuck], "free": [float(f) for f in freq]}}
+              if stuck is not None else {}),
+           "elements": {r.name: r.elements or n for r in fs.rods}, "error_estimate": estimate}
     if len(freq) < count:   # fewer motions with mass than asked for: say so rather than pad or hide it
-        res["notes"] = [f"{len(freq)} of the {count} modes asked for: the structure has no more motions "
-                        f"with mass (its massless parts - rods with rhoA = 0, rotations of bodies without "
-                        f"inertia - follow the masses quasi-statically)"]
-    if sets:
-        res.setdefault("notes", []).append(
-            "frequencies_hz and the mode shapes: the frictionless (free) structure; frequency_sets.stuck: every "
-            "friction joint locked" + ("; a zero frequency is a direction free of stiffness" if 0.0 in freq else ""))
+        notes.append(f"{len(freq)} of the {count} modes asked for: the structure has no more motions "
+                     f"with mass (its massless parts - rods with rhoA = 0, rotations of bodies without "
+                     f"inertia - follow the masses quasi-statically)")
+    if stuck is not None:
+        notes.append("frequencies_hz and the mode shapes: the frictionless (free) structure; frequency_sets.stuck: "
+                     "every friction joint locked" + ("; a zero frequency is a direction free of stiffness"
+                                                      if 0.0 in list(freq) else ""))
+    if notes:
+        res["notes"] = notes
     res["wall_time_s"] = time.perf_counter() - t0
-    return Outcome(res, name, modes=ModeShapes(model, y, elements.committed, list(freq), shapes))
+    return Outcome(res, name, modes=ModeShapes(model, y, es.committed, list(freq), shapes))

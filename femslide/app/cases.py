@@ -78,6 +78,9 @@ def statics(fs, elements=None, name="structure", cache=None, options=None) -> Ou
     (section 10).  ``elements``: a fixed mesh for every rod; ``cache``: patterns shared with other
     solves of one topology (a sweep); ``options``: the solve options (module docstring)."""
     opts = solve_options(options)
+    if fs.steps:
+        from femslide.app.steps import history
+        return history(fs, elements, name, cache, opts)
     if fs.combinations:
         return _combinations(fs, elements, name, cache, opts)
     sol = _solve(fs, elements, cache, opts)

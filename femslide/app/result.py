@@ -318,8 +318,8 @@ def clean(obj):
 
 VALUE_UNITS = {"N m": ("M_max", "M", "T", "M_min"),
          "N": ("Fx", "Fy", "N_max", "V_max", "F2_max", "normal", "friction", "F_ax", "F1", "F2", "N1", "N2",
-               "Fx_min", "Fx_max", "Fy_min", "Fy_max"),
-         "m": ("x", "y", "u", "v", "slide", "slide_min", "slide_max"),
+               "Fx_min", "Fx_max", "Fy_min", "Fy_max", "force"),
+         "m": ("x", "y", "u", "v", "slide", "slide_min", "slide_max", "s_M_max", "s_N_max", "s_V_max"),
          "rad": ("theta", "rotation", "phi", "psi", "phi0"),
          "rad/s": ("rotation_rate", "omega", "phi_dot"),
          "s": ("wall_time_s", "import_time_s", "integration_time_s", "t_end", "t", "period", "periods_s",

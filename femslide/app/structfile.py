@@ -43,7 +43,7 @@ except ModuleNotFoundError:  # Python 3.10
     import tomli as tomllib
 
 TABLES = {"rod": Rod, "body": Body, "joint": Joint, "load": Load}
-TOP_KEYS = ("gravity", "description", "rod", "body", "joint", "load", "combination", "solve", "simulate")
+TOP_KEYS = ("gravity", "description", "rod", "body", "joint", "load", "combination", "step", "solve", "simulate")
 MESH_KEYS = ("mesh", "group")
 
 
@@ -127,11 +127,15 @@ def parse(data: dict, path: str = "<structure>") -> Structure:
                     if typ == "force":
                         s.force(**e)
                     elif typ == "distributed":
-                        if set(e) - {"name", "on", "force", "case"}:
-                            raise BadInput("a distributed load has only name, on, force and case")
+                        if set(e) - {"name", "on", "force", "case", "force_end", "frame"}:
+                            raise BadInput("a distributed load has only name, on, force, force_end, frame and case")
                         s.distributed(**e)
+                    elif typ == "thermal":
+                        if set(e) - {"name", "on", "dT", "dT_gradient", "case"}:
+                            raise BadInput("a thermal load has only name, on, dT, dT_gradient and case")
+                        s.thermal(**e)
                     else:
-                        raise BadInput(f"type {typ!r}; allowed: force, distributed")
+                        raise BadInput(f"type {typ!r}; allowed: force, distributed, thermal")
             except BadInput as exc:
                 raise BadInput(f"{where}: {exc}") from None
             except TypeError as exc:
@@ -151,6 +155,19 @@ def parse(data: dict, path: str = "<structure>") -> Structure:
             s.combination(e["name"], e["factors"])
         except BadInput as exc:
             raise BadInput(f"structure file {path}: combination {e['name']!r}: {exc}") from None
+    steps = data.get("step", [])
+    if not isinstance(steps, list) or not all(isinstance(e, dict) for e in steps):
+        raise BadInput(f"structure file {path}: step must be an array of tables ([[step]])")
+    for i, e in enumerate(steps):
+        bad = [k for k in e if k not in ("name", "factors")]
+        if bad or "factors" not in e:
+            raise BadInput(f"structure file {path}: [[step]] #{i + 1}: "
+                           + (f"unknown field {bad[0]!r}" if bad else "missing field 'factors'")
+                           + "; allowed: name, factors")
+        try:
+            s.step(e["factors"], e.get("name"))
+        except BadInput as exc:
+            raise BadInput(f"structure file {path}: [[step]] #{i + 1}: {exc}") from None
     if "solve" in data and not isinstance(data["solve"], dict):
         raise BadInput(f"structure file {path}: solve must be a table ([solve])")
     return s
@@ -336,10 +353,10 @@ class StructureFile:
             return buckling(s.freeze(), count=values.get("_count") or 4, about=values.get("_about", "equilibrium"),
                             elements=elements, combination=values.get("_combination"), name=self.name)
         if self.command == "modes":
-            from femslide.analysis.simulate import DEFAULT_ELEMENTS, MODES, natural_modes
+            from femslide.analysis.simulate import MODES, natural_modes
             s, elements = apply(self.structure, {k: v for k, v in values.items() if not k.startswith("_")})
             return natural_modes(s.freeze(), values.get("_count") or MODES,
-                                 elements or self._sim_elements(DEFAULT_ELEMENTS), name=self.name)
+                                 elements or self._sim_elements(None), name=self.name)
         if self.command == "simulate":
             from femslide.analysis.simulate import simulate
             s, elements = apply(self.structure, {k: v for k, v in values.items()
@@ -434,6 +451,9 @@ def dumps(structure: Structure, header: str = "") -> str:
                 if v is None or (f.name not in ("name", "type") and v == defaults.get(f.name)):
                     continue
                 lines.append(f"{f.name} = {_toml_value(v)}")
+    for st in getattr(structure, "steps", []):   # the load history, in order
+        lines += ["", "[[step]]"] + ([f"name = {_toml_value(st.name)}"] if st.name else [])
+        lines.append(f"factors = {_toml_value(dict(st.factors))}")
     return "\n".join(lines) + "\n"
 
 

@@ -129,14 +129,37 @@ def basic_deformations(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray):
     return d.T.copy(), Ln, u_bar, alpha, t[0], t[1]
 
 
-def strain_energy(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray) -> float:
+def strain_energy(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, free=None) -> float:
     """Elastic energy of all elements, sum of 1/2 (k00 u_bar^2 + [t1 t2] kb [t1 t2]^T) [model units]:
-    the energy whose gradient is the internal force of :func:`evaluate`."""
+    the energy whose gradient is the internal force of :func:`evaluate`.  ``free`` (3, n): the
+    elements' free basic forces (a thermal load, :func:`free_forces`): the energy then is
+    1/2 (e - e_T)^T kb (e - e_T) up to a constant, i.e. minus e . (N_T, M1_T, M2_T)."""
     _, _, u_bar, _, t1, t2 = basic_deformations(es, U, alpha_ref)
     kb = es.kb
     e = (kb[:, 0, 0] * u_bar ** 2 + kb[:, 1, 1] * t1 ** 2 + (kb[:, 1, 2] + kb[:, 2, 1]) * t1 * t2
          + kb[:, 2, 2] * t2 ** 2)
-    return 0.5 * float(np.sum(e))
+    out = 0.5 * float(np.sum(e))
+    if free is not None:
+        out -= float(np.sum(free[0] * u_bar + free[1] * t1 + free[2] * t2))
+    return out
+
+
+def free_forces(es: ElementSet, strain, curvature) -> np.ndarray:
+    """The basic forces (3, n) that hold every element at its free (thermal) deformation: the free
+    strain ``strain`` (n,) [-] (alpha dT) stretches an element by strain L0, the free curvature
+    ``curvature`` (n,) [1/length] (-alpha dT_gradient / depth) turns its ends by -+ curvature L0 / 2
+    relative to the chord (a circular arc), e_T = (strain L0, -kappa L0 / 2, kappa L0 / 2) and
+    S_T = kb e_T.  The element's forces are then N = k00 (u_bar - strain L0) and
+    (M1, M2) = kb ((t1, t2) - e_T[1:]): M(s) = EI (dtheta/ds - kappa_T) (:func:`element_terms` takes
+    S_T as ``free``)."""
+    L0 = es.L0
+    h = 0.5 * np.asarray(curvature, float) * L0
+    kb = es.kb
+    S = np.empty((3, L0.size))
+    S[0] = kb[:, 0, 0] * np.asarray(strain, float) * L0
+    S[1] = (kb[:, 1, 2] - kb[:, 1, 1]) * h
+    S[2] = (kb[:, 2, 2] - kb[:, 2, 1]) * h
+    return S
 
 
 def _noise(es, Z, d, t, alpha, inv):
@@ -157,20 +180,20 @@ def force_noise(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray) -> np.ndar
     return _noise(es, Z, d, t, alpha, 1.0 / Ln)
 
 
-def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool = True):
+def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool = True, free=None):
     """Internal forces (n, 6), tangents (n, 6, 6) or None, basic forces (n, 3), alpha (n,) and,
     with the tangent, the round-off level of each element's forces (n,).
 
     ``U`` (n_nodes, 3) holds the nodal (u, v, theta).  (:func:`element_terms` is the same evaluation
-    in the layout the assembly uses.)
+    in the layout the assembly uses; ``free`` as there.)
     """
-    F, K, NM, alpha, noise = element_terms(es, U.reshape(-1), alpha_ref, tangent)
+    F, K, NM, alpha, noise = element_terms(es, U.reshape(-1), alpha_ref, tangent, free)
     if not tangent:
         return F.T, None, NM.T, alpha
     return F.T, K.reshape(-1, 6, 6), NM.T, alpha, noise()
 
 
-def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent: bool = True):
+def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent: bool = True, free=None):
     """:func:`evaluate` in the layout of the model's assembly: ``x`` holds the nodal (u, v, theta)
     node after node (U.ravel(), or the model's dof vector, which starts with them).
 
@@ -178,6 +201,10 @@ def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent:
     None, basic forces (N, M1, M2) (3, n), alpha (n,) and, with the tangent, a function that returns
     the round-off level of each element's forces (n,) (else None): computed only if asked for, from
     copies of this state's kinematics.
+
+    ``free``: None, or the free basic forces (3, n) of a thermal load (:func:`free_forces`, times the
+    load factor) subtracted from the elastic ones: N = k00 u_bar - N_T, M = kb t - M_T.  The tangent
+    keeps its form (its geometric part carries these total forces).
 
     Written for few numpy calls: with a handful of elements the cost is the number of calls, not
     their size; quantities of both ends or both components share one call as rows of (2, n) arrays.
@@ -188,6 +215,8 @@ def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent:
     N = np.multiply(es.k00, u_bar, out=NM[0])
     M = NM[1:]
     np.add(es.kA * t[0], es.kB * t[1], out=M)
+    if free is not None:
+        NM -= free
     inv = 1.0 / Ln
     p = D * inv                # (c, s): cos and sin of the chord angle beta = beta0 + alpha
     # With p = (c, s), w = (s, -c): d Ln/d d = r = (-p, 0, p, 0), d beta/d d = (w, 0, -w, 0)/Ln.
@@ -227,6 +256,21 @@ def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent:
     K = P.T @ _K_MAP7
     K += es.K_bend
     return F, K, NM, alpha, noise
+
+
+def free_nodal(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, free) -> np.ndarray:
+    """The nodal forces (6, n) (rows as :func:`element_terms`' F) of the basic forces ``free`` (3, n)
+    alone at the state ``x``: B^T free, the derivative of the elements' forces by a factor that
+    scales their free basic forces (minus this is d F / d lam of a ramped thermal load)."""
+    _, _, D, Ln, _, _, _ = _kinematics(es, x, alpha_ref)
+    inv = 1.0 / Ln
+    p = D * inv
+    m = (free[1] + free[2]) * inv
+    F = np.empty((6, Ln.size))
+    np.add(free[0] * p, (m * p[::-1]) * _SIGN, out=F[3:5])
+    np.negative(F[3:5], out=F[0:2])
+    F[2::3] = free[1:]
+    return F
 
 
 def geometric_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, NM: np.ndarray) -> np.ndarray:

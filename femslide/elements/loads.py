@@ -64,19 +64,38 @@ class PointForce:
         return H
 
 
-def distributed_nodal_loads(X, q):
-    """Nodal loads (n_nodes, 3) = (Fx, Fy, Mz) of a dead load q (2,) per unit reference length on a
-    rod meshed with the nodes X (n_nodes, 2): each element passes q L/2 to each node and the
-    consistent end moments +-q_perp L^2/12 (q_perp: component along the element's reference normal),
-    exact for a linear beam; interior end moments cancel for a uniform load and mesh."""
+def distributed_nodal_loads(X, q, q_end=None):
+    """Nodal loads (n_nodes, 3) = (Fx, Fy, Mz) of a dead load per unit reference length on a rod meshed
+    with the nodes X (n_nodes, 2): q (2,) [global components] at the rod's start, varying linearly in
+    the arc length to ``q_end`` at its end (default q: uniform).  Each element passes its consistent
+    loads to its nodes - exact for a linear beam: the load's component along the element's reference
+    tangent by linear shape functions, L (2 a1 + a2) / 6 and L (a1 + 2 a2) / 6, the normal one by the
+    cubic Hermite ones, L (7 p1 + 3 p2) / 20, L (3 p1 + 7 p2) / 20 and the end moments
+    +L^2 (3 p1 + 2 p2) / 60, -L^2 (2 p1 + 3 p2) / 60 (uniform: q L / 2 each and +-q_perp L^2 / 12)."""
     D = np.diff(X, axis=0)
     L = np.hypot(D[:, 0], D[:, 1])
+    q = np.asarray(q, float)
     nrm = np.column_stack([-D[:, 1], D[:, 0]]) / L[:, None]
-    qp = nrm @ np.asarray(q, float)
+    qp = nrm @ q
     out = np.zeros((X.shape[0], 3))
-    half = 0.5 * L[:, None] * np.asarray(q, float)[None, :]
-    out[:-1, :2] += half
-    out[1:, :2] += half
-    out[:-1, 2] += qp * L * L / 12.0
-    out[1:, 2] -= qp * L * L / 12.0
+    if q_end is None or np.array_equal(np.asarray(q_end, float), q):
+        half = 0.5 * L[:, None] * q[None, :]
+        out[:-1, :2] += half
+        out[1:, :2] += half
+        out[:-1, 2] += qp * L * L / 12.0
+        out[1:, 2] -= qp * L * L / 12.0
+        return out
+    s = np.concatenate([[0.0], np.cumsum(L)])
+    f = (s / s[-1])[:, None]
+    qn = q[None, :] + f * (np.asarray(q_end, float) - q)[None, :]     # the load at the nodes
+    q1, q2 = qn[:-1], qn[1:]
+    tan = D / L[:, None]
+    a1, a2 = np.einsum("ij,ij->i", q1, tan), np.einsum("ij,ij->i", q2, tan)
+    p1, p2 = np.einsum("ij,ij->i", q1, nrm), np.einsum("ij,ij->i", q2, nrm)
+    F1 = (L * (2 * a1 + a2) / 6.0)[:, None] * tan + (L * (7 * p1 + 3 * p2) / 20.0)[:, None] * nrm
+    F2 = (L * (a1 + 2 * a2) / 6.0)[:, None] * tan + (L * (3 * p1 + 7 * p2) / 20.0)[:, None] * nrm
+    out[:-1, :2] += F1
+    out[1:, :2] += F2
+    out[:-1, 2] += L * L * (3 * p1 + 2 * p2) / 60.0
+    out[1:, 2] -= L * L * (2 * p1 + 3 * p2) / 60.0
     return out

@@ -71,12 +71,14 @@ typedef struct {
     Buf st[N_STATIC];
     Py_ssize_t n_q, ne, nl, nt, nlin, nload;
     double xmax;
+    int thermal;   /* some element has free basic forces */
 } Assembler;
 
 /* static buffers, in the order of the constructor's arguments */
 enum {
     S_EDOF,   /* int64 (ne, 6): dofs u1, v1, theta1, u2, v2, theta2 of every element */
-    S_EDAT,   /* float64 (ne, 9): D0x, D0y, L0, beta0, k00, k11, k12, k21, k22 */
+    S_EDAT,   /* float64 (ne, 12): D0x, D0y, L0, beta0, k00, k11, k12, k21, k22, and the free (thermal) basic
+                 forces at full load N_T, M1_T, M2_T (corotational.free_forces; zero without thermal loads) */
     S_LINT,   /* int64 (nl, 8): kind, dof of a (or -1), dof of b (or -1), lever a, lever b, first equation
                  row, first pattern position, linear */
     S_LDBL,   /* float64 (nl, 12): Xa, ra, Xb, rb, e0, n0 */
@@ -124,10 +126,16 @@ static int Assembler_init(Assembler *self, PyObject *args, PyObject *kwds)
     self->nt = LEN(self->st[S_TINT]) / 4;
     self->nlin = LEN(self->st[S_LIND]);
     self->nload = LEN(self->st[S_LOADS]);
-    if (LEN(self->st[S_EDAT]) != 9 * self->ne || LEN(self->st[S_LDBL]) != 12 * self->nl ||
+    if (LEN(self->st[S_EDAT]) != 12 * self->ne || LEN(self->st[S_LDBL]) != 12 * self->nl ||
         LEN(self->st[S_TDBL]) != 5 * self->nt || LEN(self->st[S_LVAL]) != self->nlin) {
         PyErr_SetString(PyExc_ValueError, "femslide kernel: inconsistent static array sizes");
         return -1;
+    }
+    self->thermal = 0;
+    {
+        const double *ed = DBL(self->st[S_EDAT]);
+        for (Py_ssize_t e = 0; e < self->ne && !self->thermal; e++)
+            self->thermal = ed[12 * e + 9] != 0.0 || ed[12 * e + 10] != 0.0 || ed[12 * e + 11] != 0.0;
     }
     return 0;
 }
@@ -417,6 +425,15 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
             PyErr_NoMemory();
             goto done;
         }
+        /* a thermal load: its share -B^T S_T of d r / d lam, element by element (added after the loads', in
+         * the order of the numpy path) */
+        int therm = self->thermal && fl != NULL && ne > 0;
+        double *FT = therm ? (double *)PyMem_Malloc(sizeof(double) * 6 * ne) : NULL;
+        if (therm && FT == NULL) {
+            PyMem_Free(Fs);
+            PyErr_NoMemory();
+            goto done;
+        }
         /* elements (corotational.element_terms); the round-off estimate needs the largest translation of
          * the elements' nodes first */
         if (jac)
@@ -430,7 +447,7 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
             }
         for (Py_ssize_t e = 0; e < ne; e++) {
             const long long *d = edof + 6 * e;
-            const double *c = edat + 9 * e;
+            const double *c = edat + 12 * e;
             double D0x = c[0], D0y = c[1], L0 = c[2], beta0 = c[3];
             double k00 = c[4], k11 = c[5], k12 = c[6], k21 = c[7], k22 = c[8];
             double u1 = y[d[0]], v1 = y[d[1]], t1 = y[d[2]], u2 = y[d[3]], v2 = y[d[4]], t2 = y[d[5]];
@@ -445,8 +462,23 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
             double th1 = t1 - al, th2 = t2 - al;
             double N = k00 * ub;
             double M1 = k11 * th1 + k12 * th2, M2 = k21 * th1 + k22 * th2;
+            if (self->thermal) {
+                N -= lam * c[9];
+                M1 -= lam * c[10];
+                M2 -= lam * c[11];
+            }
             double inv = 1.0 / Ln;
             double pc = Dx * inv, ps = Dy * inv;
+            if (therm) {   /* corotational.free_nodal: B^T S_T */
+                double mT = (c[10] + c[11]) * inv;
+                double T3 = c[9] * pc + mT * ps, T4 = c[9] * ps - mT * pc;
+                FT[e] = -T3;
+                FT[ne + e] = -T4;
+                FT[2 * ne + e] = c[10];
+                FT[3 * ne + e] = T3;
+                FT[4 * ne + e] = T4;
+                FT[5 * ne + e] = c[11];
+            }
             double m = (M1 + M2) * inv;
             double F3 = N * pc + m * ps, F4 = N * ps - m * pc;
             double F[6] = {-F3, -F4, M1, F3, F4, M2};
@@ -618,6 +650,22 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
         if (fl)
             for (Py_ssize_t i = 0; i < LEN(bxf); i++)
                 fl[IDX(bxf)[i]] += DBL(bxfv)[i];
+        if (FT) {   /* minus the bincount of B^T S_T over the element dofs (numpy: its own sum, then subtracted) */
+            double *acc = (double *)PyMem_Calloc((size_t)n_q, sizeof(double));
+            if (acc == NULL) {
+                PyMem_Free(FT);
+                PyErr_NoMemory();
+                goto done;
+            }
+            for (int a = 0; a < 6; a++)
+                for (Py_ssize_t e = 0; e < ne; e++)
+                    acc[edof[6 * e + a]] += FT[a * ne + e];
+            for (Py_ssize_t i = 0; i < n_q; i++)
+                fl[i] -= acc[i];
+            PyMem_Free(acc);
+            PyMem_Free(FT);
+            FT = NULL;
+        }
         if (jac)
             for (Py_ssize_t i = 0; i < LEN(bxj); i++)
                 emit(&out, (Py_ssize_t)IDX(bxj)[i], DBL(bxjv)[i]);

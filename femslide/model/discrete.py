@@ -17,6 +17,8 @@ so that EI/(P a^2) from 1 to 1e12 needs no tuning; :mod:`femslide.results.static
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from femslide.elements import corotational
@@ -29,6 +31,7 @@ from femslide.model.linalg import Banded, _unique
 from femslide.model.state import ElementState
 from femslide.model.parts import DEAD, Table
 from femslide.model.patterns import PatternCache
+from femslide.model.mesh import _Mesh, rod_fractions  # noqa: F401 - rod_fractions: part of this module's interface
 
 DENSE_LIMIT = 100  # unknowns; above it a banded LU is faster when the band is narrow
 SPARSE_LIMIT = 600  # unknowns; above it a wide-band system goes to sparse LU
@@ -38,7 +41,7 @@ class _Topology:
     """Dof layout of a finalized model and the scatter patterns of its Jacobian (static; shared by
     models of the same topology through a :class:`PatternCache`)."""
 
-    def __init__(self, model, con_dofs, term_dofs, lin_dofs):
+    def __init__(self, model, con_dofs, term_dofs, lin_dofs, free_dofs=None):
         n_q = model.n_q
         sizes = [c.size for c in model.constraints]
         self.c_off = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
@@ -63,7 +66,9 @@ class _Topology:
         self.cols = np.concatenate(cols).astype(np.intp)
         self.con_mu = [slice(self.c_off[i], self.c_off[i + 1]) for i in range(len(sizes))]
         # loads act on few dofs: d r / d lam is sparse with a static pattern
-        self.load_dofs = _unique(np.concatenate([*term_dofs, lin_dofs])).astype(np.intp)
+        # (a thermal load's free forces act through the elements: their dofs too)
+        self.load_dofs = _unique(np.concatenate([*term_dofs, lin_dofs, *([] if free_dofs is None else [free_dofs])]
+                                                )).astype(np.intp)
         self.patterns = {}
         # the residual is one bincount of the element forces, the loads, the terms' forces and the
         # joints' forces and equations (Model.system), in this order; d r / d lam one of the loads
@@ -132,59 +137,12 @@ def _scaled(x, f, L):
 
 
 class _RodPlan:
-    __slots__ = ("name", "S", "E", "length", "EI", "EA", "q", "loaded")
-
-
-class _Mesh:
-    """The meshes of a structure's rods for given element counts (geometry only, model units): shared
-    through the PatternCache by the models of one geometry (the cases of a sweep over stiffnesses)."""
-
-    def __init__(self, plan, counts):
-        Xs, conn, rod_of, self.rod_nodes, self.rod_elements, s0 = [], [], [], [], [], []
-        off = eoff = 0
-        for k, (rp, n) in enumerate(zip(plan.rods, counts)):
-            t = np.arange(n + 1) / n
-            X = np.empty((n + 1, 2))
-            X[:, 0] = rp.S[0] + t * (rp.E[0] - rp.S[0])
-            X[:, 1] = rp.S[1] + t * (rp.E[1] - rp.S[1])
-            Xs.append(X)
-            c = np.empty((n, 2), np.intp)
-            c[:, 0] = np.arange(off, off + n)
-            c[:, 1] = c[:, 0] + 1
-            conn.append(c)
-            rod_of.append(np.full(n, k))
-            s0.append(t[:-1] * rp.length)
-            self.rod_nodes.append(np.arange(off, off + n + 1))
-            self.rod_elements.append(np.arange(eoff, eoff + n))
-            off += n + 1
-            eoff += n
-        self.n_nodes = off
-        self.prolongations = {}   # interpolation plans from coarser meshes (static.prolong)
-        self.X0 = np.concatenate(Xs) if Xs else np.zeros((0, 2))
-        # the first node of each node's rod (rods are numbered node block by node block)
-        self.node_first = np.repeat([r[0] for r in self.rod_nodes], [r.size for r in self.rod_nodes]) \
-            if self.rod_nodes else np.zeros(0, np.intp)
-        self.conn = None
-        if conn:
-            self.conn = np.concatenate(conn)
-            self.D0 = self.X0[self.conn[:, 1]] - self.X0[self.conn[:, 0]]
-            self.L0 = np.hypot(self.D0[:, 0], self.D0[:, 1])
-            self.beta0 = np.arctan2(self.D0[:, 1], self.D0[:, 0])
-            self.elem_rod = np.concatenate(rod_of)
-            self.s0 = np.concatenate(s0)
-            self.xmax = float(np.abs(self.X0).max())
-        self._elements = None
-
-    def element_set(self):
-        """The elements' geometric data (corotational.ElementSet without stiffness), built once."""
-        if self._elements is None:
-            self._elements = corotational.ElementSet(self.conn, self.D0, self.L0, self.beta0,
-                                                     np.zeros((self.L0.size, 3, 3)), self.xmax)
-        return self._elements
+    __slots__ = ("name", "S", "E", "length", "EI", "EA", "q", "q_end", "loaded", "strain", "curvature", "breaks")
 
 
 class _JointPlan:
-    __slots__ = ("name", "kind", "ra", "rb", "at", "axis", "k", "preload", "c", "springs")   # kind: a JointKind
+    # kind: a JointKind; motion: a prescribed support motion (dx, dy, rotation) or None
+    __slots__ = ("name", "kind", "ra", "rb", "at", "axis", "k", "preload", "c", "springs", "motion")
 
 
 def _factor_of(factors):
@@ -216,12 +174,36 @@ class _Plan:
             body_w = {k: (dead * v[0], dead * v[1]) for k, v in body_w.items()}
             rod_w = {k: (dead * v[0], dead * v[1]) for k, v in rod_w.items()}
         dist = {r.name: np.zeros(2) for r in rods}
+        dist_end = {r.name: np.zeros(2) for r in rods}
+        therm = {r.name: [0.0, 0.0] for r in rods}   # free strain alpha dT, free curvature [1/m]
+        breaks = {r.name: set() for r in rods}
         for ld in fs.loads:
+            if ld.type == "force" and ld.s is not None:
+                rod = fs.rod(ld.on)
+                f = ld.s / rod.length
+                if 0.0 < f < 1.0:
+                    breaks[ld.on].add(f)
             if ld.type == "distributed":
-                dist[ld.on] += _times(fac(ld.case), np.asarray(ld.force))
+                f = fac(ld.case)
+                q0 = np.asarray(ld.force, float)
+                q1 = q0 if ld.force_end is None else np.asarray(ld.force_end, float)
+                if ld.frame == "rod":   # components along the rod's reference tangent and normal
+                    rod = fs.rod(ld.on)
+                    c, s = math.cos(rod.angle), math.sin(rod.angle)
+                    q0 = np.array([c * q0[0] - s * q0[1], s * q0[0] + c * q0[1]])
+                    q1 = np.array([c * q1[0] - s * q1[1], s * q1[0] + c * q1[1]])
+                dist[ld.on] += _times(f, q0)
+                dist_end[ld.on] += _times(f, q1)
+            elif ld.type == "thermal":
+                rod = fs.rod(ld.on)
+                f = fac(ld.case)
+                f = 1.0 if f is None else f
+                therm[ld.on][0] += f * rod.alpha * ld.dT
+                if ld.dT_gradient:
+                    therm[ld.on][1] -= f * rod.alpha * ld.dT_gradient / rod.depth
         self.rods = []
         self.rod_index = {}
-        self.geometry = tuple((r.start, r.end) for r in rods) + (L,)
+        self.geometry = tuple((r.start, r.end, tuple(sorted(breaks[r.name]))) for r in rods) + (L,)
         for k, rod in enumerate(rods):
             rp = _RodPlan()
             rp.name = rod.name
@@ -229,7 +211,10 @@ class _Plan:
             rp.length = rod.length / L
             rp.EI, rp.EA = _scaled(rod.EI, 1.0 / (F * L * L), L), _scaled(rod.EA, 1.0 / F, L)
             rp.q = (dist[rod.name] + np.asarray(rod_w[rod.name])) * (L / F)
-            rp.loaded = bool(rp.q.any())
+            rp.q_end = (dist_end[rod.name] + np.asarray(rod_w[rod.name])) * (L / F)
+            rp.loaded = bool(rp.q.any() or rp.q_end.any())
+            rp.breaks = tuple(sorted(breaks[rod.name]))
+            rp.strain, rp.curvature = therm[rod.name][0], therm[rod.name][1] * L
             self.rods.append(rp)
             self.rod_index[rod.name] = k
         self.body_index = {b.name: i for i, b in enumerate(fs.bodies)}
@@ -249,8 +234,11 @@ class _Plan:
                 continue
             ref, _ = fs.refs[ld.name]
             vec = _times(fac(ld.case), np.array([ld.force[0] / F, ld.force[1] / F, ld.moment / (F * L)]))
-            if ref.kind == "rod_end":
-                self.node_loads.append((ref.name, ref.end, -vec))
+            if ref.kind == "rod_end":   # (rod, fraction of its length, load)
+                self.node_loads.append((ref.name, 0.0 if ref.end == 0 else 1.0, -vec))
+                continue
+            if ref.kind == "rod":        # a load inside a rod, at arc length s (a node of every mesh)
+                self.node_loads.append((ref.name, ld.s / fs.rod(ref.name).length, -vec))
                 continue
             i = self.body_index[ref.name]
             r = np.asarray(ld.at, float) / L - self.body_X0[i]
@@ -269,13 +257,21 @@ class _Plan:
             jp.k, jp.preload, jp.c = j.k * L / F, _times(dead, j.preload / F), j.c / (F * L)
             # elastic support springs: (equation index, stiffness in model units: k L / F, kr / (F L))
             jp.springs = tuple((i, k / (F * L) if rot else k * L / F) for i, k, rot in support_springs(j, jp.kind))
+            # a prescribed support motion (model units), of case "dead": (dx, dy, rotation) or None
+            jp.motion = None
+            if j.displacement is not None or j.rotation is not None:
+                f = 1.0 if dead is None else dead
+                d = j.displacement or (0.0, 0.0)
+                jp.motion = (f * d[0] / L, f * d[1] / L, f * (j.rotation or 0.0))
             self.joints.append(jp)
         # everything a model's frames, joints, springs and loads depend on, not the rods' stiffness:
         # models of one key and mesh share them (the cases of a sweep over EI, Model._share)
-        self.key = (L, F, self.geometry, tuple((rp.name, tuple(rp.q.tolist())) for rp in self.rods),
+        self.thermal = any(rp.strain or rp.curvature for rp in self.rods)
+        self.key = (L, F, self.geometry, tuple((rp.name, tuple(rp.q.tolist()), tuple(rp.q_end.tolist()), rp.strain,
+                                                rp.curvature) for rp in self.rods),
                     tuple(self.body_index), self.body_X0.tobytes(), self.body_p.tobytes(),
                     tuple((r, e, tuple(v.tolist())) for r, e, v in self.node_loads), tuple(self.point_forces),
-                    tuple((j.name, j.kind, j.ra, j.rb, j.at, j.axis, j.k, j.preload, j.c, j.springs)
+                    tuple((j.name, j.kind, j.ra, j.rb, j.at, j.axis, j.k, j.preload, j.c, j.springs, j.motion)
                           for j in self.joints))
 
 
@@ -324,6 +320,7 @@ class Model:
         self.rod_index = plan.rod_index
         counts = tuple(int(elements[rp.name]) for rp in plan.rods)
         mesh = self.cache.mesh((plan.geometry, counts), lambda: _Mesh(plan, counts))
+        counts = mesh.counts if plan.rods else counts   # a rod with loads inside: its pieces' elements
         self.X0, self.rod_nodes, self.n_nodes = mesh.X0, mesh.rod_nodes, mesh.n_nodes
         self.node_first = mesh.node_first
         self.mesh = mesh
@@ -336,16 +333,33 @@ class Model:
         else:
             self.elements = None
             self.elem_rod = np.zeros(0, np.intp)
+        # a thermal load: the elements' free basic forces at full load (femslide.elements.corotational
+        # .free_forces), ramped with the load factor like every load
+        self.free_T = None
+        if plan.thermal and self.elements is not None:
+            counts_a = np.array(counts)
+            strain = np.repeat([rp.strain for rp in plan.rods], counts_a)
+            curv = np.repeat([rp.curvature for rp in plan.rods], counts_a)
+            self.free_T = corotational.free_forces(self.elements, strain, curv)
         if finalize:
             shared = self.cache.frames((plan.key, counts))
             if shared is not None:
                 self._share(shared)
                 return
         self.rods_loaded = any(rp.loaded for rp in plan.rods)   # a distributed load on some rod
-        self.elem_q = np.repeat([rp.q for rp in plan.rods], counts, axis=0) if mesh.conn is not None \
-            else np.zeros((0, 2))
-        p_lin = [-distributed_nodal_loads(self.X0[nodes], rp.q) if rp.loaded else None
-                 for rp, nodes in zip(plan.rods, self.rod_nodes)]
+        # distributed loads linear in s: their values at each element's start and end (model units) and
+        # the mean (elem_q)
+        self.elem_q1, self.elem_q2 = np.zeros((0, 2)), np.zeros((0, 2))
+        if mesh.conn is not None:
+            q1, q2 = [], []
+            for rp, t in zip(plan.rods, mesh.rod_t):
+                qn = rp.q[None, :] + t[:, None] * (rp.q_end - rp.q)[None, :]
+                q1.append(qn[:-1])
+                q2.append(qn[1:])
+            self.elem_q1, self.elem_q2 = np.concatenate(q1), np.concatenate(q2)
+        self.elem_q = 0.5 * (self.elem_q1 + self.elem_q2) if mesh.conn is not None else np.zeros((0, 2))
+        p_lin = [-distributed_nodal_loads(self.X0[nodes], rp.q, rp.q_end if rp.q_end is not None else None)
+                 if rp.loaded else None for rp, nodes in zip(plan.rods, self.rod_nodes)]
         # bodies: frames after the nodes, at their origins (a ground pin, else the centroid)
         self.body_index = plan.body_index
         self.body_X0 = plan.body_X0
@@ -356,12 +370,18 @@ class Model:
             if pl is not None:
                 p[3 * nodes[0]:3 * nodes[-1] + 3] = pl.ravel()
         p[nb3:] = plan.body_p
-        for rod, end, vec in plan.node_loads:
-            d = 3 * self.node(rod, end)
+        for rod, frac, vec in plan.node_loads:
+            k = self.rod_index[rod]
+            t = mesh.rod_t[k]
+            i = int(np.searchsorted(t, frac))
+            if i >= t.size or t[i] != frac:   # not a node: the plan's breaks and the mesh disagree
+                raise AssertionError(f"load at s/L = {frac} on rod {rod} is not at a node")
+            d = 3 * int(self.rod_nodes[k][i])
             p[d:d + 3] += vec
         self.p_lin = p
         self.constraints, self.terms = [], []
         self.joint, self.spring, self.slide0, self.supports = {}, {}, {}, {}
+        self.motion = []    # (link, offsets of its equations at full load): prescribed support motion
         for jp in plan.joints:
             # an elastic support holds only the equations its springs do not replace
             keep = [i for i in range(jp.kind.size) if i not in dict(jp.springs)] if jp.springs else None
@@ -369,6 +389,8 @@ class Model:
             self.joint[jp.name] = link
             if link.size:
                 self.add_constraint(link)
+            if jp.motion is not None:
+                self.motion.append((link, _motion_offsets(link, jp, self._carrier)))
             if jp.springs:
                 self.supports[jp.name] = self.add_term(ElasticSupport(link, jp.springs, jp.name))
             if jp.kind.free == "slide":
@@ -390,7 +412,7 @@ class Model:
     _pack = None
 
     _OWN = frozenset(("structure", "Lref", "Fref", "cache", "factors", "rod_index", "X0", "rod_nodes", "n_nodes",
-                      "node_first", "mesh", "elements", "elem_rod", "last_tangent", "_kern"))
+                      "node_first", "mesh", "elements", "elem_rod", "last_tangent", "_kern", "free_T"))
 
     def _share(self, other: "Model"):
         """Take the frames, joints, terms, loads and dof layout of a finalized model of the same
@@ -405,6 +427,18 @@ class Model:
     def node(self, rod: str, i: int) -> int:
         """Model index of node i (negative counts from the end) of the named rod."""
         return int(self.rod_nodes[self.rod_index[rod]][i])
+
+    def node_at(self, rod: str, s: float) -> int:
+        """Model index of the node of the named rod at the arc length s [m] (a rod end or the point of
+        a load inside the rod: every mesh has a node there); ValueError if no node is there."""
+        k = self.rod_index[rod]
+        t = self.mesh.rod_t[k]
+        frac = s / self.structure.rod(rod).length
+        i = int(np.searchsorted(t, frac))
+        for j in (i - 1, i):
+            if 0 <= j < t.size and abs(t[j] - frac) <= 1e-12:
+                return int(self.rod_nodes[k][j])
+        raise ValueError(f"rod {rod} has no node at s = {s} m")
 
     def body_dof(self, body: str) -> int:
         """First dof (u) of the named body's frame."""
@@ -446,8 +480,12 @@ class Model:
         lin_dofs = np.nonzero(self.p_lin)[0].astype(np.intp)
         key = (self.n_q, self.elements.conn.tobytes() if self.elements is not None else b"",
                tuple((c.size, d.tobytes()) for c, d in zip(self.constraints, con_dofs)),
-               tuple(d.tobytes() for d in term_dofs), lin_dofs.tobytes())
-        topo = self.cache.topology(key, lambda: _Topology(self, con_dofs, term_dofs, lin_dofs))
+               tuple(d.tobytes() for d in term_dofs), lin_dofs.tobytes(), self.free_T is not None)
+        free_dofs = None
+        if self.free_T is not None:
+            c = self.elements.conn
+            free_dofs = (3 * c[:, :, None] + np.arange(3)).ravel()
+        topo = self.cache.topology(key, lambda: _Topology(self, con_dofs, term_dofs, lin_dofs, free_dofs))
         self._topo = topo
         self.c_off, self.n_c, self.n = topo.c_off, topo.n_c, topo.n
         self._load_dofs, self._term_dofs = topo.load_dofs, term_dofs
@@ -467,6 +505,13 @@ class Model:
         # the compiled assembly (femslide.model.fast): its index maps and joint data now, the elements'
         # part with the first evaluation (models sharing these differ in their stiffness)
         self._pack = fast.Pack(self, topo, con_dofs, term_dofs, lin_dofs) if fast.enabled() else None
+        # prescribed support motion: lam times these values added to the joints' equations' rows
+        rows, vals = [], []
+        for link, off in getattr(self, "motion", ()):
+            i = self.constraints.index(link)
+            rows += range(self.n_q + self.c_off[i], self.n_q + self.c_off[i] + link.size)
+            vals += off
+        self._motion_rows, self._motion_vals = np.array(rows, np.intp), np.array(vals, float)
         self._kern = None
         return self
 
@@ -513,7 +558,8 @@ class Model:
         """Basic forces (N, M1, M2) of every element and the chord rotations alpha."""
         if self.elements is None:
             return np.zeros((0, 3)), np.zeros(0)
-        _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False)
+        _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False,
+                                                free=self.free_T)
         return qb, alpha
 
     def potential(self, y, alpha_ref, skip=None):
@@ -521,7 +567,8 @@ class Model:
         dead loads' potential (gravity included); the term ``skip`` (an extra term of a caller)
         left out."""
         q = y[:self.n_q]
-        V = corotational.strain_energy(self.elements, self.nodal(q), alpha_ref) if self.elements is not None else 0.0
+        V = corotational.strain_energy(self.elements, self.nodal(q), alpha_ref, self.free_T) \
+            if self.elements is not None else 0.0
         V += float(np.dot(self.p_lin, q))
         for t, d in zip(self.terms, self._term_dofs):
             if t is not skip:
@@ -585,7 +632,10 @@ class Model:
             kern = self._kern
             if kern is None:
                 kern = self._kern = fast.assembler(self, self._pack)
-            return fast.system(self, kern, y, elements, lam, control, jacobian, dense, _Info(lam=lam), extra)
+            out = fast.system(self, kern, y, elements, lam, control, jacobian, dense, _Info(lam=lam), extra)
+            if self._motion_rows.size:
+                out[0][self._motion_rows] += out[2]["lam"] * self._motion_vals
+            return out
         n_q, topo = self.n_q, self._topo
         q = y[:n_q]
         if control is not None:
@@ -599,15 +649,24 @@ class Model:
         parts = []
         info = _Info(lam=lam)
         if self.elements is not None:
-            F, K, _, alpha, noise = corotational.element_terms(self.elements, q, alpha_ref, jacobian)
+            free = None if self.free_T is None else lam * self.free_T
+            F, K, _, alpha, noise = corotational.element_terms(self.elements, q, alpha_ref, jacobian, free)
             parts.append(F.ravel())
             fmax = float(np.abs(F).max())
             if jacobian:
                 info.later("noise", lambda: 4.0 * float(noise().max()))
         if self._p_sel.size:
             parts.append(lam * self._p_sel)
-        info.later("fl", lambda: np.bincount(topo.fbins, weights=np.concatenate([self._p_sel, fv]), minlength=n_q)
-                   if topo.fbins.size else np.zeros(n_q))
+        qc = q.copy() if self.free_T is not None else None
+
+        def fl():
+            out = np.bincount(topo.fbins, weights=np.concatenate([self._p_sel, fv]), minlength=n_q) \
+                if topo.fbins.size else np.zeros(n_q)
+            if self.free_T is not None:   # d (element forces) / d lam = -B^T S_T
+                fT = corotational.free_nodal(self.elements, qc, alpha_ref, self.free_T)
+                out -= np.bincount(topo.ebinT, fT.ravel(), minlength=n_q)
+            return out
+        info.later("fl", fl)
         if control is not None:
             dof, value = control.dof, control.target
             rv.append(float(q[dof]) - value)
@@ -616,6 +675,8 @@ class Model:
                         minlength=size)
         if extra is not None and extra[0] is not None:
             np.add.at(r, extra[0], extra[1])
+        if self._motion_rows.size:
+            r[self._motion_rows] += lam * self._motion_vals
         info["fmax"] = fmax
         elements.trial = alpha
         if not jacobian or self.elements is None:
@@ -640,6 +701,21 @@ class Model:
             flat = rows * size + cols if flat is None else flat
             A = np.bincount(flat, weights=vals, minlength=size * size).reshape(size, size)
         return r, A, info
+
+
+def _motion_offsets(link, jp, carrier):
+    """The change of a ground joint's equations g at the reference state when its ground point moves
+    by (dx, dy) and its held rotation by r (jp.motion, model units): g is linear in the ground point
+    (every kind's equations with a fixed b), so this is the exact offset of g per unit load factor."""
+    dx, dy, rot = jp.motion
+    z0 = [0.0] * link.k
+    g0 = link._parts(z0)[0]
+    b = link.b
+    moved = Link(link.name, link.joint_kind, link.a, Carrier(None, (b.X[0] + dx, b.X[1] + dy), b.r), jp.axis)
+    off = [x1 - x0 for x0, x1 in zip(g0, moved._parts(z0)[0])]
+    if rot:
+        off[link.joint_kind.springs["kr"]] -= rot
+    return off
 
 
 class _Info(dict):

@@ -132,11 +132,13 @@ def assembler(model, pack: Pack):
         edof[:, 0:3] = 3 * c[:, :1] + np.arange(3)
         edof[:, 3:6] = 3 * c[:, 1:] + np.arange(3)
         kb = es.kb
+        free = getattr(model, "free_T", None)
+        free = np.zeros((3, es.size)) if free is None else free
         edat = np.column_stack([es.D0[:, 0], es.D0[:, 1], es.L0, es.beta0, kb[:, 0, 0], kb[:, 1, 1], kb[:, 1, 2],
-                                kb[:, 2, 1], kb[:, 2, 2]])
+                                kb[:, 2, 1], kb[:, 2, 2], free[0], free[1], free[2]])
         xmax = float(es.xmax)
     else:
-        edof, edat, xmax = np.zeros((0, 6), np.int64), np.zeros((0, 9)), 1.0
+        edof, edat, xmax = np.zeros((0, 6), np.int64), np.zeros((0, 12)), 1.0
     return linalg._kernel.Assembler(model.n_q, xmax, edof, np.ascontiguousarray(edat), pack.lint, pack.ldbl, pack.tint,
                                pack.tdbl, pack.lin_dofs, pack.lin_vals, pack.load_dofs)
 

@@ -53,6 +53,7 @@ class Frozen:
     loads: tuple
     refs: dict = field(default_factory=dict)   # joint/load name -> (PointRef a, PointRef b or None)
     combinations: tuple = ()                   # Combination records, factors checked
+    steps: tuple = ()                          # the load history's states ([[step]]), as Combination records
     derived: dict = field(default_factory=dict, compare=False, repr=False)  # data derived by solvers
 
     # -- lookup -------------------------------------------------------------------------------------
@@ -117,7 +118,11 @@ class Frozen:
                     raise BadInput(f"{w}: elements = {n!r}; allowed: an integer in [1, {MAX_ELEMENTS}] "
                                    f"(or absent: adaptive)")
                 n = int(n)
-            rods.append(Rod(r.name, start, end, EI, EA, rhoA, n))
+            alpha = _num(f"{w}: alpha", getattr(r, "alpha", 0.0), 0.0, allowed="a number >= 0 [1/K]")
+            depth = getattr(r, "depth", None)
+            if depth is not None:
+                depth = _num(f"{w}: depth", depth, 0.0, lo_open=True, allowed="a positive number [m]")
+            rods.append(Rod(r.name, start, end, EI, EA, rhoA, n, alpha=alpha, depth=depth))
         # (the frozen rod keeps EI and EA only: E, I, A are folded into them)
         rodnames = {r.name for r in rods}
         bodies = []
@@ -261,7 +266,22 @@ class Frozen:
                     raise BadInput(f"{w}: bearing is for {accepting('bearing')}")
                 bearing = _num(f"{w}: bearing", j.bearing, 0.0, lo_open=True)
             springs = _support_springs(w, j, kind, rb, axis, mu is not None)
-            joints.append(Joint(j.name, j.type, j.a, j.b, at, axis, c, k, pre, mu, mu0, bearing, *springs))
+            disp = rot = None
+            if j.displacement is not None or j.rotation is not None:
+                if rb.kind != "ground":
+                    raise BadInput(f"{w}: displacement and rotation move a support: they need b = \"ground\"")
+                if any(v is not None for v in springs):
+                    raise BadInput(f"{w}: a prescribed support motion needs rigid constraints; drop kx, ky, kr")
+                if j.displacement is not None:
+                    disp = _vec(f"{w}: displacement", j.displacement)
+                if j.rotation is not None:
+                    if "kr" not in kind.springs:
+                        raise BadInput(f"{w}: rotation is for a joint that holds the rotation (weld, slider), "
+                                       f"not a {j.type}")
+                    rot = _num(f"{w}: rotation", j.rotation, -math.pi, math.pi,
+                               allowed="a rotation in [-pi, pi] rad")
+            joints.append(Joint(j.name, j.type, j.a, j.b, at, axis, c, k, pre, mu, mu0, bearing, *springs,
+                                displacement=disp, rotation=rot))
 
         loads = []
         for ld in s.loads.values():
@@ -273,13 +293,56 @@ class Frozen:
                 ref = resolve(f"{w}: on", ld.on, allow_ground=False, allow_rod=True)
                 if ref.kind != "rod":
                     raise BadInput(f"{w}: a distributed load acts on a rod; on = {ld.on!r} is not a rod")
-                if ld.moment or ld.at is not None:
-                    raise BadInput(f"{w}: a distributed load has no moment or at")
-                loads.append(Load(ld.name, ld.type, ld.on, F, case=_case(w, ld.case)))
+                if ld.moment or ld.at is not None or ld.s is not None:
+                    raise BadInput(f"{w}: a distributed load has no moment, at or s")
+                Fe = None if ld.force_end is None else _vec(f"{w}: force_end", ld.force_end)
+                if ld.frame not in ("global", "rod"):
+                    raise BadInput(f"{w}: frame = {ld.frame!r}; allowed: \"global\" (x, y components) or \"rod\" "
+                                   f"(along the rod's tangent and normal)")
+                loads.append(Load(ld.name, ld.type, ld.on, F, case=_case(w, ld.case), force_end=Fe, frame=ld.frame))
                 refs[ld.name] = (ref, None)
                 continue
-            ref = resolve(f"{w}: on", ld.on, allow_ground=False)
+            if ld.type == "thermal":
+                ref = resolve(f"{w}: on", ld.on, allow_ground=False, allow_rod=True)
+                if ref.kind != "rod":
+                    raise BadInput(f"{w}: a thermal load acts on a rod; on = {ld.on!r} is not a rod")
+                if ld.moment or ld.at is not None or tuple(ld.force) != (0.0, 0.0):
+                    raise BadInput(f"{w}: a thermal load has only on, dT, dT_gradient and case")
+                dT = _num(f"{w}: dT", ld.dT, allowed="a finite temperature change [K]")
+                dTg = _num(f"{w}: dT_gradient", ld.dT_gradient, allowed="a finite temperature difference [K]")
+                rod = next(r for r in rods if r.name == ref.name)
+                if rod.alpha == 0.0 and (dT or dTg):
+                    raise BadInput(f"{w}: rod {rod.name} has no thermal expansion coefficient; give the rod's "
+                                   f"alpha [1/K] (a number > 0)")
+                if dTg and rod.depth is None:
+                    raise BadInput(f"{w}: dT_gradient needs the depth of rod {rod.name}; give the rod's depth [m] "
+                                   f"(a positive number)")
+                loads.append(Load(ld.name, ld.type, ld.on, case=_case(w, ld.case), dT=dT, dT_gradient=dTg))
+                refs[ld.name] = (ref, None)
+                continue
+            if ld.force_end is not None or ld.frame != "global":
+                raise BadInput(f"{w}: force_end and frame are for a distributed load, not a {ld.type} load")
+            ref = resolve(f"{w}: on", ld.on, allow_ground=False, allow_rod=True)
             M = _num(f"{w}: moment", ld.moment)
+            if ld.s is not None:
+                if ref.kind != "rod":
+                    raise BadInput(f"{w}: s places a force inside a rod; on = {ld.on!r} must name the rod")
+                if ld.at is not None:
+                    raise BadInput(f"{w}: give s (the arc length on the rod) or at, not both")
+                rod = next(r for r in rods if r.name == ref.name)
+                sv = _num(f"{w}: s", ld.s, 0.0, rod.length, allowed=f"an arc length in [0, {rod.length:g}] m "
+                                                                      f"(the length of rod {rod.name})")
+                if sv == 0.0 or sv == rod.length:   # at a rod end: the end's own load
+                    ref = PointRef("rod_end", rod.name, 0 if sv == 0.0 else -1)
+                    loads.append(Load(ld.name, ld.type, f"{rod.name}.{'start' if sv == 0.0 else 'end'}", F, M,
+                                      pos(ref), _case(w, ld.case)))
+                else:
+                    loads.append(Load(ld.name, ld.type, ld.on, F, M, None, _case(w, ld.case), s=sv))
+                refs[ld.name] = (ref, None)
+                continue
+            if ref.kind == "rod":
+                raise BadInput(f"{w}: on = {ld.on!r} is a rod: give the arc length s of the point on it "
+                               f"(or on = \"{ld.on}.start\" / \"{ld.on}.end\")")
             at = None
             if ld.at is not None:
                 at = _vec(f"{w}: at", ld.at)
@@ -307,8 +370,25 @@ class Frozen:
                 raise BadInput(f"{w}: factors is empty; allowed: a table {{case = factor, ...}} naming at least "
                                f"one case")
             combos.append(Combination(cb.name, tuple(factors)))
+        steps = []
+        for i, st in enumerate(getattr(s, "steps", [])):
+            w = f"step {st.name or i + 1}"
+            factors = []
+            for case, f in st.factors:
+                if case not in cases:
+                    raise BadInput(f"{w}: factors name the load case {case!r}, which no load has; cases: "
+                                   f"{', '.join(sorted(cases))} (gravity is case {DEAD!r})")
+                factors.append((case, _num(f"{w}: factor of {case}", f)))
+            steps.append(Combination(st.name or f"step{i + 1}", tuple(factors)))
+        if steps and combos:
+            raise BadInput("a structure declares either [[step]] (a load history) or [[combination]] (separate "
+                           "equilibria), not both")
+        names = [st.name for st in steps]
+        if len(set(names)) != len(names):
+            raise BadInput(f"[[step]]: the name {next(n for n in names if names.count(n) > 1)!r} is used twice")
 
-        fr = Frozen(gravity, tuple(rods), tuple(bodies), tuple(joints), tuple(loads), refs, tuple(combos))
+        fr = Frozen(gravity, tuple(rods), tuple(bodies), tuple(joints), tuple(loads), refs, tuple(combos),
+                    tuple(steps))
         fr._check_connected()
         return fr
 

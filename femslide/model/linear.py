@@ -47,6 +47,13 @@ class LinearModel(Model):
             if "elements" not in lin:
                 lin["elements"] = _element_tangents(self)
                 lin["fl"] = np.array(info["fl"])
+                # a thermal load's share of fl: the elements' free forces at the reference, -B0^T S_T
+                lin["fl_T"] = np.zeros(self.n_q)
+                if self.free_T is not None:
+                    _, ed = lin["elements"]
+                    F = corotational.free_nodal(self.elements, np.zeros(self.n_q), np.zeros(self.elements.size),
+                                                self.free_T)
+                    lin["fl_T"] = -np.bincount(ed.T.ravel(), weights=F.ravel(), minlength=self.n_q)
             lin[key] = S
         return lin[key], lin["fl"], lin["elements"]
 
@@ -57,19 +64,24 @@ class LinearModel(Model):
             z0 = np.zeros(self.n + 1)
         return z0, es0
 
-    def element_forces_linear(self, q):
-        """Generalised forces (n_q) of the rod elements, linear in q (model units)."""
+    def element_forces_linear(self, q, lam=1.0):
+        """Generalised forces (n_q) of the rod elements, linear in q (model units), with their free
+        (thermal) forces at load factor ``lam``."""
         _, _, (K, ed) = self._parts()
         if K is None:
             return np.zeros(self.n_q)
         d = q[ed]
         F = np.einsum("eij,ej->ei", K, d)
-        return np.bincount(ed.ravel(), weights=F.ravel(), minlength=self.n_q)
+        out = np.bincount(ed.ravel(), weights=F.ravel(), minlength=self.n_q)
+        if self.free_T is not None:
+            out += lam * self.__dict__["_lin"]["fl_T"]
+        return out
 
     # -- the model's interface ------------------------------------------------------------------------
-    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False):
+    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False, extra=None):
         """Residual and Jacobian of the linear equations (same interface and storage as
-        :meth:`Model.system`; the Jacobian is the same at every state)."""
+        :meth:`Model.system`; the Jacobian is the same at every state but for the caller's ``extra``
+        terms, added as there)."""
         S, fl, _ = self._parts(control)
         r = S @ y
         n_q = self.n_q
@@ -78,8 +90,12 @@ class LinearModel(Model):
         else:
             lam = y[-1]
             r[-1] -= control.target
+        if self._motion_rows.size:   # prescribed support motion
+            r[self._motion_rows] += lam * self._motion_vals
+        if extra is not None and extra[0] is not None:
+            np.add.at(r, extra[0], extra[1])
         info = _Info(lam=lam)
-        fe = self.element_forces_linear(y[:n_q])
+        fe = self.element_forces_linear(y[:n_q], lam)
         info["fmax"] = float(np.abs(fe).max()) if fe.size else 0.0
         info["noise"] = 0.0
         info["fl"] = fl
@@ -87,7 +103,8 @@ class LinearModel(Model):
         if not jacobian:
             return r, None, info
         z0, es0 = self._reference(control)
-        _, A, _ = Model.system(self, z0, es0, 0.0, control, True, dense)
+        jx = None if extra is None or extra[2] is None else (None, None, extra[2], extra[3])
+        _, A, _ = Model.system(self, z0, es0, 0.0, control, True, dense, extra=jx)
         return r, A, info
 
     def applied(self, y, lam=1.0):
@@ -95,7 +112,7 @@ class LinearModel(Model):
         multipliers on the reference gradients - linear in y (see :meth:`Model.applied`)."""
         S, fl, _ = self._parts()
         n_q = self.n_q
-        return (S @ y)[:n_q] + lam * fl - self.element_forces_linear(y[:n_q])
+        return (S @ y)[:n_q] + lam * fl - self.element_forces_linear(y[:n_q], lam)
 
     def element_forces(self, q, alpha_ref):
         """Basic forces (N, M1, M2) of every element, linear in q, and the chord rotations."""
@@ -111,7 +128,10 @@ class LinearModel(Model):
         kb = es.kb
         N = kb[:, 0, 0] * u_bar
         M = np.einsum("eij,ej->ei", kb[:, 1:, 1:], t)
-        return np.column_stack([N, M]), alpha
+        out = np.column_stack([N, M])
+        if self.free_T is not None:   # the free (thermal) forces at full load
+            out -= self.free_T.T
+        return out, alpha
 
 
 def _element_tangents(model):

@@ -21,7 +21,7 @@ if TYPE_CHECKING:
 
 
 GROUND = "ground"
-LOAD_TYPES = ("force", "distributed")
+LOAD_TYPES = ("force", "distributed", "thermal")
 EA_PER_EI = 1e6  # m^-2: default EA/EI, a nearly inextensible rod (SPEC section 3)
 MAX_ELEMENTS = 16384  # per rod: beyond it round-off of the stiff axial terms outgrows the discretisation error
 
@@ -76,6 +76,8 @@ class Rod:
     E: float | None = None
     I: float | None = None  # noqa: E741 - the second moment of area, as engineers write it
     A: float | None = None
+    alpha: float = 0.0          # 1/K: thermal expansion coefficient
+    depth: float | None = None  # m: section depth (for a temperature gradient)
 
     @property
     def length(self) -> float:
@@ -118,6 +120,8 @@ class Joint:
     kx: float | None = None
     ky: float | None = None
     kr: float | None = None
+    displacement: tuple | None = None   # with the ground: prescribed support motion [m] (settlement)
+    rotation: float | None = None       # with the ground (weld, slider): prescribed support rotation [rad]
 
 
 #: the load case of gravity and of loads declared without one
@@ -126,7 +130,12 @@ DEAD = "dead"
 
 @dataclass(frozen=True)
 class Load:
-    """A load as declared; ``case`` names its load case (default "dead", the case of gravity)."""
+    """A load as declared; ``case`` names its load case (default "dead", the case of gravity).
+    A thermal load (``type = "thermal"``, on a rod) has a uniform temperature change ``dT`` [K] and a
+    gradient ``dT_gradient`` [K] (the +n face minus the -n face).  A force on a rod (``on`` = the rod)
+    acts at the arc length ``s`` [m]; a distributed load varies linearly from ``force`` to
+    ``force_end`` and its components are global or, with ``frame = "rod"``, along the rod's
+    reference tangent and normal."""
 
     name: str
     type: str
@@ -135,6 +144,11 @@ class Load:
     moment: float = 0.0
     at: tuple | None = None
     case: str = DEAD
+    dT: float = 0.0
+    dT_gradient: float = 0.0
+    s: float | None = None             # force on a rod: arc length [m] from the rod's start
+    force_end: tuple | None = None     # distributed: the load at the rod's end (linear in s between)
+    frame: str = "global"              # distributed: "global" or "rod" (along the reference tangent, normal)
 
 
 @dataclass(frozen=True)

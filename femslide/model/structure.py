@@ -82,6 +82,7 @@ class Structure:
         self.joints: dict[str, Joint] = {}
         self.loads: dict[str, Load] = {}
         self.combinations: dict[str, Combination] = {}
+        self.steps: list[Combination] = []
 
     # -- declaring ----------------------------------------------------------------------------------
     def _name(self, name):
@@ -95,7 +96,7 @@ class Structure:
 
     def rod(self, name: str, start: Vec, end: Vec, EI: Field | None = None, EA: Field | None = None,
             rhoA: Field = 0.0, elements: int | None = None, E: float | None = None, I: float | None = None,  # noqa: E741
-            A: float | None = None) -> Rod:
+            A: float | None = None, alpha: float = 0.0, depth: float | None = None) -> Rod:
         """Declare a flexible rod: a mesh of corotational Euler-Bernoulli beams from ``start`` to ``end``.
 
         Parameters
@@ -117,8 +118,12 @@ class Structure:
         E, I, A : float, optional
             The section instead of EI and EA: Young's modulus [Pa], second moment of area [m^4]
             and area [m^2]; EI = E I and EA = E A (without A: the default EA above).
+        alpha : float, default 0
+            Thermal expansion coefficient [1/K], >= 0 (for thermal loads).
+        depth : float, optional
+            Section depth [m], > 0: needed by a thermal load with a gradient ``dT_gradient``.
         """
-        r = Rod(self._name(name), tuple(start), tuple(end), EI, EA, rhoA, elements, E, I, A)
+        r = Rod(self._name(name), tuple(start), tuple(end), EI, EA, rhoA, elements, E, I, A, alpha, depth)
         self.rods[name] = r
         return r
 
@@ -166,7 +171,10 @@ class Structure:
             methods of each type; on a joint with the ground also ``kx``, ``ky`` [N/m] and ``kr``
             [N m/rad]: elastic springs instead of its rigid constraints in x, y and rotation (a pin
             or weld takes kx and ky, a weld or slider kr, a slider or roller the k across its guide
-            when the guide is along y (kx) or x (ky)).
+            when the guide is along y (kx) or x (ky)); and a prescribed support motion
+            ``displacement = (dx, dy)`` [m] (any kind: its ground point moves; a guide along it
+            passes the motion across the guide only) and ``rotation`` [rad] (weld, slider: the
+            held rotation), ramped with the loads of case "dead" (a settlement).
         """
         unknown = set(options) - _JOINT_FIELDS
         if unknown:
@@ -177,7 +185,7 @@ class Structure:
         return j
 
     def pin(self, name: str, a: str, b: str, at: Vec | None = None, c: float = 0.0, kx: float | None = None,
-            ky: float | None = None) -> Joint:
+            ky: float | None = None, displacement: Vec | None = None) -> Joint:
         """A pin: a's point and b's point stay together; rotations are free relative to each other.
 
         Parameters
@@ -191,11 +199,15 @@ class Structure:
         kx, ky : float, optional
             With b = "ground": an elastic support, springs [N/m] in x and y instead of the rigid
             constraints there (default: rigid).
+        displacement : (float, float), optional
+            With b = "ground": the support moves by (dx, dy) [m] (a settlement), ramped with the
+            loads of case "dead".
         """
-        return self.joint(name, "pin", a, b, at=at, c=c, kx=kx, ky=ky)
+        return self.joint(name, "pin", a, b, at=at, c=c, kx=kx, ky=ky, displacement=displacement)
 
     def weld(self, name: str, a: str, b: str, at: Vec | None = None, kx: float | None = None,
-             ky: float | None = None, kr: float | None = None) -> Joint:
+             ky: float | None = None, kr: float | None = None, displacement: Vec | None = None,
+             rotation: float | None = None) -> Joint:
         """A weld: a's point and rotation stay those of b.
 
         Parameters
@@ -210,8 +222,15 @@ class Structure:
         kr : float, optional
             With b = "ground": a rotational spring [N m/rad] instead of the rigid rotation (a
             cantilever on an elastic foundation; default: rigid).
+        displacement : (float, float), optional
+            With b = "ground": the support moves by (dx, dy) [m] (a settlement), ramped with the
+            loads of case "dead".
+        rotation : float, optional
+            With b = "ground": the support turns by this much [rad] (counter-clockwise), ramped
+            likewise.
         """
-        return self.joint(name, "weld", a, b, at=at, kx=kx, ky=ky, kr=kr)
+        return self.joint(name, "weld", a, b, at=at, kx=kx, ky=ky, kr=kr, displacement=displacement,
+                          rotation=rotation)
 
     def slider(self, name: str, a: str, b: str, axis: Vec, at: Vec | None = None, k: float = 0.0,
                preload: float = 0.0, mu: float | None = None, mu0: float | None = None,
@@ -268,15 +287,16 @@ class Structure:
                           kx=kx, ky=ky)
 
     def force(self, name: str, on: str, force: Vec = (0.0, 0.0), moment: float = 0.0,
-              at: Vec | None = None, case: str = DEAD) -> Load:
-        """A dead force (and moment) on a body or a rod end, applied together with gravity.
+              at: Vec | None = None, case: str = DEAD, s: float | None = None) -> Load:
+        """A dead force (and moment) on a body, a rod end or a point inside a rod, applied together
+        with gravity.
 
         Parameters
         ----------
         name : str
             Its name.
         on : str
-            A body or a rod end (``"ROD.start"``, ``"ROD.end"``).
+            A body, a rod end (``"ROD.start"``, ``"ROD.end"``) or a rod (``"ROD"``, with ``s``).
         force : (float, float), default (0, 0)
             Force [N], global components.
         moment : float, default 0
@@ -285,13 +305,18 @@ class Structure:
             Point of application [m] on a body; default: its centroid (or the rod end).
         case : str, default "dead"
             Its load case (gravity is case "dead"); combinations give factors per case.
+        s : float, optional
+            With ``on`` a rod: the arc length [m] from the rod's start, in [0, length]; every mesh
+            has a node there.
         """
-        ld = Load(self._name(name), "force", on, tuple(force), moment, None if at is None else tuple(at), case)
+        ld = Load(self._name(name), "force", on, tuple(force), moment, None if at is None else tuple(at), case,
+                  s=s)
         self.loads[name] = ld
         return ld
 
-    def distributed(self, name: str, on: str, force: Vec, case: str = DEAD) -> Load:
-        """A dead load distributed uniformly along a whole rod.
+    def distributed(self, name: str, on: str, force: Vec, case: str = DEAD, force_end: Vec | None = None,
+                    frame: str = "global") -> Load:
+        """A dead load distributed along a whole rod, uniform or varying linearly in the arc length.
 
         Parameters
         ----------
@@ -300,13 +325,68 @@ class Structure:
         on : str
             The rod's name.
         force : (float, float)
-            Force per unit reference length [N/m], global components.
+            Force per unit reference length [N/m] at the rod's start (everywhere without
+            ``force_end``).
+        case : str, default "dead"
+            Its load case.
+        force_end : (float, float), optional
+            Force per unit length [N/m] at the rod's end: the load varies linearly between.
+        frame : {"global", "rod"}, default "global"
+            The components' axes: global x, y, or the rod's reference tangent (start to end) and
+            normal (the tangent turned by +90 degrees).  Dead loads either way: they do not turn
+            with the rod.
+        """
+        ld = Load(self._name(name), "distributed", on, tuple(force), case=case,
+                  force_end=None if force_end is None else tuple(force_end), frame=frame)
+        self.loads[name] = ld
+        return ld
+
+    def thermal(self, name: str, on: str, dT: float = 0.0, dT_gradient: float = 0.0, case: str = DEAD) -> Load:
+        """A temperature change of a whole rod (it needs ``alpha``; a gradient also ``depth``).
+
+        The rod's free strain is alpha dT and its free curvature kappa_T = -alpha dT_gradient / depth
+        (it bends away from its hotter face); its forces are N = EA (stretch - alpha dT) and
+        M = EI (dtheta/ds - kappa_T).  Ramped with the other loads; a case factor scales dT and
+        dT_gradient.
+
+        Parameters
+        ----------
+        name : str
+            Its name.
+        on : str
+            The rod's name.
+        dT : float, default 0
+            Uniform temperature change [K] (> 0 heats, the rod lengthens).
+        dT_gradient : float, default 0
+            Temperature of the rod's +n face minus its -n face [K] (n = the rod's reference tangent
+            turned by +90 degrees).
         case : str, default "dead"
             Its load case.
         """
-        ld = Load(self._name(name), "distributed", on, tuple(force), case=case)
+        ld = Load(self._name(name), "thermal", on, case=case, dT=dT, dT_gradient=dT_gradient)
         self.loads[name] = ld
         return ld
+
+    def step(self, factors: dict, name: str | None = None) -> Combination:
+        """Append a state to the load history (SPEC section 10): the structure is brought from the
+        previous step's load state (the unloaded one for the first) to this one by ramping every
+        case's factor linearly, quasi-statically.  With steps, sliders and rollers with ``mu`` carry
+        Coulomb friction in statics (stuck or slipping, path-dependent) and :func:`femslide.solve`
+        reports every step's result.
+
+        Parameters
+        ----------
+        factors : dict
+            {case: factor} of this state; cases not named have factor 0 (gravity is case "dead").
+        name : str, optional
+            Its name in the results (default "stepN").
+        """
+        if not isinstance(factors, dict):
+            raise BadInput(f"step {name or len(self.steps) + 1}: factors = {factors!r}; allowed: a table "
+                           f"{{case = factor, ...}}")
+        st = Combination(name or "", tuple(factors.items()))
+        self.steps.append(st)
+        return st
 
     def combination(self, name: str, factors: dict) -> Combination:
         """A load combination: a factor per load case, e.g. ``{"dead": 1.35, "wind": 1.5}`` (cases
@@ -365,6 +445,7 @@ class Structure:
         s = Structure(self.gravity)
         s.rods, s.bodies, s.joints, s.loads = dict(self.rods), dict(self.bodies), dict(self.joints), dict(self.loads)
         s.combinations = dict(self.combinations)
+        s.steps = list(self.steps)
         return s
 
     def freeze(self) -> Frozen:

@@ -274,10 +274,15 @@ def load_data(model, y) -> dict:
         if ld.type != "force":
             continue
         r, _ = fs.refs[ld.name]
-        at0 = np.asarray(ld.at, float)
+        if r.kind == "rod":     # inside a rod: its node at the arc length s
+            nd = model.node_at(r.name, ld.s)
+            at0 = model.X0[nd] * L
+            at = (model.X0[nd] + model.nodal(q)[nd, :2]) * L
+        else:
+            at0 = np.asarray(ld.at, float)
         if r.kind == "body":
             at = model.body_point(r.name, q, at0)
-        else:
+        elif r.kind == "rod_end":
             nd = model.node(r.name, r.end)
             at = (model.X0[nd] + model.nodal(q)[nd, :2]) * L
         names.append(ld.name)

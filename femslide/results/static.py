@@ -29,14 +29,137 @@ order.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from femslide.joints.base import at_joint_point
 
 
+_GOLD = 0.5 * (math.sqrt(5.0) - 1.0)
+SAMPLES = 16     # samples per element before the golden-section search of a maximum (module docstring)
+GOLDEN_STEPS = 48
+
+
+class _Inside:
+    """The continuous solution inside every element of a state (model units), from the equilibrium
+    cuts at its nodes:
+
+    - the cut force G(xi) = G_i - int_0^xi q (xi in [0, 1] along the element, q linear between its
+      values at the element's ends), G_i the force just past node i (the middle force of
+      :func:`end_moments` plus the element's consistent start share of its distributed load);
+    - the element's axis: the chord plus the cubic Hermite deflection w(xi) = l (t1 xi (1 - xi)^2 -
+      t2 xi^2 (1 - xi)) of its end rotations t1, t2 relative to the chord (exact theory; zero in
+      first-order theory, whose equilibrium is written on the undeformed rod), its tangent turned by
+      w'(xi) / l from the chord;
+    - the moment M(xi) = (1 - xi) Ms + xi Me - m_q(xi) + N w(xi): the end moments from equilibrium,
+      the simply supported moment of the distributed load m_q (linear load: l^2 / 6 (p1 xi (1 - xi)
+      (2 - xi) + p2 xi (1 - xi) (1 + xi)), p the load's normal component) and the moment of the axial
+      force on the deflection (N = G . t: a compressed element's moment grows where it bows out);
+    - N(xi) = G(xi) . t(xi), V(xi) = -G(xi) . n(xi).
+
+    Peaks of |M|, |N|, |V| inside an element (a column's moment a few millimetres from its root
+    inside a long first element) are found by sampling and a golden-section search, so ``M_max`` and
+    its position ``s_M_max`` are those of the continuous solution, not of the nodes."""
+
+    def __init__(self, model, y, alpha, cuts, lam):
+        es = model.elements
+        q = y[:model.n_q]
+        U = model.nodal(q)
+        lin = model.linear
+        Xe = model.X0 if lin else model.X0 + U[:, :2]
+        qb, Gmid = cuts
+        D = Xe[es.conn[:, 1]] - Xe[es.conn[:, 0]]
+        Ln = np.hypot(D[:, 0], D[:, 1])
+        self.t = t = D / Ln[:, None]
+        self.n = nrm = np.column_stack([-t[:, 1], t[:, 0]])
+        L0 = self.L0 = es.L0
+        q1 = model.elem_q1 if lam == 1.0 else lam * model.elem_q1
+        q2 = model.elem_q2 if lam == 1.0 else lam * model.elem_q2
+        self.q1, self.dq = q1, q2 - q1
+        p1 = np.einsum("ij,ij->i", q1, nrm)
+        p2 = np.einsum("ij,ij->i", q2, nrm)
+        a1 = np.einsum("ij,ij->i", q1, t)
+        dp, da = p2 - p1, np.einsum("ij,ij->i", q2, t) - a1
+        self.p1, self.p2 = p1, p2
+        # the consistent end moments and start force of the element's load (femslide.elements.loads)
+        LL = L0 * L0
+        self.Ms = -qb[:, 0] + (LL * p1 / 12.0 + LL * dp / 30.0)
+        self.Me = qb[:, 1] + (LL * p1 / 12.0 + LL * dp / 20.0)
+        self.G0 = Gmid + 0.5 * L0[:, None] * q1 + L0[:, None] * ((da / 6.0)[:, None] * t + (0.15 * dp)[:, None] * nrm)
+        if lin:
+            self.t1 = self.t2 = np.zeros(es.size)
+        else:
+            # the chord's rotation now, continued from the elements' committed one (``alpha``: past pi)
+            ref = es.beta0 + (0.0 if alpha is None else alpha)
+            chord = ref + np.arctan2(np.cos(ref) * D[:, 1] - np.sin(ref) * D[:, 0],
+                                     np.cos(ref) * D[:, 0] + np.sin(ref) * D[:, 1]) - es.beta0
+            self.t1 = U[es.i, 2] - chord
+            self.t2 = U[es.j, 2] - chord
+        self.Ln = Ln
+        self.Nm = np.einsum("ij,ij->i", Gmid, t)
+
+    def G(self, e, xi):
+        L0 = self.L0[e]
+        return self.G0[e] - L0[:, None] * (self.q1[e] * xi[:, None] + self.dq[e] * (0.5 * xi * xi)[:, None])
+
+    def moment(self, e, xi):
+        Ms, Me, L0 = self.Ms[e], self.Me[e], self.L0[e]
+        w = self.Ln[e] * (self.t1[e] * xi * (1 - xi) ** 2 - self.t2[e] * xi * xi * (1 - xi))
+        mq = L0 * L0 / 6.0 * (self.p1[e] * xi * (1 - xi) * (2 - xi) + self.p2[e] * xi * (1 - xi) * (1 + xi))
+        return (1 - xi) * Ms + xi * Me - mq + self.Nm[e] * w
+
+    def _frame(self, e, xi):
+        phi = self.t1[e] * (1 - xi) * (1 - 3 * xi) - self.t2[e] * xi * (2 - 3 * xi)
+        c, s = np.cos(phi), np.sin(phi)
+        t, n = self.t[e], self.n[e]
+        tt = t * c[:, None] + n * s[:, None]
+        return tt, np.column_stack([-tt[:, 1], tt[:, 0]])
+
+    def axial(self, e, xi):
+        tt, _ = self._frame(e, xi)
+        return np.einsum("ij,ij->i", self.G(e, xi), tt)
+
+    def shear(self, e, xi):
+        _, nn = self._frame(e, xi)
+        return -np.einsum("ij,ij->i", self.G(e, xi), nn)
+
+    def peak(self, f, e):
+        """(value, xi) of the largest |f| inside each element e (signed value at its position)."""
+        ne = e.size
+        xs = np.linspace(0.0, 1.0, SAMPLES + 1)
+        E = np.repeat(e, xs.size)
+        X = np.tile(xs, ne)
+        v = np.abs(f(E, X)).reshape(ne, xs.size)
+        k = np.argmax(v, axis=1)
+        h = 1.0 / SAMPLES
+        a = np.clip(xs[k] - h, 0.0, 1.0)
+        b = np.clip(xs[k] + h, 0.0, 1.0)
+        c = b - _GOLD * (b - a)
+        d = a + _GOLD * (b - a)
+        fc, fd = np.abs(f(e, c)), np.abs(f(e, d))
+        for _ in range(GOLDEN_STEPS):
+            left = fc >= fd                     # the maximum lies in [a, d]
+            b = np.where(left, d, b)
+            a = np.where(left, a, c)
+            c2 = b - _GOLD * (b - a)
+            d2 = a + _GOLD * (b - a)
+            c, d = np.where(left, c2, d), np.where(left, c, d2)
+            fnew = np.abs(f(e, np.where(left, c, d)))
+            fc, fd = np.where(left, fnew, fd), np.where(left, fc, fnew)
+        xi = 0.5 * (a + b)
+        # never below the best sample (the nodes' values included)
+        best = v[np.arange(ne), k]
+        fx = f(e, xi)
+        use = np.abs(fx) >= best
+        xi = np.where(use, xi, xs[k])
+        return np.where(use, fx, f(e, xs[k])), xi
+
+
 def rod_arrays(model, y, alpha, cuts=None, lam=1.0):
-    """Per rod (by name): node arrays s, x, y, u, v, theta, N, V, M (SI) and the largest |M| along
-    the rod including interior extrema (``M_max``).  ``cuts``: ``end_moments(model, y,
+    """Per rod (by name): node arrays s, x, y, u, v, theta, N, V, M (SI) and the largest |M|, |N|, |V|
+    along the rod including the inside of elements (``M_max``, ``N_max``, ``V_max``, at arc lengths
+    ``s_M_max``, ``s_N_max``, ``s_V_max`` [m]; :class:`_Inside`).  ``cuts``: ``end_moments(model, y,
     resultant=True)`` of this state if already computed; ``lam``: the load factor of the state (an
     equilibrium on a load path; 1 = full load)."""
     L, F = model.Lref, model.Fref
@@ -48,23 +171,9 @@ def rod_arrays(model, y, alpha, cuts=None, lam=1.0):
     es = model.elements
     X = model.X0 + U[:, :2]
     Xe = model.X0 if model.linear else X   # the geometry equilibrium is written on
-    qb, Gmid = end_moments(model, y, Xe, resultant=True, lam=lam) if cuts is None else cuts
-    D = Xe[es.conn[:, 1]] - Xe[es.conn[:, 0]]
-    Ln = np.hypot(D[:, 0], D[:, 1])
-    t = D / Ln[:, None]
-    nrm = np.column_stack([-t[:, 1], t[:, 0]])
+    cuts = end_moments(model, y, Xe, resultant=True, lam=lam) if cuts is None else cuts
+    ins = _Inside(model, y, alpha, cuts, lam)
     L0 = es.L0
-    qe = model.elem_q if lam == 1.0 else lam * model.elem_q
-    qp = np.einsum("ij,ij->i", qe, nrm)
-    fem = qp * L0 * L0 / 12.0
-    Ms = -qb[:, 0] + fem
-    Me = qb[:, 1] + fem
-    # interior extremum of M(xi) = (1 - xi) Ms + xi Me - qp L0^2 xi (1 - xi) / 2
-    loaded = qp != 0
-    xi = np.full(qp.size, -1.0)
-    xi[loaded] = 0.5 - (Me[loaded] - Ms[loaded]) / (qp[loaded] * L0[loaded] ** 2)
-    xi = np.where((xi > 0) & (xi < 1), xi, 0.0)
-    Mi = (1 - xi) * Ms + xi * Me - qp * L0 * L0 * xi * (1 - xi) / 2
     fs = model.structure
     for k, rod in enumerate(fs.rods):
         nodes = model.rod_nodes[k]
@@ -73,52 +182,48 @@ def rod_arrays(model, y, alpha, cuts=None, lam=1.0):
         tn = np.column_stack([np.cos(ang), np.sin(ang)])
         nn = np.column_stack([-tn[:, 1], tn[:, 0]])
         M = np.zeros(nodes.size)
-        M[:-1] += Ms[el]
-        M[1:] += Me[el]
+        M[:-1] += ins.Ms[el]
+        M[1:] += ins.Me[el]
         M[1:-1] *= 0.5      # an interior node: the mean of its two elements (equal at equilibrium)
         s = np.concatenate([[0.0], np.cumsum(L0[el])])
-        # the cut force at the nodes from the one at the element middles: node i carries half of
-        # element i's distributed load, G(s_i) = G_mid,i + q L_i / 2 (and G_mid - q L / 2 at the end)
-        hq = qe[el] * (0.5 * L0[el])[:, None]
-        G = np.vstack([Gmid[el] + hq, Gmid[el[-1:]] - hq[-1:]])
+        G = np.vstack([ins.G0[el], ins.G(el[-1:], np.ones(1))])
         N = np.einsum("ij,ij->i", G, tn)
         V = -np.einsum("ij,ij->i", G, nn)
-        Mside = np.concatenate([Ms[el], Me[el], Mi[el]])
-        out[rod.name] = {
-            "s": s * L, "x": X[nodes, 0] * L, "y": X[nodes, 1] * L,
-            "u": U[nodes, 0] * L, "v": U[nodes, 1] * L, "theta": U[nodes, 2].copy(),
-            "N": N * F, "V": V * F, "M": M * F * L,
-            "M_max": float(np.abs(Mside).max()) * F * L,
-            "N_max": float(np.abs(N).max()) * F,
-            "V_max": float(np.abs(V).max()) * F,
-        }
+        row = {"s": s * L, "x": X[nodes, 0] * L, "y": X[nodes, 1] * L,
+               "u": U[nodes, 0] * L, "v": U[nodes, 1] * L, "theta": U[nodes, 2].copy(),
+               "N": N * F, "V": V * F, "M": M * F * L}
+        for key, fun, unit, nodal in (("M", ins.moment, F * L, M), ("N", ins.axial, F, N), ("V", ins.shear, F, V)):
+            val, xi = ins.peak(fun, el)
+            cand = np.abs(np.concatenate([nodal, val]))
+            pos = np.concatenate([s, s[:-1] + xi * L0[el]])
+            top = float(cand.max())
+            # the first position where the largest value is reached (to round-off: a constant V or N)
+            row[f"{key}_max"] = top * unit
+            row[f"s_{key}_max"] = float(pos[cand >= top * (1.0 - 1e-9)].min()) * L
+        out[rod.name] = row
     return out
 
 
 def moment_samples(model, y, alpha, k=8, cuts=None, lam=1.0):
     """Per rod: the bending moment [N m] at k points inside every element and at the nodes, on the
-    continuous solution (the end moments from equilibrium plus the parabola of a distributed load, as
-    :func:`rod_arrays`): {rod: (s [m], M [N m])}, for diagrams that show interior extrema."""
+    continuous solution (:class:`_Inside`, as :func:`rod_arrays`): {rod: (s [m], M [N m])}, for
+    diagrams that show interior extrema."""
     if model.elements is None:
         return {}
     L, F = model.Lref, model.Fref
     es = model.elements
     X = model.X0 if model.linear else model.X0 + model.nodal(y[:model.n_q])[:, :2]
-    qb, _ = end_moments(model, y, X, resultant=True, lam=lam) if cuts is None else cuts
-    D = X[es.conn[:, 1]] - X[es.conn[:, 0]]
-    t = D / np.hypot(D[:, 0], D[:, 1])[:, None]
-    qp = np.einsum("ij,ij->i", lam * model.elem_q, np.column_stack([-t[:, 1], t[:, 0]]))
+    cuts = end_moments(model, y, X, resultant=True, lam=lam) if cuts is None else cuts
+    ins = _Inside(model, y, alpha, cuts, lam)
     L0 = es.L0
-    fem = qp * L0 * L0 / 12.0
-    Ms, Me = -qb[:, 0] + fem, qb[:, 1] + fem
     xi = np.linspace(0.0, 1.0, k + 2)[:-1]
     out = {}
     for r, rod in enumerate(model.structure.rods):
         el = np.nonzero(model.elem_rod == r)[0]
         s0 = np.concatenate([[0.0], np.cumsum(L0[el])])
-        M = (1 - xi) * Ms[el, None] + xi * Me[el, None] - (qp[el] * L0[el] ** 2)[:, None] * xi * (1 - xi) / 2
+        M = ins.moment(np.repeat(el, xi.size), np.tile(xi, el.size)).reshape(el.size, xi.size)
         s = s0[:-1, None] + xi * L0[el, None]
-        out[rod.name] = (np.append(s.ravel(), s0[-1]) * L, np.append(M.ravel(), Me[el[-1]]) * F * L)
+        out[rod.name] = (np.append(s.ravel(), s0[-1]) * L, np.append(M.ravel(), ins.Me[el[-1]]) * F * L)
     return out
 
 
@@ -185,8 +290,10 @@ def largest_moment(model, y, alpha, cuts=None) -> float:
         return 0.0
     if cuts is None:
         cuts = end_moments(model, y, resultant=True)
-    if model.rods_loaded:
-        return max(a["M_max"] for a in rod_arrays(model, y, alpha, cuts).values())
+    if model.rods_loaded or not model.linear:   # interior peaks: the continuous solution's
+        ins = _Inside(model, y, alpha, cuts, 1.0)
+        val, _ = ins.peak(ins.moment, np.arange(model.elements.size))
+        return max(float(np.abs(val).max()), float(np.abs(cuts[0]).max())) * model.Fref * model.Lref
     return float(np.abs(cuts[0]).max()) * model.Fref * model.Lref
 
 
@@ -223,6 +330,7 @@ def extract(model, y, alpha, arrays=None, lam=1.0) -> dict:
     for rod in model.structure.rods:
         a = arrays[rod.name]
         rods[rod.name] = {"M_max": a["M_max"], "N_max": a["N_max"], "V_max": a["V_max"],
+                          "s_M_max": a["s_M_max"], "s_N_max": a["s_N_max"], "s_V_max": a["s_V_max"],
                           "start": {"u": float(a["u"][0]), "v": float(a["v"][0]), "theta": float(a["theta"][0])},
                           "end": {"u": float(a["u"][-1]), "v": float(a["v"][-1]), "theta": float(a["theta"][-1])}}
     bodies = {}
@@ -308,6 +416,8 @@ def unflatten(template: dict, vals, structure) -> dict:
     out = {"M_max": next(it), "bodies": {}, "rods": {}, "joints": {}, "reactions": {}}
     for r in structure.rods:
         d = {k: next(it) for k in ("M_max", "N_max", "V_max")}
+        tr = template["rods"][r.name]
+        d.update({k: tr[k] for k in ("s_M_max", "s_N_max", "s_V_max") if k in tr})   # positions: the finest mesh's
         for end in ("start", "end"):
             d[end] = {k: next(it) for k in ("u", "v", "theta")}
         out["rods"][r.name] = d
