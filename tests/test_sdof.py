@@ -206,7 +206,7 @@ def test_bad_input_exit_2(args):
 
 @pytest.mark.parametrize("text, what", [
     ("t,a\n0,1\n0,2\n", "increasing"), ("t,a\n0,1\n1,x\n", "two numbers"),
-    ("t,a\n0,1\n", "rows"), ("", "rows"), ("t,a\n0,1\n1,nan\n", "non-finite"),
+    ("t,a\n0,1\n", "rows"), ("", "rows"), ("t,a\n0,1\n1,nan\n", "not finite"),
     ("t,a\n1,1\n0.5,2\n", "increasing"),
 ])
 def test_malformed_record_exit_2(tmp_path, text, what):
