@@ -264,3 +264,20 @@ def test_dynamic_frames_carry_time_and_global_values(tmp_path):
         top = m.points[rods[-1, 1], :2]
         ends = m.points[links.ravel(), :2]
         assert np.min(np.hypot(*(ends - top).T)) <= 1e-12
+
+
+def test_a_body_without_an_outline_is_a_vertex(tmp_path):
+    """A block without an outline on a ground slider (no rods): solve --out and simulate --out write
+    VTU files with its centroid as a vertex cell (before: meshio failed, 'need at least one array to
+    concatenate', and the run ended as an internal error)."""
+    import femslide
+    from femslide.output.vtu import read
+    s = femslide.Structure(gravity=(0.0, -9.81))
+    s.body("block", mass=2.0, centroid=(0.0, 0.1), inertia=0.01)
+    s.slider("belt", "block", "ground", at=(0.0, 0.1), axis=(1.0, 0.0), k=1000.0)
+    r = femslide.solve(s)
+    r.write(tmp_path / "s")
+    (vtu,) = (tmp_path / "s").glob("*.vtu")
+    m = read(str(vtu))
+    assert m.cells[0].type == "vertex" and m.points.shape == (1, 3)
+    assert np.allclose(m.points[0, :2], (0.0, 0.1))

@@ -12,7 +12,8 @@ the static equilibrium, femslide.output.files.mode_frame):
   order of the ``rods`` list of the sidecar);
 - bodies with an outline of 3 or more points: one polygon cell through the outline's points, moved
   rigidly with the body (``part`` 1, ``body`` = the body's index);
-- bodies with a 2-point outline (rigid rods, links): one line cell (``part`` 2);
+- bodies with a 2-point outline (rigid rods, links): one line cell (``part`` 2); a body without an
+  outline: a vertex cell at its centroid (``part`` 1);
 - a body's links to its joint points that lie off its outline (e.g. a rigid rod that is part of the
   body and ends in a ground pin): one line cell from the nearest outline point (``part`` 2).
 
@@ -134,10 +135,8 @@ def mesh_data(model, y, alpha, arrays=None, cuts=None):
                        np.asarray(model.elem_q, float).reshape(ne, 2) * (F / L)))
         n_pts = model.n_nodes
     for i, b in enumerate(model.structure.bodies):
-        if not b.outline:
-            continue
         th = float(q[model.body_dof(b.name) + 2])
-        P0 = np.asarray(b.outline, float)
+        P0 = np.asarray(b.outline or [b.centroid], float)   # (without an outline: its centroid, a vertex)
         P = model.body_point(b.name, q, P0)
         k = len(P)
         pts.append(P0)
@@ -147,10 +146,10 @@ def mesh_data(model, y, alpha, arrays=None, cuts=None):
             lst.append(np.zeros(k))
         idx = np.arange(n_pts, n_pts + k)
         n_pts += k
-        kind, part = ("polygon", PART_BODY) if k >= 3 else ("line", PART_RIGID)
+        kind, part = ("polygon", PART_BODY) if k >= 3 else (("line", PART_RIGID) if k == 2 else ("vertex", PART_BODY))
         blocks.append((kind, idx[None, :], np.full(1, np.nan), np.full(1, np.nan), np.full(1, part),
                        np.full(1, -1), np.full(1, i), np.full((1, 2), np.nan)))
-        for at, jname in _off_outline_points(model.structure, b):
+        for at, jname in (_off_outline_points(model.structure, b) if b.outline else ()):
             j = int(np.argmin(np.hypot(*(P0 - at).T)))
             if jname is None:
                 pa, at0 = model.body_point(b.name, q, at), at
@@ -401,6 +400,13 @@ def _write_vtu(path, points, cells, point_data, cell_data, field_data=None):
     vtkXMLWriter writes for a vtkStringArray: each string's bytes, signed, each ended by a 0; ParaView
     and pyvista show it as text; meshio 5 cannot read it, :func:`read` can)."""
     import meshio
+    if not any(len(c[1]) for c in cells):
+        # nothing to draw as cells (bodies without an outline and no rods): the points as vertices
+        # and the field data (meshio can neither write cell data without cells nor read a VTU
+        # without cells)
+        import numpy as np
+        cells = [("vertex", np.arange(len(points)).reshape(-1, 1))] if len(points) else []
+        cell_data = {}
     meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data).write(path, file_format="vtu")
     if not field_data:
         return
