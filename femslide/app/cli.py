@@ -337,15 +337,20 @@ def _sweep(args):
                      quiet=args.quiet)
 
 
-def _modes(args):
+def _structure_command(args, command, count_max):
+    """(scene, values) of `femslide modes|buckling FILE`: the file's scene for the command, checked
+    (a structure file; --count in [1, count_max]), with its --set values resolved."""
     tgt = _target(args.scene)
-    if not getattr(tgt.scene, "spec", None) or not hasattr(tgt.scene, "for_modes"):
-        raise BadInput(f"{args.scene}: `femslide modes` takes a structure file (rods, bodies, joints)")
-    if not 1 <= args.count <= 100:
-        raise BadInput(f"--count = {args.count}; allowed: an integer in [1, 100]")
-    scene = tgt.scene.for_modes()
-    values = scene.resolve(parse_assignments(args.set))
-    res = run_case(scene, {**values, "_count": args.count}, out=args.out, quiet=args.quiet)
+    if not getattr(tgt.scene, "spec", None) or not hasattr(tgt.scene, f"for_{command}"):
+        raise BadInput(f"{args.scene}: `femslide {command}` takes a structure file (rods, bodies, joints)")
+    if not 1 <= args.count <= count_max:
+        raise BadInput(f"--count = {args.count}; allowed: an integer in [1, {count_max}]")
+    scene = getattr(tgt.scene, f"for_{command}")()
+    return scene, scene.resolve(parse_assignments(args.set))
+
+
+def _emit(res, args) -> int:
+    """Print a result as JSON or text; exit status 0."""
     if args.json:
         print(json.dumps(_clean(res)))
     else:
@@ -353,14 +358,13 @@ def _modes(args):
     return 0
 
 
+def _modes(args):
+    scene, values = _structure_command(args, "modes", 100)
+    return _emit(run_case(scene, {**values, "_count": args.count}, out=args.out, quiet=args.quiet), args)
+
+
 def _buckling(args):
-    tgt = _target(args.scene)
-    if not getattr(tgt.scene, "spec", None) or not hasattr(tgt.scene, "for_buckling"):
-        raise BadInput(f"{args.scene}: `femslide buckling` takes a structure file (rods, bodies, joints)")
-    if not 1 <= args.count <= 50:
-        raise BadInput(f"--count = {args.count}; allowed: an integer in [1, 50]")
-    scene = tgt.scene.for_buckling()
-    values = scene.resolve(parse_assignments(args.set))
+    scene, values = _structure_command(args, "buckling", 50)
     if args.combination is not None:
         names = [c.name for c in scene.structure.combinations.values()]
         if args.combination not in names:
@@ -368,11 +372,7 @@ def _buckling(args):
                            f"{', '.join(names) or 'none'}")
     res = run_case(scene, {**values, "_count": args.count, "_about": args.about, "_combination": args.combination},
                    out=args.out, quiet=args.quiet)
-    if args.json:
-        print(json.dumps(_clean(res)))
-    else:
-        _print_result(_clean(res))
-    return 0
+    return _emit(res, args)
 
 
 def _mesh(args):
