@@ -404,9 +404,7 @@ def start_multipliers(sysm: RadauSystem, s: MotionState, acc, mu_step):
                       False)[0][nq:] for k in (-1.0, 1.0)]
         gamma = (g[0] - 2.0 * r[nq:] + g[1]) / (eps * eps)
     light = np.setdiff1d(np.arange(nq), heavy)
-    mr, mc, mv = sysm.masses.matrix(q)
-    M = np.zeros((nq, nq))
-    np.add.at(M, (mr, mc), mv)
+    M = sysm.masses.dense(q)
     G = np.zeros((nc, nq))
     sel = (rows >= nq) & (cols < nq)
     np.add.at(G, (rows[sel] - nq, cols[sel]), vals[sel])

@@ -222,15 +222,9 @@ def peak_floors(peaks):
     """{dotted key: FLOOR times the largest peak of its unit} (a reaction that the motion hardly
     loads - the axial reaction of a mast shaken sideways without gravity - is not judged by its own
     round-off)."""
-    flat = {}
-
-    def leaves(d, path):
-        for k, v in d.items():
-            if isinstance(v, dict):
-                leaves(v, path + (k,))
-            else:
-                flat[".".join(path + (k,))] = (UNIT.get(k, "m" if k.startswith("slide") else k), abs(float(v)))
-    leaves(peaks, ())
+    from femslide.results.compare import leaves
+    flat = {".".join(path): (UNIT.get(path[-1], "m" if path[-1].startswith("slide") else path[-1]), abs(float(v)))
+            for path, v in leaves(peaks)}
     big = {}
     for u, v in flat.values():
         big[u] = max(big.get(u, 0.0), v)

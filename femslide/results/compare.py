@@ -81,10 +81,11 @@ def history_difference(ta, Xa, tb, Xb, breaks=(), windows=(), offsets=None, floo
     return rel
 
 
-def _leaves(tree, path=()):
+def leaves(tree, path=()):
+    """(path tuple, value) of every leaf of a nested dict."""
     if isinstance(tree, dict):
         for k, v in tree.items():
-            yield from _leaves(v, path + (k,))
+            yield from leaves(v, path + (k,))
     else:
         yield path, tree
 
@@ -92,10 +93,10 @@ def _leaves(tree, path=()):
 def peak_difference(pa, pb, floors=None):
     """{dotted key: |b - a| / max(|a|, floor)} of two peak tables of the same shape (``floors``
     {dotted key: smallest scale}, default none; 0 where the scale is 0 and b equals a)."""
-    flat_b = dict(_leaves(pb))
+    flat_b = dict(leaves(pb))
     floors = floors or {}
     out = {}
-    for path, a in _leaves(pa):
+    for path, a in leaves(pa):
         b = flat_b.get(path)
         if b is None:
             continue
