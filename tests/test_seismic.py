@@ -9,6 +9,7 @@ import pytest
 
 import femslide
 import femslide.analysis.excitation
+from femslide.analysis.excitation import write_csv_record
 from femslide.app.cli import main
 from femslide.results.outcome import dotted
 
@@ -30,10 +31,6 @@ def _write_at2(path, t, a, old=False, per_line=5):
     g = a / G
     lines += ["  ".join(f"{x:.16E}" for x in g[i:i + per_line]) for i in range(0, len(g), per_line)]
     path.write_text("\n".join(lines) + "\n")
-
-
-def _write_csv(path, t, a):
-    path.write_text("t,a\n" + "\n".join(f"{float(x)!r},{float(y)!r}" for x, y in zip(t, a)) + "\n")
 
 
 FRAME = """
@@ -78,7 +75,7 @@ def test_at2_both_header_forms_and_csv_give_the_same_peaks(tmp_path, capsys):
     t, a = _record()
     _write_at2(tmp_path / "new.AT2", t, a)
     _write_at2(tmp_path / "old.AT2", t, a, old=True, per_line=3)
-    _write_csv(tmp_path / "r.csv", t, a)
+    write_csv_record(str(tmp_path / "r.csv"), t, a)
     for f in ("new.AT2", "old.AT2"):
         tt, aa = read_at2(str(tmp_path / f))
         assert np.allclose(tt, t, rtol=0, atol=1e-12) and np.allclose(aa, a, rtol=1e-12, atol=1e-14)
@@ -110,7 +107,7 @@ def test_non_finite_record_values_are_bad_input_naming_file_and_line(tmp_path, c
         (tmp_path / "r.AT2").write_text("\n".join(lines) + "\n")
         line = 7
     else:
-        _write_csv(tmp_path / "r.csv", t, a)
+        write_csv_record(str(tmp_path / "r.csv"), t, a)
         lines = (tmp_path / "r.csv").read_text().splitlines()
         lines[9] = lines[9].split(",")[0] + "," + bad
         (tmp_path / "r.csv").write_text("\n".join(lines) + "\n")
@@ -232,7 +229,7 @@ ground = {{direction = [1.0, 0.0], record = "r1.csv", scale = 1.0}}
 
 
 def _suite(tmp_path, mu=""):
-    from femslide.analysis.excitation import synthetic_record, write_csv_record
+    from femslide.analysis.excitation import synthetic_record
     for k in (1, 2):
         t, a = synthetic_record(1.5, 0.01, pga=2.0, rise=0.3, strong=0.6, decay=2.0, seed=k)
         write_csv_record(str(tmp_path / f"r{k}.csv"), t, a)
