@@ -65,6 +65,34 @@ def housner(b, h, theta0, n_impacts=5, m=1.0, J=None, g=9.81, rtol=1e-13, atol=1
     return out
 
 
+def bouncing_bar(m, J, d, beta, theta0, e, n_impacts=5, g=9.81, rtol=1e-13, atol=1e-15):
+    """The first ``n_impacts`` impacts of a rigid bar pinned to the ground at one end, released at
+    rest from theta0 > 0 (rad, counter-clockwise) onto a contact under its other end (at theta = 0)
+    with restitution e: between impacts I_P theta'' = -m g d cos(theta + beta) (I_P = J + m d^2 its
+    inertia about the pin, d the pin-to-centroid distance, beta that line's angle above the bar's
+    bottom edge), at an impact theta'+ = -e theta'- (the contact's normal velocity reverses times e;
+    the pin takes the rest of the impulse).  A list of dicts {t [s], w_minus, w_plus [rad/s]}."""
+    I_P = J + m * d * d
+
+    def rhs(t, z):
+        return [z[1], -m * g * d * math.cos(z[0] + beta) / I_P]
+
+    def hit(t, z):
+        return z[0]
+    hit.terminal, hit.direction = True, -1
+
+    t, z, out = 0.0, [theta0, 0.0], []
+    for _ in range(n_impacts):
+        sol = solve_ivp(rhs, (t, t + 1e3), z, method="DOP853", events=hit, rtol=rtol, atol=atol, first_step=1e-6)
+        if not sol.t_events[0].size:
+            raise RuntimeError("no impact found")
+        t = float(sol.t_events[0][0])
+        w_minus = float(sol.y_events[0][0][1])
+        out.append({"t": t, "w_minus": w_minus, "w_plus": -e * w_minus})
+        z = [0.0, -e * w_minus]
+    return out
+
+
 def release_energy_check(b, h, theta0, m=1.0, J=None, g=9.81):
     """The angular velocity at the first impact from energy conservation alone (no integration):
     |w| = sqrt(2 m g R (cos(alpha - theta0) - cos(alpha)) / I_O)."""

@@ -122,8 +122,12 @@ class RadauSystem:
 
     order = ORDER
 
-    def __init__(self, model, masses, C, ground, extra=None):
+    def __init__(self, model, masses, C, ground, extra=None, released=None):
         self.model, self.masses, self.C, self.ground = model, masses, C, ground
+        # multipliers of lifted contacts (indices among the model's n_c): their rows hold mu = 0
+        # instead of the joint's equations (the layout stays; femslide.analysis.stickslip)
+        self.released = np.asarray(released if released is not None else [], dtype=np.intp)
+        self._rel_pos = None
         self.nq, self.nc = model.n_q, model.n_c
         self.n_q = 3 * self.nq
         self.n = 6 * self.nq + 3 * self.nc
@@ -139,6 +143,36 @@ class RadauSystem:
 
     def rotation_dofs(self):
         return self._rot
+
+    def model_system(self, y, elements, jacobian=True):
+        """The model's residual and COO Jacobian at y (:meth:`femslide.model.discrete.Model.system`,
+        ``dense="coo"``) with the released rows (lifted contacts) replaced by mu = 0: residual mu,
+        Jacobian row the unit entry on mu (appended; the pattern stays static)."""
+        r, coo, info = self.model.system(y, elements, 1.0, None, jacobian, dense="coo")
+        rel = self.released
+        if not rel.size:
+            return r, coo, info
+        nq = self.nq
+        r[nq + rel] = y[nq + rel]
+        if coo is None:
+            return r, coo, info
+        rows, cols, vals = coo
+        if self._rel_pos is None or self._rel_pos[0] is not rows:
+            self._rel_pos = (rows, np.nonzero(np.isin(rows, nq + rel))[0])
+        vals = vals.copy()
+        vals[self._rel_pos[1]] = 0.0
+        d = nq + rel
+        return r, (np.concatenate([rows, d]), np.concatenate([cols, d]),
+                   np.concatenate([vals, np.ones(rel.size)])), info
+
+    def release_dense(self, r, A, y):
+        """The released rows of a dense residual r and Jacobian A (the model's) set to mu = 0."""
+        if self.released.size:
+            k = self.nq + self.released
+            r[k] = y[k]
+            A[k, :] = 0.0
+            A[k, k] = 1.0
+        return r, A
 
     def _pattern(self, model_coo, extra_coo):
         """The coupled matrix's pattern from the model's Jacobian pattern, the inertia's, the damping's
@@ -184,7 +218,11 @@ class RadauSystem:
         if self._error_matrix is None:
             s, h, m = self.s, self.h, self.model
             es = ElementState(s.alpha)
-            _, A0, _ = m.system(s.y, es, 1.0, None, True)
+            if self.released.size:
+                _, (r0, c0, v0), _ = self.model_system(s.y, es)
+                A0 = Assembler(r0, c0, m.n).assemble(v0)
+            else:
+                _, A0, _ = m.system(s.y, es, 1.0, None, True)
             lam = MU_REAL / h
             rows, cols, base = self.masses.inertia(self.qn, s.v, s.acc, 0.0, 0.0, self.ag[0])[1]
             vm = self.masses.inertia(self.qn, s.v, s.acc, 1.0, 0.0, self.ag[0])[1][2] - base
@@ -234,7 +272,7 @@ class RadauSystem:
         vals, M_parts, C_parts, coupling = [], [], [], []
         for i in range(3):
             y = np.concatenate([Q[i], MU[i]])
-            r, coo, info = m.system(y, self.elements[i], 1.0, None, jacobian, dense="coo")
+            r, coo, info = self.model_system(y, self.elements[i], jacobian)
             f, (ir, ic, base) = masses.inertia(Q[i], V[i], ACC[i], 0.0, 0.0, self.ag[i])
             rv = r[:nq] + f
             if self.Csr is not None:
@@ -389,7 +427,7 @@ def start_multipliers(sysm: RadauSystem, s: MotionState, acc, mu_step):
         return acc, mu_step
     q, v = s.y[:nq], s.v
     es = ElementState(s.alpha)
-    r, (rows, cols, vals), _ = m.system(np.concatenate([q, np.zeros(nc)]), es, 1.0, None, True, dense="coo")
+    r, (rows, cols, vals), _ = sysm.model_system(np.concatenate([q, np.zeros(nc)]), es)
     ag = sysm.ground.accel(s.t) * sysm.ground.direction / m.Lref if sysm.ground is not None else None
     F = r[:nq] + sysm.masses.inertia(q, v, np.zeros(nq), 0.0, 0.0, ag)[0]
     if sysm.Csr is not None:
@@ -403,6 +441,7 @@ def start_multipliers(sysm: RadauSystem, s: MotionState, acc, mu_step):
         g = [m.system(np.concatenate([q + k * eps * v, np.zeros(nc)]), ElementState(s.alpha), 1.0, None,
                       False)[0][nq:] for k in (-1.0, 1.0)]
         gamma = (g[0] - 2.0 * r[nq:] + g[1]) / (eps * eps)
+        gamma[sysm.released] = 0.0
     light = np.setdiff1d(np.arange(nq), heavy)
     M = sysm.masses.dense(q)
     G = np.zeros((nc, nq))
@@ -411,6 +450,7 @@ def start_multipliers(sysm: RadauSystem, s: MotionState, acc, mu_step):
     GT = np.zeros((nq, nc))
     sel = (rows < nq) & (cols >= nq)
     np.add.at(GT, (rows[sel], cols[sel] - nq), vals[sel])
+    GT[:, sysm.released] = 0.0   # (a lifted contact's multiplier is 0)
     A = np.block([[M[:, heavy], GT], [G[:, heavy], np.zeros((nc, nc))]])
     b = -np.concatenate([F + M[:, light] @ acc[light], gamma + G[:, light] @ acc[light]])
     try:

@@ -69,6 +69,7 @@ from femslide.results.history import _peak
 from femslide.results.seismic import drift_columns, drifts, residuals, running_peaks, storey_pairs
 from femslide.analysis.workload import (  # noqa: F401  (check_work and steps_per_period: also imported from here)
     ABSURD_WORK_S, MAX_PERIODS, check_release, check_work, steps_per_period)
+from femslide.analysis.start import contact_start, stuck_statics as _stuck_statics
 from femslide.analysis.simspec import (  # noqa: F401  (the [simulate] table's parsing: also imported from here)
     DEFAULT_ELEMENTS, SIM_KEYS, Spec, parse_elements, parse_spec)
 
@@ -76,83 +77,9 @@ MODES = 6
 FRAMES = 200                 # at most this many VTU frames in --out
 
 
-def _held_start(fs, counts, L, F, y, elements, ini):
-    """The static state (y, elements) held at the ``initial`` values (model units), walked there in
-    small steps."""
-    from femslide.analysis.newton import newton
-    from femslide.joints.holds import SlideHold
-    from femslide.model.discrete import Model
-    m = Model(fs, counts, L, F, finalize=False)
-    if "body" in ini:
-        name = ini["body"]
-        if name not in m.body_index:
-            raise BadInput(f"[simulate] initial.body = {name!r}: no such body; bodies: "
-                           f"{', '.join(m.body_index) or 'none'}")
-        b = fs.body(name)
-        d = m.body_dof(name)
-        r = tuple(np.asarray(b.centroid, float) / L - m.body_X0[m.body_index[name]])
-        what, target, e = [], [], (1.0, 0.0)
-        if "u" in ini:
-            size = math.hypot(*ini["u"])
-            if size == 0.0:
-                raise BadInput("[simulate] initial.u = [0, 0]: give a nonzero displacement (or leave it out)")
-            e = (ini["u"][0] / size, ini["u"][1] / size)
-            what.append("u")
-            target.append(size / L)
-        if "rotation" in ini:
-            what.append("rot")
-            target.append(ini["rotation"])
-        hold = BodyHold(d, r, what, e)
-    else:
-        name = ini["joint"]
-        j = next((j for j in fs.joints if j.name == name), None)
-        if j is None or kind_of(j.type).free != "slide":
-            raise BadInput(f"[simulate] initial.joint = {name!r}: not a "
-                           f"{listed(lambda k: k.free == 'slide', last='or')} of the structure")
-        hold = SlideHold(m.joint[name], np.zeros(1), "initial slide", origin=m.slide0[name])
-        target = [ini["slide"] / L]
-    m.add_constraint(hold)
-    m.finalize()
-    target = np.array(target)
-    z = np.concatenate([y, np.zeros(hold.size)])
-    start = hold.value(z[hold.dofs])
-    steps = max(1, int(math.ceil(float(np.abs(target - start).max()) / 0.02)))
-    es = elements.copy()
-    k = 0
-    frac = 0.0
-    dfrac = 1.0 / steps
-    while frac < 1.0:
-        f1 = min(1.0, frac + dfrac)
-        hold.target = start + f1 * (target - start)
-        z1, info = newton(m, z, es)
-        if not info.converged:
-            es.revert()
-            dfrac *= 0.5
-            k += 1
-            if k > 30:
-                raise SolverFailure(f"the initial state (held at {ini}) could not be reached: {info.reason}")
-            continue
-        es.commit()
-        z, frac = z1, f1
-    return z[:-hold.size], es
-
-
 def _has_friction(j):
     """Whether joint j has friction: a mu, and mu0 > 0 (mu0 = 0 is an ordinary slider or roller)."""
     return j.mu is not None and j.mu0 > 0.0
-
-
-def _stuck_statics(fs, exc):
-    """Static solution of the structure with its friction joints stuck (each as its kind's ``stuck``
-    kind: sliders as welds, rollers as pins, at the same points); SolverFailure (the original reason)
-    if that fails too."""
-    from femslide.analysis import static
-    joints = tuple(replace(j, type=kind_of(j.type).stuck, axis=None, k=0.0, preload=0.0,
-                           mu=None, mu0=None, bearing=None) if j.mu is not None else j for j in fs.joints)
-    try:
-        return static.solve(replace(fs, joints=joints, derived={}))
-    except SolverFailure:
-        raise exc from None
 
 
 def _model_like(fs, m):
@@ -348,7 +275,14 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
                               mechanism=frequencies_of != "frictionless structure")[0]
         freq = np.array(sets["free"])
     elif frequencies_of == "frictionless structure":
-        freq, _ = modes(model, y_s, e_s, masses, MODES)
+        try:
+            freq, _ = modes(model, y_s, e_s, masses, MODES)
+        except SolverFailure as exc:
+            # while its contacts hold, a structure may have no motion at all (a bar on a pin and a
+            # contact): it moves only lifted off
+            if not any(j.unilateral for j in fs.joints) or "no motion" not in str(exc):
+                raise
+            freq = np.zeros(0)
     else:   # frictionless sliders held for the start only: their free directions are zero frequencies
         freq, _ = modes(model, y_s, e_s, masses, MODES, zero_ok=True,
                          max_free=sum(j.mu is not None for j in fs.joints))
@@ -371,22 +305,26 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     # joints with mu0 = 0 have no friction at all (the stick/slip direction of a massless slide is
     # then undetermined): they are frictionless sliders and rollers
     fric_joints = [j for j in fs.joints if _has_friction(j)]
+    # the joints with modes: friction (stick/slip) and contacts (lift/land)
+    mode_joints = [j for j in fs.joints if _has_friction(j) or j.unilateral]
+    y0, e0, lifted0 = (y_s, e_s, ()) if spec.initial is None else \
+        contact_start(fs, counts, L, F, model, y_s, e_s, spec.initial)
 
     def new_friction():
-        """The friction joints' modes and step systems, fresh for a run (or None)."""
-        if not fric_joints:
+        """The friction joints' and contacts' modes and step systems, fresh for a run (or None)."""
+        if not mode_joints:
             return None
         from femslide.analysis.radau import RadauSystem
         from femslide.analysis.stickslip import Friction
-        return Friction(model, fric_joints, lambda m, extras: RadauSystem(m, masses, C, spec.ground, extras), counts)
+        return Friction(model, mode_joints, lambda m, extras, rel: RadauSystem(m, masses, C, spec.ground, extras, rel),
+                        counts, lifted=lifted0)
     fr = new_friction()
-    if fr is not None:
+    if fr is not None and sets:
         # stuck phases may be much stiffer (a massless rod clamped in its guide must stretch):
         # the run-time step allowance follows the highest frequency of either
         f_ref[1] = max(f_ref[1], max(sets["stuck"], default=0.0))
     check_work(spec, f_ref[0], model.n_q, f_ref[1])
     deadline = None if spec.max_time is None else t_wall + spec.max_time
-    y0, e0 = (y_s, e_s) if spec.initial is None else _held_start(fs, counts, L, F, y_s, e_s, spec.initial)
     if spec.initial is not None:   # the released motion may be much faster than the lowest mode
         f_ref[1] = max(f_ref[1], check_release(spec, model, masses, y_s, e_s, y0, f_ref[0]))
     max_steps, _ = check_work(spec, f_ref[0], model.n_q, f_ref[1])

@@ -161,6 +161,7 @@ class Solution:
     notes: list = None      # what the user must know about its accuracy (an output at its round-off floor)
     trace: object = None
     critical: list | None = None
+    lifted: list | None = None   # unilateral contacts released (they would pull; femslide.analysis.contacts)
 
     @property
     def model(self):
@@ -223,7 +224,19 @@ def solve(fs: Frozen, elements: int | None = None, watch=None, path: Path | None
     A principal branch that ends before full load fails (SolverFailure) naming its first critical
     point - a limit point located on the refined meshes (femslide.analysis.limits) or a
     bifurcation - and its load factor.
+
+    A structure with unilateral contacts (sliders, rollers with ``unilateral``): a contact that would
+    pull is released (femslide.analysis.contacts; the solution's ``lifted`` names them).
     """
+    if any(j.unilateral for j in fs.joints):
+        from femslide.analysis.contacts import with_contacts
+        return with_contacts(fs, lambda f: _solve_set(f, elements, watch, path, Lref, Fref, cache, target, factors,
+                                                      theory))
+    return _solve_set(fs, elements, watch, path, Lref, Fref, cache, target, factors, theory)
+
+
+def _solve_set(fs, elements, watch, path, Lref, Fref, cache, target, factors, theory):
+    """:func:`solve` with the contacts' states as the structure says."""
     if Lref is None or Fref is None:
         L0, F0 = scales(fs)
         Lref, Fref = Lref or L0, Fref or F0

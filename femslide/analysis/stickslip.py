@@ -1,13 +1,19 @@
-"""Coulomb friction joints in time: their stick/slip modes, event location and mode switches.
+"""Coulomb friction joints and unilateral contacts in time: their modes, event location and switches.
 
-:class:`Friction` holds the friction joints of a model (femslide.joints.friction: the Coulomb law of
-one joint) and their modes (0 stuck, +-1 slipping), a model per set of stuck joints (a stuck joint's
-slide is locked by an exact constraint, femslide.joints.holds.SlideHold) and its step system, the
-event functions (slip velocity, static margin mu0 N - |lam|) and the events recorded; the
-integrator locates an event inside a step (femslide.analysis.events.locate_step); :func:`_switch`
-and :func:`_settle` change modes (the stick test on the consistent start's lock multiplier); at
-every change the massless parts are re-solved for equilibrium in the new modes (:func:`_requilibrate`),
-the energy their jump releases counted as dissipated.
+:class:`Friction` holds the friction joints and the contacts (``unilateral`` sliders and rollers) of a
+model (femslide.joints.friction: the Coulomb law and the gap of one joint) and their modes: a friction
+mode (0 stuck, +-1 slipping, FREE when no friction acts: a frictionless contact, or a lifted one) and
+whether a contact is lifted; a model per set of stuck joints (a stuck joint's slide is locked by an
+exact constraint, femslide.joints.holds.SlideHold) and a step system per set of modes (a lifted
+contact's multipliers are released: held at 0 instead of its equations, so that the layout stays);
+the event functions, two per joint: the friction slot (slip velocity sigma s', or the static margin
+mu0 N - |lam|) and the contact slot (the pressure -Q while in contact, the gap w . n while lifted);
+and the events recorded.  The integrator locates an event inside a step
+(femslide.analysis.events.locate_step); :func:`_switch` changes modes: :func:`_settle` (the stick
+test on the consistent start's lock multiplier), :func:`_lift` (a contact that would pull lets go)
+and :func:`_land` (a contact whose gap closes: an impact, :func:`_impact`).  At every change the
+massless parts are re-solved for equilibrium in the new modes (:func:`_requilibrate`), the energy
+their jump releases (and the kinetic energy an impact takes) counted as dissipated.
 """
 from __future__ import annotations
 
@@ -18,29 +24,35 @@ from femslide.errors import SolverFailure
 from femslide.joints.friction import FrictionJoint
 from femslide.joints.holds import SlideHold
 from femslide.model.linalg import add_coo, solve_linear
-from femslide.model.state import MotionState
+from femslide.model.state import ElementState, MotionState
 
 
 SAME_INSTANT = 1e-9   # s (relative to max(1, t)): events this close are one instant (events are
                       # located to ~1e-12 s; two of them at one physical instant land within this)
+FREE = 2              # the friction mode of a joint on which no friction acts (frictionless, or lifted)
 
 
 class Friction:
-    """The friction joints of a model and their modes (0 stuck, +-1 slipping), the step systems of
-    each set of stuck joints, the event functions and the mode switches."""
+    """The friction joints and contacts of a model and their modes (friction: 0 stuck, +-1 slipping,
+    FREE; contacts: lifted or not), the step systems of each set of modes, the event functions and
+    the mode switches.  ``lifted``: the names of the contacts lifted at the start."""
 
-    def __init__(self, model, joints, make_system, counts):
+    def __init__(self, model, joints, make_system, counts, lifted=()):
         from femslide.model.discrete import Model
         from femslide.model.patterns import PatternCache
         self.base = model
         self.joints = [FrictionJoint(model, j) for j in joints]
-        self.make_system = make_system      # (model, extras) -> a step system (femslide.analysis.radau)
+        self.make_system = make_system      # (model, extras, released) -> a step system (femslide.analysis.radau)
         self.counts = counts
         self._Model, self._cache = Model, PatternCache()
         self._models = {(): model}
-        self.mode = [0] * len(self.joints)
+        self.lifted = [fj.unilateral and fj.name in lifted for fj in self.joints]
+        self.mode = [0 if fj.friction and not up else FREE for fj, up in zip(self.joints, self.lifted)]
         self.stick_at = [0.0] * len(self.joints)
         self.events = {fj.name: [] for fj in self.joints}
+        self.size = 2 * len(self.joints)    # event slots: 2 i friction, 2 i + 1 contact
+        self.v_landing = [0.0] * len(self.joints)   # the largest approach speed of each contact's landings
+        self.tolerance = 0.0                # the run's tolerance: a rebound below it (relative) is plastic
         self._systems = {}
 
     # -- models and systems ------------------------------------------------------------------------
@@ -64,17 +76,23 @@ class Friction:
 
     def stuck_model(self):
         """The model with every friction joint stuck."""
-        return self._model(tuple(range(len(self.joints))))
+        return self._model(tuple(i for i, fj in enumerate(self.joints) if fj.friction))
+
+    def released(self):
+        """The multiplier indices (among n_c) of the lifted contacts."""
+        n_q = self.base.n_q
+        rows = [fj.mu_idx - n_q for fj, up in zip(self.joints, self.lifted) if up]
+        return np.concatenate(rows).astype(np.intp) if rows else np.zeros(0, np.intp)
 
     def system(self):
         """The step system of the current modes (lock targets set)."""
         stuck = self.stuck()
-        key = tuple(self.mode)
+        key = (tuple(self.mode), tuple(self.lifted))
         sysm = self._systems.get(key)
         if sysm is None:
             m = self._model(stuck)
-            extras = [fj.slip(mo) for fj, mo in zip(self.joints, self.mode) if mo != 0]
-            sysm = self._systems[key] = self.make_system(m, extras)
+            extras = [fj.slip(mo) for fj, mo in zip(self.joints, self.mode) if mo in (1, -1)]
+            sysm = self._systems[key] = self.make_system(m, extras, self.released())
         m = sysm.model
         for lock, i in zip(getattr(m, "locks", []), stuck):
             lock.target = self.stick_at[i]
@@ -102,22 +120,53 @@ class Friction:
             ev.append({"t": t, "kind": kind})
 
     def phi(self, y, v):
-        """Event functions (positive while the mode holds): sigma s' when slipping, mu0 N - |lam|
-        when stuck."""
+        """Event functions, two per joint (positive while the mode holds): sigma s' when slipping,
+        mu0 N - |lam| when stuck (1 when free); a contact's pressure -Q, or its gap while lifted (1
+        for a two-sided joint)."""
         q = y[:self.base.n_q]
-        out = []
+        out = np.ones(self.size)
         for i, (fj, mo) in enumerate(zip(self.joints, self.mode)):
-            if mo != 0:
-                out.append(mo * fj.slide_rate(q, v)[1])
-            else:
-                out.append(self.holding(i, y))
-        return np.array(out)
+            if mo in (1, -1):
+                out[2 * i] = mo * fj.slide_rate(q, v)[1]
+            elif mo == 0:
+                out[2 * i] = self.holding(i, y)
+            if fj.unilateral:
+                out[2 * i + 1] = fj.gap(q)[0] if self.lifted[i] else fj.pressure(y)
+        return out
 
-    def started_slip(self, i, t):
-        """Whether joint i started to slip at t (its last event, within SAME_INSTANT, and it is
-        slipping)."""
+    def fresh(self, k, t):
+        """Whether event slot k changed its joint's mode at t (its last event, within SAME_INSTANT):
+        the friction slot of a joint that has just started to slip, the contact slot of one that has
+        just lifted or landed (a function just located at zero is not late at that instant)."""
+        i, what = divmod(k, 2)
         ev = self.events[self.joints[i].name]
-        return self.mode[i] != 0 and bool(ev) and abs(ev[-1]["t"] - t) <= SAME_INSTANT * max(1.0, abs(t))
+        if not ev or abs(ev[-1]["t"] - t) > SAME_INSTANT * max(1.0, abs(t)):
+            return False
+        if what == 0:
+            return self.mode[i] in (1, -1)
+        return ev[-1]["kind"] in ("lift", "land")
+
+    def flight_step(self, s, fresh):
+        """The longest step [s] that resolves the flights just begun at the state s (``fresh``: the
+        event slots that changed modes at s.t): a contact that rebounded with the normal velocity
+        v > 0 and falls back with the normal acceleration a < 0 lands after 2 v / |a|; a step of a
+        quarter of that finds the landing (a whole flight inside one step would be missed)."""
+        out = np.inf
+        n_q = self.base.n_q
+        q = s.y[:n_q]
+        for i, fj in enumerate(self.joints):
+            if not (fj.unilateral and self.lifted[i] and fresh[2 * i + 1]):
+                continue
+            g0, G = fj.gap(q)
+            v = float(G @ s.v[fj.dofs])
+            if v <= 0.0:
+                continue
+            eps = 1e-4 * max(float(np.abs(q[fj.dofs]).max()), 1.0) / max(float(np.abs(s.v[fj.dofs]).max()), 1e-300)
+            z = q + eps * s.v + 0.5 * eps * eps * s.acc
+            a = 2.0 * (fj.gap(z)[0] - g0 - eps * v) / (eps * eps)
+            if a < 0.0:
+                out = min(out, 0.5 * v / -a)
+        return out
 
     def holding(self, i, y):
         """Stuck joint i's margin mu0 N - |lam|: >= 0 while static friction holds."""
@@ -129,7 +178,7 @@ class Friction:
         q = y[:self.base.n_q]
         P = 0.0
         for fj, mo in zip(self.joints, self.mode):
-            if mo != 0:
+            if mo in (1, -1):
                 N, _ = fj.normal(y)
                 P += fj.mu * N * abs(fj.slide_rate(q, v)[1])
         return P
@@ -140,7 +189,8 @@ class Friction:
             if fj.name == name:
                 if mo == 0:
                     return self.lock_multiplier(y, i)
-                return mo * fj.mu * fj.normal(y)[0]
+                if mo in (1, -1):
+                    return mo * fj.mu * fj.normal(y)[0]
         return 0.0
 
 
@@ -171,6 +221,10 @@ class _Light:
         """The whole model's residual (static, slip and damping forces) and its dense Jacobian."""
         m, sysm = self.model, self.sysm
         r, A, info = m.system(y, self.elements, 1.0, None, jacobian, dense=True)
+        if jacobian:
+            sysm.release_dense(r, A, y)   # (a lifted contact's multipliers held at 0)
+        elif sysm.released.size:
+            r[m.n_q + sysm.released] = y[m.n_q + sysm.released]
         for ex in sysm.extra:
             fe, coo = ex(y, None, 0.0)
             r[:m.n_q] += fe
@@ -250,22 +304,15 @@ def _requilibrate(sysm, s: MotionState):
     return MotionState(s.t, y, v, s.acc, elements), released
 
 
-def _restart(fr, s: MotionState, old_stuck, h_s):
-    """The state s (laid out for the stuck joints ``old_stuck``) carried into the current modes'
-    layout (lock multipliers kept, new ones 0), its massless parts re-solved
-    (:func:`_requilibrate`) and its accelerations made consistent: (state, step system, energy
-    released by jumps of massless parts)."""
-    s = MotionState(s.t, fr.convert(s.y, old_stuck, fr.stuck()), s.v, s.acc, s.elements)
-    sysm = fr.system()
-    s, released = _requilibrate(sysm, s)
-    return consistent_start(sysm, s, h_s), sysm, released
-
-
-def _switch(fr, s: MotionState, i, h_s):
-    """The mode change of friction joint i at the state s: a slipping joint at rest takes the stick
-    test (:func:`_settle`); a stuck one breaks away towards its net force (sign of its lock
-    multiplier).  Returns the state in the new modes' layout with consistent accelerations, the
-    step system and the energy released by jumps of massless parts (:func:`_requilibrate`)."""
+def _switch(fr, s: MotionState, k, h_s):
+    """The mode change of event slot k (2 i: joint i's friction, 2 i + 1: its contact) at the state
+    s: a slipping joint at rest takes the stick test (:func:`_settle`); a stuck one breaks away
+    towards its net force (sign of its lock multiplier); a contact lifts (:func:`_lift`) or lands
+    (:func:`_land`).  Returns the state in the new modes' layout with consistent accelerations, the
+    step system and the energy released by jumps of massless parts and taken by impacts."""
+    i, what = divmod(int(k), 2)
+    if what == 1:
+        return _land(fr, s, i, h_s) if fr.lifted[i] else _lift(fr, s, i, h_s)
     if fr.mode[i] != 0:
         return _settle(fr, s, h_s, [i], fr.stuck())
     old = fr.stuck()
@@ -273,6 +320,16 @@ def _switch(fr, s: MotionState, i, h_s):
     fr.mode[i] = 1 if lam > 0 else -1
     fr.event(i, s.t, "slip+" if lam > 0 else "slip-")
     return _restart(fr, s, old, h_s)
+
+
+def start(fr, s: MotionState, h_s):
+    """The modes at the start of a run: the contacts lifted at the start (event "lift" at t), then
+    the stick test of every friction joint in contact (:func:`_settle`)."""
+    for i, up in enumerate(fr.lifted):
+        if up:
+            fr.event(i, s.t, "lift")
+    pending = [i for i, fj in enumerate(fr.joints) if fj.friction and not fr.lifted[i]]
+    return _settle(fr, s, h_s, pending, ())
 
 
 def _settle(fr, s: MotionState, h_s, pending, old_stuck):
@@ -306,3 +363,169 @@ def _settle(fr, s: MotionState, h_s, pending, old_stuck):
         s, sysm, more = _restart(fr, s, old, h_s)
         released += more
     return s, sysm, released
+
+
+def _lift(fr, s: MotionState, i, h_s):
+    """Contact i lets go (its pressure reached zero): released (its multipliers 0), no friction acts
+    on it while it flies (a stuck joint's lock goes)."""
+    old = fr.stuck()
+    fr.lifted[i] = True
+    fr.mode[i] = FREE
+    fr.event(i, s.t, "lift")
+    y = s.y.copy()
+    y[fr.joints[i].mu_idx] = 0.0
+    return _restart(fr, MotionState(s.t, y, s.v, s.acc, s.elements), old, h_s)
+
+
+def _land(fr, s: MotionState, i, h_s):
+    """Contact i lands (its gap closed): an impact (:func:`_impact`: plastic, or with the joint's
+    restitution a rebound), then - in contact - the stick test of its friction.  Returns (state,
+    step system, energy dissipated: the kinetic energy the impact takes and the jumps of massless
+    parts)."""
+    fj = fr.joints[i]
+    # the velocities before: on the constraints of the modes before (the integrator holds the
+    # positions' constraints exactly, their velocities to its error), projected in the mass metric
+    before = fr.system()
+    v, _ = _kkt(fr, before, s.y, s.alpha, s.v, np.zeros(before.model.n_c))
+    s = MotionState(s.t, s.y, _heavy(s.v, v, before.masses.massive_dofs()), s.acc, s.elements)
+    fr.lifted[i] = False
+    fr.event(i, s.t, "land")
+    old = fr.stuck()
+    if fj.friction:
+        fr.mode[i] = 0
+        fr.stick_at[i] = float(fj.link.slide(s.y[:fr.base.n_q][fj.dofs])[0])
+    s, lost, bounce = _impact(fr, MotionState(s.t, fr.convert(s.y, old, fr.stuck()), s.v, s.acc, s.elements), i)
+    if bounce:   # it flies on: released again at once
+        old2 = fr.stuck()
+        fr.lifted[i] = True
+        fr.mode[i] = FREE
+        fr.event(i, s.t, "lift")
+        y = s.y.copy()
+        y[fj.mu_idx] = 0.0
+        s = MotionState(s.t, fr.convert(y, old2, fr.stuck()), s.v, s.acc, s.elements)
+    s, sysm, released = _restart(fr, s, fr.stuck(), h_s)
+    released += lost
+    if fj.friction and fr.mode[i] == 0 and fr.holding(i, s.y) < 0.0:
+        return _with(_settle(fr, s, h_s, [i], fr.stuck()), released)
+    return s, sysm, released
+
+
+def _with(out, energy):
+    s, sysm, released = out
+    return s, sysm, released + energy
+
+
+def _impact(fr, s: MotionState, i):
+    """The velocity jump of contact i's landing: with the modes' constraints G (the lifted contacts
+    released) and the impulses Lam of their multipliers,
+
+        M (v+ - v-) + G^T Lam + sum_slipping c N(Lam) ds = 0,    G v+ = b,
+
+    b = 0 but on the landing joint's normal row, -e (its normal velocity before), e its restitution
+    (0: plastic); friction impulses of the slipping joints with their slip coefficient c = sigma mu.
+    A contact whose impulse would pull (Lam_Q > 0) lets go (event "lift": its impulse 0, it
+    separates), a stuck joint whose lock impulse exceeds mu0 N(Lam) slips in its direction: the
+    solve is repeated in the new modes (the active set of the impact).  Massless dofs carry no
+    impulse (their velocities follow the masses', :func:`_requilibrate`).  Least squares: redundant
+    constraints (a block on two pinned corners) leave the split of their impulses free.
+    Returns (state in the final modes' layout with v+, kinetic energy lost, whether contact i
+    rebounds and flies on)."""
+    fj = fr.joints[i]
+    n_q = fr.base.n_q
+    q, v = s.y[:n_q], s.v
+    y = s.y
+    for _ in range(2 * len(fr.joints) + 2):
+        sysm = fr.system()
+        nc = sysm.model.n_c
+        b = np.zeros(nc)
+        row = int(fj.mu_idx[0] - n_q)
+        vn = float(fj.gap(q)[1] @ v[fj.dofs])           # the approach velocity (< 0)
+        fr.v_landing[i] = max(fr.v_landing[i], abs(vn))
+        e = fj.restitution
+        bounce = e > 0.0 and e * abs(vn) > max(fr.tolerance, 1e-12) * fr.v_landing[i]
+        if bounce:
+            b[row] = -e * vn
+        v_new, lam = _kkt(fr, sysm, y, s.alpha, v, b)
+        # the active set: a contact pulled by its impulse lets go; a stuck joint whose lock impulse
+        # exceeds static friction slips
+        scale = float(np.abs(lam).max(initial=0.0))
+        pull = [(lam[int(c.mu_idx[0] - n_q)], k) for k, c in enumerate(fr.joints)
+                if c.unilateral and not fr.lifted[k] and k != i]
+        pull = [(p, k) for p, k in pull if p > 1e-9 * scale]
+        stuck = fr.stuck()
+        slips = []
+        for k in stuck:
+            c = fr.joints[k]
+            N, _ = c.kind.normal_force((lam[c.mu_idx - n_q]).tolist(), c.h)
+            L = float(lam[nc - len(stuck) + stuck.index(k)])
+            if abs(L) > c.mu0 * N + 1e-9 * scale:
+                slips.append((abs(L) - c.mu0 * N, k, 1 if L > 0 else -1))
+        if not pull and not slips:
+            break
+        old = fr.stuck()
+        if pull:
+            k = max(pull)[1]
+            fr.lifted[k] = True
+            fr.mode[k] = FREE
+            fr.event(k, s.t, "lift")
+            y = y.copy()
+            y[fr.joints[k].mu_idx] = 0.0
+        else:
+            _, k, sg = max(slips)
+            fr.mode[k] = sg
+            fr.event(k, s.t, "slip+" if sg > 0 else "slip-")
+        y = fr.convert(y, old, fr.stuck())
+    else:
+        raise SolverFailure(f"simulate: the impact of {fj.name}'s landing at t = {s.t:.9g} s finds no "
+                            f"consistent set of contacts and friction modes")
+    v_out = _heavy(v, v_new, sysm.masses.massive_dofs())
+    lost = sysm.masses.kinetic(q, v) - sysm.masses.kinetic(q, v_out)
+    return MotionState(s.t, y, v_out, s.acc, s.elements), lost, bounce
+
+
+def _heavy(v, v_new, heavy):
+    """v with the massive dofs' velocities of v_new (the massless ones follow, _requilibrate)."""
+    out = v.copy()
+    out[heavy] = v_new[heavy]
+    return out
+
+
+def _kkt(fr, sysm, y, alpha, v, b):
+    """The impulse problem of the step system ``sysm``'s modes at y (model units): (v+, Lam) from
+
+        M (v+ - v) + G^T Lam + sum_slipping c N(Lam) ds = 0,    G v+ = b
+
+    (G the constraints' gradient with the lifted contacts' rows released, c = sigma mu the slip
+    coefficient of each slipping joint in contact), by least squares (redundant constraints leave
+    the split of their impulses free; massless dofs carry none)."""
+    m = sysm.model
+    n_q, nc = m.n_q, m.n_c
+    q = y[:n_q]
+    _, (rows, cols, vals), _ = sysm.model_system(y, ElementState(alpha))
+    G = np.zeros((nc, n_q))
+    sel = (rows >= n_q) & (cols < n_q)
+    np.add.at(G, (rows[sel] - n_q, cols[sel]), vals[sel])
+    G[sysm.released] = 0.0
+    M = sysm.masses.dense(q)
+    B = G.T.copy()
+    for k, (c, mo) in enumerate(zip(fr.joints, fr.mode)):   # friction impulses of the slipping joints
+        if mo in (1, -1) and not fr.lifted[k]:
+            _, ds, _ = c.link.slide(q[c.dofs])
+            _, dN = c.normal(y)
+            B[np.ix_(c.dofs, c.mu_idx - n_q)] += mo * c.mu * np.outer(ds, dN)
+    A = np.block([[M, B], [G, np.zeros((nc, nc))]])
+    x = np.linalg.lstsq(A, np.concatenate([M @ v, b]), rcond=None)[0]
+    if not np.all(np.isfinite(x)):
+        raise SolverFailure("simulate: the impulse problem of a contact's landing has no solution")
+    return x[:n_q], x[n_q:]
+
+
+def _restart(fr, s: MotionState, old_stuck, h_s):
+    """The state s (laid out for the stuck joints ``old_stuck``) carried into the current modes'
+    layout (lock multipliers kept, new ones 0), its massless parts re-solved
+    (:func:`_requilibrate`) and its accelerations made consistent: (state, step system, energy
+    released by jumps of massless parts)."""
+    s = MotionState(s.t, fr.convert(s.y, old_stuck, fr.stuck()), s.v, s.acc, s.elements)
+    sysm = fr.system()
+    s, released = _requilibrate(sysm, s)
+    return consistent_start(sysm, s, h_s), sysm, released

@@ -48,10 +48,11 @@ from femslide.analysis.radau import (
     START_STEP,
     RadauSystem,
     consistent_start,
+    start_multipliers,
 )
 from femslide.model.state import ElementState, MotionState
 from femslide.analysis.events import locate_step
-from femslide.analysis.stickslip import SAME_INSTANT, _settle, _switch
+from femslide.analysis.stickslip import SAME_INSTANT, _switch, start
 from femslide.errors import BadInput, SolverFailure
 
 CHECK_FACTOR = 10.0    # the check run of an error estimate is at this multiple of the tolerance ...
@@ -146,7 +147,8 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         sysm = RadauSystem(model, masses, C, ground)
         s = consistent_start(sysm, s, h_s)
     else:
-        s, sysm, released = _settle(fr, s, h_s, list(range(len(fr.joints))), ())
+        fr.tolerance = tolerance
+        s, sysm, released = start(fr, s, h_s)
         D += released
         J += released
     if observe:
@@ -157,7 +159,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     wsign = np.where(wvals != 0.0, np.sign(wvals), 0.0)
     t0 = time.perf_counter()
     switches, t_switch = 0, None
-    fresh = [False] * (len(fr.joints) if fr is not None else 0)
+    fresh = [False] * (fr.size if fr is not None else 0)
 
     def t_same(t):
         """The resolution of event times [s]: events closer than this are one instant (1e-9 s,
@@ -173,6 +175,10 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             raise SolverFailure(f"simulate: stopped at t = {s.t:.6g} s of t_end = {t_end:g} s: the wall-time "
                                 f"limit of {wall_limit:g} s was reached")
         h = min(h, h_max, t_end - s.t)
+        if h < t_end - s.t < 1.5 * h:
+            # two even steps to the end rather than one and a sliver (a very short step's
+            # accelerations and multipliers carry the step's velocity error divided by its length)
+            h = 0.5 * (t_end - s.t)
         t_stop = None
         if stops is not None:
             # a step ends on the record's next sample (the input is linear within a step: a kink of
@@ -195,7 +201,13 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             # (a joint that has just started to slip is not late at that instant: a massless slide's
             # velocity follows the masses, and at a reversal it may still carry the old sign by a
             # hair; if it really moves the other way, the next step's start finds it late)
-            fresh = [fr.started_slip(i, s.t) for i in range(ph.size)]
+            fresh = [fr.fresh(k, s.t) for k in range(ph.size)]
+            if any(fresh[1::2]):
+                # a contact that has just lifted starts at gap 0 (it is not late, and a landing
+                # within the step crosses from there); a rebound's flight is resolved by the steps
+                ph = ph.copy()
+                ph[1::2] = np.where(fresh[1::2], np.maximum(ph[1::2], 0.0), ph[1::2])
+                h = min(h, fr.flight_step(s, fresh))
             late = [i for i in np.nonzero(ph < -1e-10)[0] if not fresh[i]]
             if late:
                 switches = switches + 1 if s.t == t_switch else 1
@@ -228,7 +240,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         # events: a friction joint's mode stops holding (its event function turns negative), a
         # watched quantity changes sign; the step is cut at the first, located on the step's own
         # solution (femslide.analysis.events.locate_step)
-        nf = len(fr.joints) if fr is not None else 0
+        nf = fr.size if fr is not None else 0
         ws, started = wsign, np.zeros(len(watch), dtype=bool)
         if watch and not wsign.all():
             # a watched quantity at zero at the step's start (a start from rest, a zero just located)
@@ -321,7 +333,10 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             # the state before the switch, at the event's instant (its left limit: the friction force
             # and the reactions jump there, and the largest of them is often just before the jump);
             # the row after the switch follows at the same time
-            out.rows.append(observe(t1, s.y, s.alpha, s.v, s.acc))
+            # (accelerations and multipliers solved exactly at that state when every dof has mass:
+            # the located step may be short, and its own carry its velocity error over its length)
+            acc_l, mu_l = start_multipliers(sysm, s, s.acc.copy(), s.y[n_q:])
+            out.rows.append(observe(t1, np.concatenate([s.y[:n_q], mu_l]), s.alpha, s.v, acc_l))
         for i in due:   # (several joints may change modes at one instant: each in turn)
             s, sysm, released = _switch(fr, s, i, START_STEP * h_next)
             D += released

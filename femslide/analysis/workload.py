@@ -86,6 +86,8 @@ def release_frequency(model, masses, y_s, e_s, y0):
     M = sp.csc_matrix((v, (r, c)), shape=(n_q, n_q)).toarray()
     Gd = G.toarray()
     Z = null_space(Gd) if Gd.shape[0] else np.eye(n_q)
+    if Z.shape[1] == 0:   # no motion while every joint holds (a bar on a pin and a contact)
+        return None
     Kr, Mr = Z.T @ K.toarray() @ Z, Z.T @ M @ Z
     try:
         w, V = eigh(0.5 * (Mr + Mr.T), 0.5 * (Kr + Kr.T))   # w = 1 / omega^2, V^T Kr V = I

@@ -46,9 +46,12 @@ def solve_options(options: dict | None, where: str = "[solve]") -> dict:
 
 def _values(sol) -> dict:
     res = sol.result
-    return dict(converged=True, M_max=res["M_max"], bodies=res["bodies"], rods=res["rods"],
-                joints=res["joints"], reactions=res["reactions"], iterations=sol.iterations,
-                error_estimate=sol.error_estimate, notes=notes(sol))
+    out = dict(converged=True, M_max=res["M_max"], bodies=res["bodies"], rods=res["rods"],
+               joints=res["joints"], reactions=res["reactions"], iterations=sol.iterations,
+               error_estimate=sol.error_estimate, notes=notes(sol))
+    if sol.lifted is not None:   # a structure with unilateral contacts: those released (they would pull)
+        out["lifted"] = list(sol.lifted)
+    return out
 
 
 def notes(sol) -> list[str]:
@@ -61,7 +64,7 @@ def notes(sol) -> list[str]:
     from femslide.output.diagrams import notes as picture_notes
     found = picture_notes(frame_data(sol))
     return list(sol.notes or []) + [text + (" (a support resting on the ground cannot pull: it would lift off; "
-                                            "the model holds it down)" if cls is LiftOffWarning else "")
+                                            "the model holds it down; declare it unilateral = true to let it lift)" if cls is LiftOffWarning else "")
                                     for cls, text in found]
 
 

@@ -11,7 +11,8 @@
 
     [[body]]                        # name; optional mass, centroid, inertia, outline
     [[joint]]                       # name, type (pin|weld|slider|roller), a, b; optional at, axis,
-                                    #   c, k, preload, mu, mu0, bearing; with b = "ground" also
+                                    #   c, k, preload, mu, mu0, bearing, unilateral,
+                                    #   restitution; with b = "ground" also
                                     #   kx, ky, kr (an elastic support)
     [[load]]                        # name, type (force|distributed), on; force, moment, at, case
     [[combination]]                 # name, factors = {dead = 1.35, wind = 1.5}
@@ -34,7 +35,7 @@ import os
 from dataclasses import dataclass, field, fields
 
 from femslide.errors import BadInput
-from femslide.model.parts import MAX_ELEMENTS, Body, Joint, Load, Rod
+from femslide.model.parts import MAX_ELEMENTS, SOLVER_FIELDS, Body, Joint, Load, Rod
 from femslide.model.structure import Structure
 
 try:
@@ -92,7 +93,7 @@ def parse(data: dict, path: str = "<structure>") -> Structure:
         entries = data.get(kind, [])
         if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
             raise BadInput(f"structure file {path}: {kind} must be an array of tables ([[{kind}]])")
-        allowed = [f.name for f in fields(cls)] + (list(MESH_KEYS) if kind == "rod" else [])
+        allowed = [f.name for f in fields(cls) if f.name not in SOLVER_FIELDS] + (list(MESH_KEYS) if kind == "rod" else [])
         for i, e in enumerate(entries):
             where = f"structure file {path}: [[{kind}]] #{i + 1}"
             if "name" not in e:

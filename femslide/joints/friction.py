@@ -52,7 +52,11 @@ class FrictionJoint:
         i = model.constraints.index(self.link)
         o = model.n_q + int(model.c_off[i])
         self.mu_idx = np.arange(o, o + self.link.size, dtype=np.intp)
-        self.mu, self.mu0 = float(joint.mu), float(joint.mu0)
+        self.mu = float(joint.mu) if joint.mu is not None else 0.0
+        self.mu0 = float(joint.mu0) if joint.mu0 is not None else 0.0
+        self.friction = self.mu0 > 0.0                    # (mu0 = 0: no friction at all)
+        self.unilateral = bool(getattr(joint, "unilateral", False))
+        self.restitution = float(getattr(joint, "restitution", None) or 0.0)
         self.h = joint.bearing / model.Lref if joint.bearing else None
         self.kind = self.link.joint_kind
         # COO pattern of the slip force: (dofs x dofs) and (dofs x joint multipliers)
@@ -64,6 +68,16 @@ class FrictionJoint:
         """N (model units) and dN / d(joint multipliers)."""
         N, dN = self.kind.normal_force(y[self.mu_idx].tolist(), self.h)
         return N, np.array(dN)
+
+    def gap(self, q):
+        """(gap, its gradient over the joint's dofs) of a contact: w . n, a's point's distance from
+        the guide line on its +n side (the kind's first equation, model units)."""
+        g, G, _ = self.link._parts(q[self.dofs].tolist())
+        return float(g[0]), np.array(G[0])
+
+    def pressure(self, y):
+        """A contact's normal force -Q (model units): >= 0 while it presses (the force -Q n on a)."""
+        return -float(y[self.mu_idx[0]])
 
     def slide_rate(self, q, v):
         """(s, s') of the joint (s from its absolute value along the guide, model units)."""

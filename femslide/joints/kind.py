@@ -16,7 +16,10 @@ line in :mod:`femslide.joints.kinds`, or a :func:`femslide.joints.kinds.register
   guide line), "c" (a rotational spring [N m/rad] on theta_a - theta_b), "k" and "preload" (a spring
   [N/m] along the guide with its force [N] at the reference position), "mu" and "mu0" (Coulomb
   friction along the guide, dynamics only), "bearing" (distance [m] of the guide's two bearings,
-  for friction's normal force).  The declaration's checks (:mod:`femslide.model.frozen`) reject the
+  for friction's normal force), "unilateral" and "restitution" (a contact on the +n side of the
+  guide: it holds only while it presses - its first multiplier Q <= 0, the force -Q n on a -, lifts
+  off and lands; a kind that accepts it has :func:`on_guide` as its first equation, the gap w . n).
+  The declaration's checks (:mod:`femslide.model.frozen`) reject the
   others;
 - ``free``: the free relative coordinate reported in the results as ``joints.NAME.<free>``:
   "slide" (s = w . e from the reference position [m]; springs k, friction and held starts act on
@@ -50,7 +53,7 @@ from __future__ import annotations
 import math
 
 #: the optional fields of a joint declaration that a kind may accept (besides name, type, a, b, at)
-OPTIONAL_FIELDS = frozenset(("axis", "c", "k", "preload", "mu", "mu0", "bearing"))
+OPTIONAL_FIELDS = frozenset(("axis", "c", "k", "preload", "mu", "mu0", "bearing", "unilateral", "restitution"))
 
 
 class JointKind:

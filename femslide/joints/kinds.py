@@ -77,6 +77,8 @@ def problems(kind: JointKind) -> list[str]:
             bad.append(f"{' and '.join(pair)} go together and need free = 'slide'")
     if "mu" in acc and not kind.stuck:
         bad.append("friction needs the name of the kind it becomes when stuck (stuck)")
+    if acc & {"unilateral", "restitution"} and (not kind.guide or not {"unilateral", "restitution"} <= acc):
+        bad.append("unilateral and restitution go together and need a guide (accept 'axis')")
     if "bearing" in acc and "mu" not in acc:
         bad.append("a bearing is for friction: accept 'mu' and 'mu0'")
     return bad

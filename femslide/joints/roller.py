@@ -13,7 +13,7 @@ from femslide.joints.kind import JointKind, on_guide
 class Roller(JointKind):
     name = "roller"
     size = 1
-    accepts = frozenset(("axis", "k", "preload", "mu", "mu0"))
+    accepts = frozenset(("axis", "k", "preload", "mu", "mu0", "unilateral", "restitution"))
     free = "slide"
     stuck = "pin"
     symbol = "roller"

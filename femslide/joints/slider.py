@@ -17,7 +17,7 @@ from femslide.joints.kind import JointKind, on_guide, same_rotation
 class Slider(JointKind):
     name = "slider"
     size = 2
-    accepts = frozenset(("axis", "k", "preload", "mu", "mu0", "bearing"))
+    accepts = frozenset(("axis", "k", "preload", "mu", "mu0", "unilateral", "restitution", "bearing"))
     free = "slide"
     stuck = "weld"
     symbol = "sleeve"

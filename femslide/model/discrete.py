@@ -142,7 +142,8 @@ class _RodPlan:
 
 class _JointPlan:
     # kind: a JointKind; motion: a prescribed support motion (dx, dy, rotation) or None
-    __slots__ = ("name", "kind", "ra", "rb", "at", "axis", "k", "preload", "c", "springs", "motion")
+    # lifted: a unilateral contact released by the statics (no equations; its spring along the guide stays)
+    __slots__ = ("name", "kind", "ra", "rb", "at", "axis", "k", "preload", "c", "springs", "motion", "lifted")
 
 
 def _factor_of(factors):
@@ -253,6 +254,7 @@ class _Plan:
             jp = _JointPlan()
             jp.name, jp.kind, jp.axis = j.name, kind_of(j.type), j.axis
             jp.ra, jp.rb = fs.refs[j.name]
+            jp.lifted = bool(j.lifted)
             jp.at = (j.at[0] / L, j.at[1] / L)
             jp.k, jp.preload, jp.c = j.k * L / F, _times(dead, j.preload / F), j.c / (F * L)
             # elastic support springs: (equation index, stiffness in model units: k L / F, kr / (F L))
@@ -271,8 +273,8 @@ class _Plan:
                                                 rp.curvature) for rp in self.rods),
                     tuple(self.body_index), self.body_X0.tobytes(), self.body_p.tobytes(),
                     tuple((r, e, tuple(v.tolist())) for r, e, v in self.node_loads), tuple(self.point_forces),
-                    tuple((j.name, j.kind, j.ra, j.rb, j.at, j.axis, j.k, j.preload, j.c, j.springs, j.motion)
-                          for j in self.joints))
+                    tuple((j.name, j.kind, j.ra, j.rb, j.at, j.axis, j.k, j.preload, j.c, j.springs, j.motion,
+                           j.lifted) for j in self.joints))
 
 
 def body_origin(fs: Frozen, body) -> tuple:
@@ -385,6 +387,8 @@ class Model:
         for jp in plan.joints:
             # an elastic support holds only the equations its springs do not replace
             keep = [i for i in range(jp.kind.size) if i not in dict(jp.springs)] if jp.springs else None
+            if jp.lifted:   # a contact the statics released: no equations (its multipliers read 0)
+                keep = []
             link = Link(jp.name, jp.kind, self._carrier(jp.ra, jp.at), self._carrier(jp.rb, jp.at), jp.axis, keep)
             self.joint[jp.name] = link
             if link.size:

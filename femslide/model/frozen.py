@@ -265,6 +265,7 @@ class Frozen:
                 if "bearing" not in kind.accepts:
                     raise BadInput(f"{w}: bearing is for {accepting('bearing')}")
                 bearing = _num(f"{w}: bearing", j.bearing, 0.0, lo_open=True)
+            unilateral, restitution = _contact(w, j, kind, accepting)
             springs = _support_springs(w, j, kind, rb, axis, mu is not None)
             disp = rot = None
             if j.displacement is not None or j.rotation is not None:
@@ -280,8 +281,11 @@ class Frozen:
                                        f"not a {j.type}")
                     rot = _num(f"{w}: rotation", j.rotation, -math.pi, math.pi,
                                allowed="a rotation in [-pi, pi] rad")
+            if unilateral and any(v is not None for v in springs):
+                raise BadInput(f"{w}: a unilateral contact is rigid across its guide; drop kx, ky, kr")
             joints.append(Joint(j.name, j.type, j.a, j.b, at, axis, c, k, pre, mu, mu0, bearing, *springs,
-                                displacement=disp, rotation=rot))
+                                displacement=disp, rotation=rot, unilateral=unilateral, restitution=restitution,
+                                lifted=bool(j.lifted) and unilateral))
 
         loads = []
         for ld in s.loads.values():
@@ -444,6 +448,24 @@ def _section(w, r, L):
     else:
         EA = _stiffness(f"{w}: EA", r.EA, L)
     return EI, EA
+
+
+def _contact(w, j, kind, accepting):
+    """(unilateral, restitution) of joint j checked: ``unilateral`` true or false (a contact, SPEC
+    9.4), ``restitution`` a number in [0, 1] and only with unilateral (default 0: a plastic landing)."""
+    uni = j.unilateral
+    if uni is None:
+        uni = False
+    if not isinstance(uni, bool):
+        raise BadInput(f"{w}: unilateral = {uni!r}; allowed: true or false")
+    if uni and "unilateral" not in kind.accepts:
+        raise BadInput(f"{w}: unilateral is for {accepting('unilateral')}, not a {j.type}")
+    e = None
+    if j.restitution is not None:
+        if not uni:
+            raise BadInput(f"{w}: restitution is for a unilateral contact; add unilateral = true")
+        e = _num(f"{w}: restitution", j.restitution, 0.0, 1.0, allowed="a number in [0, 1] (0: plastic landing)")
+    return uni, (e if uni else None)
 
 
 def _support_springs(w, j, kind, rb, axis, friction):

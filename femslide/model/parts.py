@@ -103,7 +103,10 @@ class Joint:
     """A joint as declared: ``type`` names a registered kind (:mod:`femslide.joints.kinds`), which
     says what it holds and which of the optional fields (axis, c, k, preload, mu, mu0, bearing) it
     takes.  A joint with the ground may carry elastic springs ``kx``, ``ky`` [N/m] and ``kr``
-    [N m/rad] instead of its rigid constraints in those directions (an elastic support)."""
+    [N m/rad] instead of its rigid constraints in those directions (an elastic support).  A slider or
+    roller with ``unilateral`` is a contact: it holds a's point on the +n side of the guide (n = the
+    axis turned by +90 degrees) only while it presses, lifts off when it would pull and lands again
+    when its gap closes (``restitution``: the landing's coefficient, 0 = plastic, the default)."""
 
     name: str
     type: str
@@ -122,6 +125,9 @@ class Joint:
     kr: float | None = None
     displacement: tuple | None = None   # with the ground: prescribed support motion [m] (settlement)
     rotation: float | None = None       # with the ground (weld, slider): prescribed support rotation [rad]
+    unilateral: bool = False            # slider, roller: a contact (holds only while it presses; uplift)
+    restitution: float | None = None    # with unilateral: Newton's coefficient of a landing (0 plastic .. 1)
+    lifted: bool = False                # a unilateral contact the statics released (set by the solver, not declared)
 
 
 #: the load case of gravity and of loads declared without one
@@ -163,7 +169,9 @@ class Combination:
         return dict(self.factors)
 
 
-_JOINT_FIELDS = frozenset(f.name for f in fields(Joint))
+#: fields a solver sets on a frozen structure (not declarations)
+SOLVER_FIELDS = frozenset(("lifted",))
+_JOINT_FIELDS = frozenset(f.name for f in fields(Joint)) - SOLVER_FIELDS
 
 
 def _num(what, x, lo=-math.inf, hi=math.inf, lo_open=False, allowed=None):

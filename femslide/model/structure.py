@@ -167,7 +167,8 @@ class Structure:
             Part b: a rod end, a body, or ``"ground"`` (then the joint is a support and its force
             is reported as a reaction).
         **options
-            ``at``, ``axis``, ``c``, ``k``, ``preload``, ``mu``, ``mu0``, ``bearing`` as in the
+            ``at``, ``axis``, ``c``, ``k``, ``preload``, ``mu``, ``mu0``, ``bearing``, ``unilateral``,
+            ``restitution`` as in the
             methods of each type; on a joint with the ground also ``kx``, ``ky`` [N/m] and ``kr``
             [N m/rad]: elastic springs instead of its rigid constraints in x, y and rotation (a pin
             or weld takes kx and ky, a weld or slider kr, a slider or roller the k across its guide
@@ -235,7 +236,7 @@ class Structure:
     def slider(self, name: str, a: str, b: str, axis: Vec, at: Vec | None = None, k: float = 0.0,
                preload: float = 0.0, mu: float | None = None, mu0: float | None = None,
                bearing: float | None = None, kx: float | None = None, ky: float | None = None,
-               kr: float | None = None) -> Joint:
+               kr: float | None = None, unilateral: bool = False, restitution: float | None = None) -> Joint:
         """A slider (a sliding clamp, a prismatic joint): a's point stays on the line through ``at``
         along ``axis``, carried by b, and a's rotation equals b's; the slide along the line is free.
 
@@ -259,13 +260,22 @@ class Structure:
         kx, ky, kr : float, optional
             With b = "ground": springs [N/m, N m/rad] instead of the rigid constraint across a guide
             along y (kx) or along x (ky), and of the rigid rotation (kr).
+        unilateral : bool, default False
+            A contact instead of a two-sided guide: a's point rests on the +n side of the guide (n =
+            ``axis`` turned by +90 degrees: above a guide along +x) and the joint holds only while
+            it presses; when it would pull, a lifts off (in statics the joint is released, in
+            dynamics a located "lift" event) and lands again when its gap closes ("land").
+        restitution : float, optional
+            With ``unilateral``: the landing's coefficient of restitution in [0, 1] (the normal
+            rebound velocity over the approach velocity); default 0, a plastic landing.
         """
         return self.joint(name, "slider", a, b, at=at, axis=axis, k=k, preload=preload, mu=mu, mu0=mu0,
-                          bearing=bearing, kx=kx, ky=ky, kr=kr)
+                          bearing=bearing, kx=kx, ky=ky, kr=kr, unilateral=unilateral, restitution=restitution)
 
     def roller(self, name: str, a: str, b: str, axis: Vec, at: Vec | None = None, k: float = 0.0,
                preload: float = 0.0, mu: float | None = None, mu0: float | None = None,
-               kx: float | None = None, ky: float | None = None) -> Joint:
+               kx: float | None = None, ky: float | None = None, unilateral: bool = False,
+               restitution: float | None = None) -> Joint:
         """A roller: a's point stays on the line through ``at`` along ``axis``, carried by b; the
         rotation is free.
 
@@ -282,9 +292,11 @@ class Structure:
         kx, ky : float, optional
             With b = "ground": a spring [N/m] instead of the rigid constraint across a line along y
             (kx) or along x (ky).
+        unilateral, restitution : optional
+            A contact that lifts off and lands, as for :meth:`slider` (a rocking block's corners).
         """
         return self.joint(name, "roller", a, b, at=at, axis=axis, k=k, preload=preload, mu=mu, mu0=mu0,
-                          kx=kx, ky=ky)
+                          kx=kx, ky=ky, unilateral=unilateral, restitution=restitution)
 
     def force(self, name: str, on: str, force: Vec = (0.0, 0.0), moment: float = 0.0,
               at: Vec | None = None, case: str = DEAD, s: float | None = None) -> Load:

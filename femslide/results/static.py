@@ -19,7 +19,8 @@ Conventions (counter-clockwise rotations and moments; forces in global x, y):
 - bodies: centroid position (x, y) now and rotation;
 - joints: the force (Fx, Fy) and moment M that part b exerts on part a at the joint point (springs
   included), the slide (sliders, rollers: displacement of a's point along the axis from the
-  reference) and the rotation of a relative to b (pins);
+  reference) and the rotation of a relative to b (pins); a unilateral contact's gap (the distance
+  of a's point from its guide on the +n side: 0 in contact, > 0 lifted off);
 - reactions: the joints with the ground, as forces of the ground on the structure.
 
 A model of first-order theory (``model.linear``, femslide.model.linear) has its results recovered
@@ -357,6 +358,9 @@ def extract(model, y, alpha, arrays=None, lam=1.0) -> dict:
             out["slide"] = (float(link.slide(q[link.dofs])[0]) - model.slide0[j.name]) * L
         elif free == "rotation":
             out["rotation"] = float(link.rotation(q[link.dofs])[0])
+        if j.unilateral:   # a contact's gap: a's point's distance from the guide on its +n side
+            g, _, _ = link.joint_kind.equations(link, q[link.dofs].tolist())
+            out["gap"] = float(g[0]) * L
         joints[j.name] = out
         if j.b == "ground":
             reactions[j.name] = {"Fx": out["Fx"], "Fy": out["Fy"], "M": out["M"]}
@@ -366,7 +370,7 @@ def extract(model, y, alpha, arrays=None, lam=1.0) -> dict:
 
 # -- flat views for the adaptive refinement ------------------------------------------------------------
 KIND_OF = {"M_max": "moment", "M": "moment", "N_max": "force", "V_max": "force", "Fx": "force", "Fy": "force",
-           "u": "length", "v": "length", "slide": "length", "x": "length", "y": "length",
+           "u": "length", "v": "length", "slide": "length", "gap": "length", "x": "length", "y": "length",
            "theta": "angle", "rotation": "angle"}
 
 
@@ -389,7 +393,7 @@ def flatten(res: dict, structure):
         kinds += ["length", "length", "angle"]
     for j in structure.joints:
         d = res["joints"][j.name]
-        for key in ("Fx", "Fy", "M", "slide", "rotation"):
+        for key in ("Fx", "Fy", "M", "slide", "rotation", "gap"):
             if key in d:
                 vals.append(d[key])
                 kinds.append(KIND_OF[key])
@@ -406,7 +410,7 @@ def flatten_names(res: dict, structure) -> list[str]:
     for b in structure.bodies:
         names += [f"bodies.{b.name}.{k}" for k in ("x", "y", "rotation")]
     for j in structure.joints:
-        names += [f"joints.{j.name}.{k}" for k in ("Fx", "Fy", "M", "slide", "rotation") if k in res["joints"][j.name]]
+        names += [f"joints.{j.name}.{k}" for k in ("Fx", "Fy", "M", "slide", "rotation", "gap") if k in res["joints"][j.name]]
     return names
 
 
@@ -426,7 +430,7 @@ def unflatten(template: dict, vals, structure) -> dict:
         out["bodies"][b.name] = {"x": b.centroid[0] + dx, "y": b.centroid[1] + dy, "rotation": rot}
     for j in structure.joints:
         tj = template["joints"][j.name]
-        d = {k: next(it) for k in ("Fx", "Fy", "M", "slide", "rotation") if k in tj}
+        d = {k: next(it) for k in ("Fx", "Fy", "M", "slide", "rotation", "gap") if k in tj}
         out["joints"][j.name] = d
         if j.b == "ground":
             out["reactions"][j.name] = {k: d[k] for k in ("Fx", "Fy", "M")}
