@@ -104,6 +104,23 @@ def test_rocking_block_at_its_tolerance():
     assert abs(w1 / ref[0]["w_plus"] - 1.0) <= 3 * max(res["error_estimate"], 1e-6)
 
 
+def test_rocking_block_comes_to_rest():
+    """Run for 15 s the block rocks down to rest: its impacts accumulate in finite time (each
+    landing slower by Housner's r), the landings below the tolerance of the first come to rest on
+    both corners (their locks pooled: a rigid block on two stuck contacts).  The energy the impacts
+    took is the whole potential energy of the tilt, m g R (cos(alpha - theta0) - cos(alpha)) (1e-6),
+    and the block ends flat and at rest."""
+    res = femslide.simulate(ROCKING, **{"simulate.t_end": 15.0})
+    R, alpha = math.hypot(B, H), math.atan2(B, H)
+    V0 = MASS * 9.81 * R * (math.cos(alpha - THETA0) - math.cos(alpha))
+    assert abs(res["energy"]["dissipated"] / V0 - 1.0) <= 1e-6
+    assert abs(res.history["bodies.block.rotation"][-1]) <= 1e-9
+    assert abs(res.history["bodies.block.rotation_rate"][-1]) <= 1e-9
+    last = max((e for n in ("left", "right") for e in res["events"][n]), key=lambda e: e["t"])
+    assert last["kind"] == "land" and last["t"] < 14.0
+    assert res["energy_balance"] <= 1e-6
+
+
 BAR = """
 gravity = [0.0, -9.81]
 [[body]]
@@ -142,7 +159,7 @@ def test_bouncing_bar_with_restitution(tmp_path):
     f.write_text(BAR)
     res = femslide.simulate(f)
     ref = bouncing_bar(10.0, 3.3416666666666667, math.hypot(1.0, 0.05), math.atan2(0.05, 1.0), 0.05, 0.5, 6)
-    t, w = res.history["t"], res.history["bodies.bar.rotation_rate"]
+    w = res.history["bodies.bar.rotation_rate"]
     rows = _impact_rows(res, ("stop",))
     for (tl, i0, i1), r in zip(rows[:6], ref):
         assert abs(tl - r["t"]) <= 1e-8

@@ -261,7 +261,7 @@ class RadauSystem:
     def system(self, Y, elements, lam=1.0, control=None, jacobian=True, dense=False):
         """The stacked stage residual at Y (and, with ``jacobian``, the coupled Newton matrix);
         ``elements.trial`` becomes the step's end (the third stage's chord rotations)."""
-        m, nq, h, masses = self.model, self.nq, self.h, self.masses
+        nq, h, masses = self.nq, self.h, self.masses
         ZQ, ZV, MU = self.split(Y)
         Q = self.qn + ZQ
         V = self.s.v + ZV

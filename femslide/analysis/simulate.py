@@ -29,8 +29,9 @@ Result (SI): ``converged``, ``steps``, ``t_end``, ``energy_balance`` (kinetic + 
 dissipated - work in, relative to the largest of them over the run), ``events`` (per friction joint:
 [{t, kind}], kind "stick", "slip+" or "slip-", the first at t = 0 the joint's mode at the start;
 femslide/joints/friction.py),
+(contacts, ``unilateral`` sliders and rollers: "lift" and "land", femslide/analysis/stickslip.py),
 ``frequencies_hz``, ``peaks`` {``reactions``: {NAME: {Fx, Fy, M}} largest |value| over time,
-``rods``: {NAME: {M_max}}, ``joints``: {NAME: {slide_min, slide_max}}}, ``wall_time_s``; ``--out DIR``
+``rods``: {NAME: {M_max}}, ``joints``: {NAME: {slide_min, slide_max[, gap_max]}}}, ``wall_time_s``; ``--out DIR``
 writes ``history.csv`` (every reported quantity at every accepted step; friction joints also their
 friction force on a along the axis), a PVD series of VTU frames (each frame's time and global values
 as field data) and, with matplotlib, ``hysteresis_JOINT.png`` (friction force against slide).
@@ -62,8 +63,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from femslide.errors import BadInput, SolverFailure
-from femslide.joints.holds import BodyHold
-from femslide.joints.kinds import kind_of, listed
+from femslide.joints.kinds import kind_of
 from femslide.results.outcome import Figure, Frames, Loop, ModeShapes, Outcome, Table
 from femslide.results.history import _peak
 from femslide.results.seismic import drift_columns, drifts, residuals, running_peaks, storey_pairs
@@ -112,7 +112,7 @@ def rotation_dampers(model, dampers, C=None):
 
 
 UNIT = {"Fx": "N", "Fy": "N", "normal": "N", "friction": "N", "M": "N m", "M_max": "N m", "x": "m", "y": "m",
-        "slide": "m", "rotation": "rad", "rotation_rate": "rad/s", "rotation_accel": "rad/s^2",
+        "gap": "m", "slide": "m", "rotation": "rad", "rotation_rate": "rad/s", "rotation_accel": "rad/s^2",
         "vx": "m/s", "vy": "m/s", "ax": "m/s^2", "ay": "m/s^2", "dx": "m", "dy": "m"}
 FLOOR = 1e-2   # a change below this fraction of the motion's size in its unit is not judged relative to itself
 # velocities and accelerations: estimated apart from the headline error_estimate
@@ -329,6 +329,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         f_ref[1] = max(f_ref[1], check_release(spec, model, masses, y_s, e_s, y0, f_ref[0]))
     max_steps, _ = check_work(spec, f_ref[0], model.n_q, f_ref[1])
     fric_names = {j.name for j in fric_joints}
+    contacts = [j.name for j in fs.joints if j.unilateral]   # their gap [m]: 0 in contact, > 0 lifted
 
     def forces(y, n, fr):
         fx, fy, m = joint_forces(model, y, n)
@@ -346,6 +347,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         + [f"rods.{n}.M_max" for n in rods] + [f"joints.{n}.{k}" for n in slides for k in ("slide", "normal")] \
         + [f"bodies.{n}.{k}" for n in bodies for k in ("x", "y", "rotation", "rotation_rate", "rotation_accel")] \
         + [f"joints.{n}.friction" for n in sorted(fric_names)] \
+        + [f"joints.{n}.gap" for n in contacts] \
         + [f"bodies.{n}.{k}" for n in bodies for k in ("vx", "vy", "ax", "ay")]
     pairs = storey_pairs(fs)
     cols += drift_columns(pairs)   # (computed from the bodies' centroids after the run)
@@ -380,6 +382,9 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             row += [float(x), float(yy), float(q[d]), float(v[d]), float(acc[d])]
         for n in sorted(fric_names):   # friction force on a along +axis [N]
             row.append(-fr.coefficient(n, y) * F)
+        for n in contacts:
+            link = model.joint[n]
+            row.append(float(link.joint_kind.equations(link, q[link.dofs].tolist())[0][0]) * L)
         if bodies:   # absolute velocity and acceleration of the centroids: relative motion + the ground's
             vg = ag = 0.0
             if spec.ground is not None:
@@ -466,6 +471,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         for n in slides:
             s = H[:, col[f"joints.{n}.slide"]]
             peaks["joints"][n] = {"slide_min": -peak(-s), "slide_max": peak(s)}
+        for n in contacts:   # the largest lift-off
+            peaks["joints"][n]["gap_max"] = peak(H[:, col[f"joints.{n}.gap"]])
         for n in bodies:   # absolute velocities and accelerations of the centroids
             peaks["bodies"][n] = {k: peak(np.abs(H[:, col[f"bodies.{n}.{k}"]])) for k in ("vx", "vy", "ax", "ay")}
         for up, low in pairs:

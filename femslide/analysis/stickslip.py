@@ -53,6 +53,7 @@ class Friction:
         self.size = 2 * len(self.joints)    # event slots: 2 i friction, 2 i + 1 contact
         self.v_landing = [0.0] * len(self.joints)   # the largest approach speed of each contact's landings
         self.tolerance = 0.0                # the run's tolerance: a rebound below it (relative) is plastic
+        self.pooled = {}                    # {stuck joint whose lock is redundant: the joint carrying it}
         self._systems = {}
 
     # -- models and systems ------------------------------------------------------------------------
@@ -84,19 +85,62 @@ class Friction:
         rows = [fj.mu_idx - n_q for fj, up in zip(self.joints, self.lifted) if up]
         return np.concatenate(rows).astype(np.intp) if rows else np.zeros(0, np.intp)
 
-    def system(self):
-        """The step system of the current modes (lock targets set)."""
+    def system(self, y=None):
+        """The step system of the current modes (lock targets set).  With the state ``y`` (in the
+        current modes' layout) the locks that hold nothing the others do not - two stuck contacts
+        under one rigid body - are found first (:meth:`_pool`)."""
         stuck = self.stuck()
-        key = (tuple(self.mode), tuple(self.lifted))
+        if y is not None:
+            self._pool(y)
+        else:   # (the pooling of the last state, while its joints are still stuck)
+            self.pooled = {j: c for j, c in self.pooled.items() if j in stuck and c in stuck}
+        key = (tuple(self.mode), tuple(self.lifted), tuple(sorted(self.pooled)))
         sysm = self._systems.get(key)
         if sysm is None:
             m = self._model(stuck)
             extras = [fj.slip(mo) for fj, mo in zip(self.joints, self.mode) if mo in (1, -1)]
-            sysm = self._systems[key] = self.make_system(m, extras, self.released())
+            rel = self.released()
+            if self.pooled:   # (a pooled joint's lock is released: its share is carried by another)
+                rel = np.concatenate([rel, [self.base.n_c + stuck.index(j) for j in sorted(self.pooled)]])
+            sysm = self._systems[key] = self.make_system(m, extras, rel.astype(np.intp))
         m = sysm.model
         for lock, i in zip(getattr(m, "locks", []), stuck):
             lock.target = self.stick_at[i]
         return sysm
+
+    def _pool(self, y):
+        """Which stuck locks are redundant at y: a lock whose constraint gradient is a combination
+        of the others' (the joints' own equations and the locks before it: a rigid block standing
+        on two stuck contacts has four equations for three freedoms).  Such a lock is released and
+        its joint pooled with the kept lock that carries most of it: the split of the friction
+        force between them is undetermined (rigid-body statics), the kept one carries it all and
+        holds while it is within the sum of their static friction (mu0 N) - the pooled joints slide
+        together.  Sets ``self.pooled`` {pooled joint: carrying joint}."""
+        self.pooled = {}
+        stuck = self.stuck()
+        if len(stuck) < 2:
+            return
+        from femslide.model.state import ElementState
+        m = self._model(stuck)
+        n_q, nc0 = self.base.n_q, self.base.n_c
+        # (the lock targets of the current modes: the gradient does not depend on them)
+        r, (rows, cols, vals), _ = m.system(y, ElementState.zero(m.elements.size if m.elements is not None else 0),
+                                            1.0, None, True, dense="coo")
+        G = np.zeros((m.n_c, n_q))
+        sel = (rows >= n_q) & (cols < n_q)
+        np.add.at(G, (rows[sel] - n_q, cols[sel]), vals[sel])
+        G[self.released()] = 0.0
+        keep = set(_independent_rows(G).tolist())
+        for k, j in enumerate(stuck):
+            if nc0 + k in keep:
+                continue
+            kept = [nc0 + kk for kk in range(len(stuck)) if nc0 + kk in keep]
+            if not kept:
+                continue
+            A = G[sorted(keep)].T
+            coef = np.linalg.lstsq(A, G[nc0 + k], rcond=None)[0]
+            share = {row: abs(c) for row, c in zip(sorted(keep), coef) if row in kept}
+            self.pooled[j] = stuck[max(share, key=share.get) - nc0]
 
     def lock_multiplier(self, y, i):
         """Multiplier of joint i's lock in y of the current modes."""
@@ -169,9 +213,16 @@ class Friction:
         return out
 
     def holding(self, i, y):
-        """Stuck joint i's margin mu0 N - |lam|: >= 0 while static friction holds."""
+        """Stuck joint i's margin mu0 N - |lam|: >= 0 while static friction holds (with the joints
+        pooled with it, :meth:`_pool`: the sum of their mu0 N; a pooled joint itself: 1)."""
+        if i in self.pooled:
+            return 1.0
         N, _ = self.joints[i].normal(y)
-        return self.joints[i].mu0 * N - abs(self.lock_multiplier(y, i))
+        margin = self.joints[i].mu0 * N
+        for j, c in self.pooled.items():
+            if c == i:
+                margin += self.joints[j].mu0 * self.joints[j].normal(y)[0]
+        return margin - abs(self.lock_multiplier(y, i))
 
     def power(self, y, v):
         """Friction power dissipated (model units), sum of mu N |s'| over the slipping joints."""
@@ -441,17 +492,26 @@ def _impact(fr, s: MotionState, i):
         row = int(fj.mu_idx[0] - n_q)
         vn = float(fj.gap(q)[1] @ v[fj.dofs])           # the approach velocity (< 0)
         fr.v_landing[i] = max(fr.v_landing[i], abs(vn))
+        # a landing below the tolerance of the joint's fastest one comes to rest: the contacts stay
+        # (a rocking block's impacts accumulate in finite time, their speeds falling geometrically)
+        rest = abs(vn) <= max(fr.tolerance, 1e-12) * fr.v_landing[i]
         e = fj.restitution
         bounce = e > 0.0 and e * abs(vn) > max(fr.tolerance, 1e-12) * fr.v_landing[i]
         if bounce:
             b[row] = -e * vn
         v_new, lam = _kkt(fr, sysm, y, s.alpha, v, b)
+        for _ in range(3):   # the normal impulses' signs of the slipping joints, made consistent
+            v2, lam2 = _kkt(fr, sysm, y, s.alpha, v, b, lam)
+            same = np.allclose(lam2, lam, rtol=1e-12, atol=1e-300)
+            v_new, lam = v2, lam2
+            if same:
+                break
         # the active set: a contact pulled by its impulse lets go; a stuck joint whose lock impulse
         # exceeds static friction slips
         scale = float(np.abs(lam).max(initial=0.0))
         pull = [(lam[int(c.mu_idx[0] - n_q)], k) for k, c in enumerate(fr.joints)
                 if c.unilateral and not fr.lifted[k] and k != i]
-        pull = [(p, k) for p, k in pull if p > 1e-9 * scale]
+        pull = [(p, k) for p, k in pull if p > 1e-9 * scale and not rest]
         stuck = fr.stuck()
         slips = []
         for k in stuck:
@@ -490,14 +550,15 @@ def _heavy(v, v_new, heavy):
     return out
 
 
-def _kkt(fr, sysm, y, alpha, v, b):
+def _kkt(fr, sysm, y, alpha, v, b, impulses=None):
     """The impulse problem of the step system ``sysm``'s modes at y (model units): (v+, Lam) from
 
         M (v+ - v) + G^T Lam + sum_slipping c N(Lam) ds = 0,    G v+ = b
 
     (G the constraints' gradient with the lifted contacts' rows released, c = sigma mu the slip
-    coefficient of each slipping joint in contact), by least squares (redundant constraints leave
-    the split of their impulses free; massless dofs carry none)."""
+    coefficient of each slipping joint in contact; N's sign pattern from the joints' ``impulses``, a
+    previous solve's Lam, else from their multipliers in y), by least squares (redundant constraints
+    leave the split of their impulses free; massless dofs carry none)."""
     m = sysm.model
     n_q, nc = m.n_q, m.n_c
     q = y[:n_q]
@@ -511,8 +572,11 @@ def _kkt(fr, sysm, y, alpha, v, b):
     for k, (c, mo) in enumerate(zip(fr.joints, fr.mode)):   # friction impulses of the slipping joints
         if mo in (1, -1) and not fr.lifted[k]:
             _, ds, _ = c.link.slide(q[c.dofs])
-            _, dN = c.normal(y)
-            B[np.ix_(c.dofs, c.mu_idx - n_q)] += mo * c.mu * np.outer(ds, dN)
+            mu_c = y[c.mu_idx] if impulses is None else impulses[c.mu_idx - n_q]
+            if c.unilateral and impulses is None:
+                mu_c = np.minimum(mu_c, -1e-300)    # (a contact presses: Q < 0)
+            _, dN = c.kind.normal_force(mu_c.tolist(), c.h)
+            B[np.ix_(c.dofs, c.mu_idx - n_q)] += mo * c.mu * np.outer(ds, np.array(dN))
     A = np.block([[M, B], [G, np.zeros((nc, nc))]])
     x = np.linalg.lstsq(A, np.concatenate([M @ v, b]), rcond=None)[0]
     if not np.all(np.isfinite(x)):
@@ -526,6 +590,16 @@ def _restart(fr, s: MotionState, old_stuck, h_s):
     (:func:`_requilibrate`) and its accelerations made consistent: (state, step system, energy
     released by jumps of massless parts)."""
     s = MotionState(s.t, fr.convert(s.y, old_stuck, fr.stuck()), s.v, s.acc, s.elements)
-    sysm = fr.system()
+    sysm = fr.system(s.y)
     s, released = _requilibrate(sysm, s)
-    return consistent_start(sysm, s, h_s), sysm, released
+    try:
+        return consistent_start(sysm, s, h_s), sysm, released
+    except SolverFailure as exc:
+        modes = ", ".join(f"{fj.name} {'lifted' if up else _MODE_NAMES[mo]}"
+                          for fj, mo, up in zip(fr.joints, fr.mode, fr.lifted))
+        raise SolverFailure(f"{exc.reason} at t = {s.t:.9g} s, in the modes {modes} (a rigid body nearly at rest on "
+                            f"contacts that slide - low friction - may find no consistent motion)",
+                            getattr(exc, "history", None)) from None
+
+
+_MODE_NAMES = {0: "stuck", 1: "slipping +", -1: "slipping -", FREE: "frictionless"}

@@ -64,7 +64,8 @@ def notes(sol) -> list[str]:
     from femslide.output.diagrams import notes as picture_notes
     found = picture_notes(frame_data(sol))
     return list(sol.notes or []) + [text + (" (a support resting on the ground cannot pull: it would lift off; "
-                                            "the model holds it down; declare it unilateral = true to let it lift)" if cls is LiftOffWarning else "")
+                                            "the model holds it down; declare it unilateral = true to let it "
+                                            "lift)" if cls is LiftOffWarning else "")
                                     for cls, text in found]
 
 

@@ -93,7 +93,8 @@ def parse(data: dict, path: str = "<structure>") -> Structure:
         entries = data.get(kind, [])
         if not isinstance(entries, list) or not all(isinstance(e, dict) for e in entries):
             raise BadInput(f"structure file {path}: {kind} must be an array of tables ([[{kind}]])")
-        allowed = [f.name for f in fields(cls) if f.name not in SOLVER_FIELDS] + (list(MESH_KEYS) if kind == "rod" else [])
+        allowed = [f.name for f in fields(cls) if f.name not in SOLVER_FIELDS] \
+            + (list(MESH_KEYS) if kind == "rod" else [])
         for i, e in enumerate(entries):
             where = f"structure file {path}: [[{kind}]] #{i + 1}"
             if "name" not in e:

@@ -157,6 +157,9 @@ class _Inside:
         return np.where(use, fx, f(e, xs[k])), xi
 
 
+#: the keys of a joint's results, in order (those its kind has)
+JOINT_KEYS = ("Fx", "Fy", "M", "slide", "rotation", "gap")
+
 def rod_arrays(model, y, alpha, cuts=None, lam=1.0):
     """Per rod (by name): node arrays s, x, y, u, v, theta, N, V, M (SI) and the largest |M|, |N|, |V|
     along the rod including the inside of elements (``M_max``, ``N_max``, ``V_max``, at arc lengths
@@ -393,7 +396,7 @@ def flatten(res: dict, structure):
         kinds += ["length", "length", "angle"]
     for j in structure.joints:
         d = res["joints"][j.name]
-        for key in ("Fx", "Fy", "M", "slide", "rotation", "gap"):
+        for key in JOINT_KEYS:
             if key in d:
                 vals.append(d[key])
                 kinds.append(KIND_OF[key])
@@ -410,7 +413,7 @@ def flatten_names(res: dict, structure) -> list[str]:
     for b in structure.bodies:
         names += [f"bodies.{b.name}.{k}" for k in ("x", "y", "rotation")]
     for j in structure.joints:
-        names += [f"joints.{j.name}.{k}" for k in ("Fx", "Fy", "M", "slide", "rotation", "gap") if k in res["joints"][j.name]]
+        names += [f"joints.{j.name}.{k}" for k in JOINT_KEYS if k in res["joints"][j.name]]
     return names
 
 
@@ -430,7 +433,7 @@ def unflatten(template: dict, vals, structure) -> dict:
         out["bodies"][b.name] = {"x": b.centroid[0] + dx, "y": b.centroid[1] + dy, "rotation": rot}
     for j in structure.joints:
         tj = template["joints"][j.name]
-        d = {k: next(it) for k in ("Fx", "Fy", "M", "slide", "rotation", "gap") if k in tj}
+        d = {k: next(it) for k in JOINT_KEYS if k in tj}
         out["joints"][j.name] = d
         if j.b == "ground":
             out["reactions"][j.name] = {k: d[k] for k in ("Fx", "Fy", "M")}
