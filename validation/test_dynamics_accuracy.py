@@ -55,6 +55,36 @@ def test_two_mass_friction_events_histories_and_estimate(two_mass, tol):
     assert res["accuracy"]["events_agree"] is True
 
 
+def _without_zero_duration_pairs(events):
+    """An event list without the pairs (stick, slip) that stick and slip again at one instant (within
+    1e-9 s): the event-driven reference's own record of a grazing breakaway, where the joint never
+    stops."""
+    out = []
+    for t, k in events:
+        if len(out) >= 1 and k.startswith("slip") and out[-1][1] == "stick" and abs(out[-1][0] - t) <= 1e-9:
+            out.pop()
+            continue
+        out.append((t, k))
+    return out
+
+
+def test_base_isolated_frame_events_at_a_loose_tolerance():
+    """meshes/structures/base-isolated-frame.toml (a deck on two welded columns on a base sliding on a
+    frictional ground slider, mu = mu0 = 0.1, 20 s synthetic record) at tolerance 1e-4 against the
+    exact event-driven solution of its linearisation (dynamic_cases.base_isolated_frame): the same
+    stick/slip events - among them a grazing slip of 6 ms at 15.9735 s that lies inside one step
+    and is found at the step's inner stages - with their times within 10 tolerance T1 (the
+    issue's run at 1e-4 chattered through 947 events).  Measured: 127 events, times within 9.2e-5 s
+    (allowed 2.5e-4 s)."""
+    ref = dynamic_cases.base_isolated_frame()
+    tol = 1e-4
+    res = femslide.simulate(ref.path, **{"simulate.tolerance": tol, "simulate.error_estimate": False})
+    got = [(e["t"], e["kind"]) for evs in res["events"].values() for e in evs]
+    want = _without_zero_duration_pairs(ref.events)
+    assert [k for _, k in got] == [k for _, k in want]
+    assert max(abs(a[0] - b[0]) for a, b in zip(got, want)) <= 10 * tol * ref.T1
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("tol", [1e-4, 1e-6])
 def test_two_storey_frame_floor_displacements(tol):

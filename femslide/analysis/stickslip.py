@@ -115,16 +115,16 @@ class Friction:
         its joint pooled with the kept lock that carries most of it: the split of the friction
         force between them is undetermined (rigid-body statics), the kept one carries it all and
         holds while it is within the sum of their static friction (mu0 N) - the pooled joints slide
-        together.  Sets ``self.pooled`` {pooled joint: carrying joint}."""
+        together.  A lock that the joints' own equations make redundant holds nothing (carrier
+        None).  Sets ``self.pooled`` {pooled joint: carrying joint or None}."""
         self.pooled = {}
         stuck = self.stuck()
         if len(stuck) < 2:
             return
-        from femslide.model.state import ElementState
         m = self._model(stuck)
         n_q, nc0 = self.base.n_q, self.base.n_c
         # (the lock targets of the current modes: the gradient does not depend on them)
-        r, (rows, cols, vals), _ = m.system(y, ElementState.zero(m.elements.size if m.elements is not None else 0),
+        _, (rows, cols, vals), _ = m.system(y, ElementState.zero(m.elements.size if m.elements is not None else 0),
                                             1.0, None, True, dense="coo")
         G = np.zeros((m.n_c, n_q))
         sel = (rows >= n_q) & (cols < n_q)
@@ -135,7 +135,8 @@ class Friction:
             if nc0 + k in keep:
                 continue
             kept = [nc0 + kk for kk in range(len(stuck)) if nc0 + kk in keep]
-            if not kept:
+            if not kept:   # (the joints' own equations already fix its slide: friction has nothing to hold)
+                self.pooled[j] = None
                 continue
             A = G[sorted(keep)].T
             coef = np.linalg.lstsq(A, G[nc0 + k], rcond=None)[0]

@@ -40,6 +40,7 @@ import numpy as np
 
 from femslide.analysis.newton import newton
 from femslide.analysis.radau import (
+    C_RK,
     EPS,
     NEWTON_TOL,
     NEWTON_TOL_MAX,
@@ -258,8 +259,37 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         def event_values(y_, v_, ws=ws):
             f = fr.phi(y_, v_) if fr is not None else np.zeros(0)
             return np.concatenate([f, ws * np.array([g(y_, v_) for g in watch])]) if watch else f
+        def with_mu(c, hh, sy=sysm, t0=s.t):
+            """y of a trial step's end c (of length hh) with its multipliers solved exactly where every
+            dof has mass (femslide.analysis.radau.start_multipliers), else its own."""
+            if heavy.size < n_q:
+                return c[0]
+            st = MotionState(t0 + hh, c[0], c[2], c[3], ElementState(c[1]))
+            return np.concatenate([c[0][:n_q], start_multipliers(sy, st, c[3].copy(), c[0][n_q:])[1]])
+
         ev1 = at = event_values(y, v1)
         cross = (ev1 < 0.0) & (ev0 >= 0.0)
+        if nf and not cross[:nf].any():
+            # a mode that stops holding and holds again within the step (a grazing breakaway, a
+            # slip of a few ms inside a longer step): its event function is negative at an inner
+            # stage; the step is cut there and the first crossing located inside it
+            calm = (ev0[:nf] > 0.0) & ~np.array(fresh, dtype=bool)
+            for c_i, (_, y_i, v_i) in zip((C_RK[0], C_RK[1]), sysm.stages(Y)[:2]):
+                inner = calm & (fr.phi(y_i, v_i) < 0.0)
+                if not inner.any():
+                    continue
+                cand_i, _ = attempt(sysm, s, c_i * h)
+                if cand_i is not None:
+                    e_i = event_values(with_mu(cand_i, c_i * h), cand_i[2])
+                    if (e_i[:nf][inner] < 0.0).any():
+                        h, cand = c_i * h, cand_i
+                        y, alpha1, v1, acc1, Y = cand
+                        q = y[:n_q]
+                        ev1 = at = e_i
+                        cross = (ev1 < 0.0) & (ev0 >= 0.0)
+                        break
+                sysm.prepare(s, h)   # (back on the step)
+                break
         if watch:
             cross[nf:] &= ws != 0.0
         crossed, due = [], []
@@ -297,12 +327,6 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             # over a 1e-4 s trial step turned a rocking block's friction force around and broke its
             # corner away)
             trial_h = [h]
-
-            def with_mu(c, hh, sy=sysm, t0=s.t):
-                if heavy.size < n_q:
-                    return c[0]
-                st = MotionState(t0 + hh, c[0], c[2], c[3], ElementState(c[1]))
-                return np.concatenate([c[0][:n_q], start_multipliers(sy, st, c[3].copy(), c[0][n_q:])[1]])
 
             def attempt_at(hh, sy=sysm, st=s, th=trial_h):
                 th[0] = hh
