@@ -68,21 +68,26 @@ def _without_zero_duration_pairs(events):
     return out
 
 
-def test_base_isolated_frame_events_at_a_loose_tolerance():
+@pytest.mark.parametrize("scale, tol", [(1.0, 1e-4), (2.0, 1e-4), (0.25, 1e-4), (0.25, 1e-6)])
+def test_base_isolated_frame_events(scale, tol):
     """meshes/structures/base-isolated-frame.toml (a deck on two welded columns on a base sliding on a
-    frictional ground slider, mu = mu0 = 0.1, 20 s synthetic record) at tolerance 1e-4 against the
-    exact event-driven solution of its linearisation (dynamic_cases.base_isolated_frame): the same
-    stick/slip events - among them a grazing slip of 6 ms at 15.9735 s that lies inside one step
-    and is found at the step's inner stages - with their times within 10 tolerance T1 (the
-    issue's run at 1e-4 chattered through 947 events).  Measured: 127 events, times within 9.2e-5 s
-    (allowed 2.5e-4 s)."""
-    ref = dynamic_cases.base_isolated_frame()
-    tol = 1e-4
-    res = femslide.simulate(ref.path, **{"simulate.tolerance": tol, "simulate.error_estimate": False})
+    frictional ground slider, mu = mu0 = 0.1, 20 s synthetic record, scaled) against the exact
+    event-driven solution of its linearisation (dynamic_cases.base_isolated_frame): the same
+    stick/slip events - among them grazing slips of 3 to 6 ms that lie inside one step and are found
+    by the cubic through the event functions at the step's stages - and at 1e-4 their times within
+    10 tolerance T1 (the issue's run at 1e-4 chattered through 947 events).  At 1e-6 the times are
+    not compared: femslide's (exact, corotational) frame and the linearised reference differ by up to
+    1.4e-4 s in event times, whatever the tolerance (the same differences at 1e-4, 1e-6 and 1e-8).
+    Measured: scale 1: 127 events, times within 9.2e-5 s (allowed 2.5e-4 s); scale 2: 118, 9.1e-5 s;
+    scale 0.25: 33, 1.6e-4 s (1e-4) and 33 at 1e-6."""
+    ref = dynamic_cases.base_isolated_frame(scale=scale)
+    res = femslide.simulate(ref.path, **{"simulate.tolerance": tol, "simulate.error_estimate": False,
+                                         "simulate.ground.scale": scale})
     got = [(e["t"], e["kind"]) for evs in res["events"].values() for e in evs]
     want = _without_zero_duration_pairs(ref.events)
     assert [k for _, k in got] == [k for _, k in want]
-    assert max(abs(a[0] - b[0]) for a, b in zip(got, want)) <= 10 * tol * ref.T1
+    if tol >= 1e-4:
+        assert max(abs(a[0] - b[0]) for a, b in zip(got, want)) <= 10 * tol * ref.T1
 
 
 @pytest.mark.slow

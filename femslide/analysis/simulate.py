@@ -246,9 +246,14 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     t_wall = time.perf_counter()
     fs = _fixed_mesh(fs, spec.elements)
     frequencies_of = "frictionless structure"
+    lifted_static = ()
     try:
         sol = static.solve(fs)
         model, y_s, e_s = sol.level.model, sol.level.y, sol.level.elements
+        if sol.lifted:   # contacts the statics released: the dynamics' model has every joint (it releases them)
+            from femslide.analysis.start import carry
+            full = _model_like(fs, model)
+            model, y_s, lifted_static = full, carry(model, y_s, full, full.n), tuple(sol.lifted)
     except SolverFailure as exc:
         if not any(j.mu is not None for j in fs.joints):
             raise
@@ -307,8 +312,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     fric_joints = [j for j in fs.joints if _has_friction(j)]
     # the joints with modes: friction (stick/slip) and contacts (lift/land)
     mode_joints = [j for j in fs.joints if _has_friction(j) or j.unilateral]
-    y0, e0, lifted0 = (y_s, e_s, ()) if spec.initial is None else \
-        contact_start(fs, counts, L, F, model, y_s, e_s, spec.initial)
+    y0, e0, lifted0 = (y_s, e_s, lifted_static) if spec.initial is None else \
+        contact_start(fs, counts, L, F, model, y_s, e_s, spec.initial, lifted_static)
 
     def new_friction():
         """The friction joints' and contacts' modes and step systems, fresh for a run (or None)."""

@@ -11,7 +11,7 @@
 - :func:`contact_start`: the held start of a structure with unilateral contacts: which contacts the
   held state lifts (a block tilted about one corner stands on that corner only) is found as the
   first feasible set - every contact kept presses (its normal force -Q >= 0), every contact left out
-  has a gap >= 0 - among: none lifted, then each one alone.
+  has a gap >= 0 - among: those the static state lifted, none, then each one alone.
 
 Units: the model's (lengths by Lref, forces by Fref); ``y`` laid out as the structure's own model
 (every joint's multipliers, femslide.model.discrete.Model).
@@ -48,7 +48,7 @@ def stuck_statics(fs, exc):
     raise exc from None
 
 
-def _carry(m_from, y, m_to, n_to):
+def carry(m_from, y, m_to, n_to):
     """y of the model ``m_from`` in the layout of ``m_to`` (n_to unknowns): positions as they are,
     the multipliers of the joints both have by name, the rest 0."""
     z = np.zeros(n_to)
@@ -105,7 +105,7 @@ def held_start(fs, counts, L, F, y, elements, ini, drop=(), lock=()):
     m.add_constraint(hold)
     m.finalize()
     target = np.array(target)
-    z = _carry(full, y, m, m.n)
+    z = carry(full, y, m, m.n)
     start = hold.value(z[hold.dofs])
     steps = max(1, int(math.ceil(float(np.abs(target - start).max()) / 0.02)))
     es = elements.copy()
@@ -125,20 +125,22 @@ def held_start(fs, counts, L, F, y, elements, ini, drop=(), lock=()):
             continue
         es.commit()
         z, frac = z1, f1
-    return _carry(m, z, full, full.n), es
+    return carry(m, z, full, full.n), es
 
 
-def contact_start(fs, counts, L, F, model, y, elements, ini):
+def contact_start(fs, counts, L, F, model, y, elements, ini, first=()):
     """The held start of a structure with unilateral contacts (see the module docstring): (y,
     elements, names of the contacts lifted there), y in the layout of ``model`` (the structure's
-    own).  SolverFailure naming the contacts when no set tried is feasible."""
+    own); ``first``: the set tried first (the static state's lifted contacts).  SolverFailure naming
+    the contacts when no set tried is feasible."""
     contacts = [j for j in fs.joints if j.unilateral]
     if not contacts:
         y0, e0 = held_start(fs, counts, L, F, y, elements, ini)
         return y0, e0, ()
     n_q = model.n_q
     tried = []
-    for drop in [()] + [(j.name,) for j in contacts]:
+    tries = [tuple(first)] + [d for d in [()] + [(j.name,) for j in contacts] if d != tuple(first)]
+    for drop in tries:
         lock = [j.name for j in contacts if j.name not in drop and j.mu is not None and j.mu0 > 0.0]
         try:
             y0, e0 = held_start(fs, counts, L, F, y, elements, ini, drop, lock)

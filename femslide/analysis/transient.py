@@ -75,6 +75,29 @@ class Integration:
     crossings: list = field(default_factory=list)   # (index of the watched function, t) at its zeros
 
 
+def _dip(f0, f_stages, f1, calm):
+    """Where (a fraction of the step) the event functions ``calm`` - positive at the step's start
+    f0 and end f1 - dip below zero in between, by the cubic through their values at 0, the inner
+    Radau stages (f_stages at C_RK[0], C_RK[1]) and 1: the earliest dip's minimum, or None."""
+    x = np.array([0.0, C_RK[0], C_RK[1], 1.0])
+    V = np.vander(x, 4)
+    best = None
+    for k in np.nonzero(calm)[0]:
+        vals = np.array([f0[k], f_stages[0][k], f_stages[1][k], f1[k]])
+        if vals.min() < 0.0:   # (an inner stage already below zero)
+            xm = float(x[int(np.argmin(vals))])
+        else:
+            a, b, c, d = np.linalg.solve(V, vals)
+            roots = np.roots([3.0 * a, 2.0 * b, c]) if abs(a) + abs(b) > 0.0 else np.zeros(0)
+            xs = [float(r.real) for r in np.atleast_1d(roots) if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0]
+            xs = [xi for xi in xs if ((a * xi + b) * xi + c) * xi + d < 0.0]
+            if not xs:
+                continue
+            xm = min(xs)
+        best = xm if best is None else min(best, xm)
+    return best
+
+
 def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=None, observe=None,
               h0=None, h_max=None, max_steps=MAX_STEPS, wall_limit=None, progress=None, q_ref=None,
               friction=None, period=None, watch=()):
@@ -271,25 +294,22 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         cross = (ev1 < 0.0) & (ev0 >= 0.0)
         if nf and not cross[:nf].any():
             # a mode that stops holding and holds again within the step (a grazing breakaway, a
-            # slip of a few ms inside a longer step): its event function is negative at an inner
-            # stage; the step is cut there and the first crossing located inside it
+            # slip of a few ms inside a longer step): the cubic through its event function at the
+            # step's start, inner stages and end dips below zero; the step is cut at the dip and
+            # the first crossing located inside it
             calm = (ev0[:nf] > 0.0) & ~np.array(fresh, dtype=bool)
-            for c_i, (_, y_i, v_i) in zip((C_RK[0], C_RK[1]), sysm.stages(Y)[:2]):
-                inner = calm & (fr.phi(y_i, v_i) < 0.0)
-                if not inner.any():
-                    continue
-                cand_i, _ = attempt(sysm, s, c_i * h)
-                if cand_i is not None:
-                    e_i = event_values(with_mu(cand_i, c_i * h), cand_i[2])
-                    if (e_i[:nf][inner] < 0.0).any():
-                        h, cand = c_i * h, cand_i
-                        y, alpha1, v1, acc1, Y = cand
-                        q = y[:n_q]
-                        ev1 = at = e_i
-                        cross = (ev1 < 0.0) & (ev0 >= 0.0)
-                        break
-                sysm.prepare(s, h)   # (back on the step)
-                break
+            x_dip = _dip(ev0[:nf], [fr.phi(y_i, v_i) for _, y_i, v_i in sysm.stages(Y)[:2]], ev1[:nf], calm)
+            if x_dip is not None:
+                cand_i, _ = attempt(sysm, s, x_dip * h)
+                e_i = event_values(with_mu(cand_i, x_dip * h), cand_i[2]) if cand_i is not None else None
+                if e_i is not None and (e_i[:nf][calm] < 0.0).any():
+                    h, cand = x_dip * h, cand_i
+                    y, alpha1, v1, acc1, Y = cand
+                    q = y[:n_q]
+                    ev1 = at = e_i
+                    cross = (ev1 < 0.0) & (ev0 >= 0.0)
+                else:
+                    sysm.prepare(s, h)   # (back on the step)
         if watch:
             cross[nf:] &= ws != 0.0
         crossed, due = [], []
