@@ -237,6 +237,18 @@ def test_statics_release_a_contact_that_would_pull(tmp_path):
     assert "lifted" not in two
 
 
+def test_dynamics_start_from_a_lifted_static_state(tmp_path):
+    """The two-span beam with mass (rhoA = 10 kg/m) simulated for 1 ms: its static start has C lifted
+    (gap P L^3 / (16 EI)), so the run starts with C lifted (event "lift" at t = 0) and its gap history
+    starts there."""
+    f = tmp_path / "beam.toml"
+    f.write_text(BEAM.replace("UNI", "true").replace("EA = 1e12", "EA = 1e12\nrhoA = 10.0")
+                 + "[simulate]\nt_end = 0.001\ntolerance = 1e-6\n")
+    res = femslide.simulate(f)
+    assert res["events"]["C"][0] == {"t": 0.0, "kind": "lift"}
+    assert abs(res.history["joints.C.gap"][0] / (100.0 / (16 * 1e6)) - 1.0) <= 1e-6
+
+
 def test_statics_contact_that_presses_holds(tmp_path):
     """The same beam loaded in its second span presses on C: nothing is released, and the
     reactions are the two-sided ones (three-moment equation: R_C = P (13/32) for a load at the
