@@ -28,14 +28,18 @@ def _lagrange(ts, t):
     return w
 
 
-def interpolate(ta, Xa, tb, breaks=()):
+def interpolate(ta, Xa, tb, breaks=(), kinks=()):
     """The rows of Xa (samples at the increasing times ta) at the times tb: local Lagrange
     interpolation within the segments between ``breaks`` (a row at a break time belongs to the
     segment after it, unless another row at that time follows it: then it is the left limit and
-    belongs to the segment before); NaN where a segment has no sample."""
+    belongs to the segment before) and ``kinks`` (times where the history is continuous but not
+    smooth - a recorded ground motion's samples, between which it is linear -: a row at a kink
+    belongs to both segments); NaN where a segment has no sample."""
     ta = np.asarray(ta, dtype=float)
     Xa = np.asarray(Xa, dtype=float)
-    br = np.sort(np.asarray(list(breaks), dtype=float))
+    kk = np.asarray(list(kinks), dtype=float)
+    br = np.unique(np.concatenate([np.asarray(list(breaks), dtype=float), kk]))
+    is_kink = np.isin(br, kk)
     seg_a = np.searchsorted(br, ta, side="right")     # segment index of every sample
     # a row followed by another at the same time is a left limit (the state before an event's
     # switch): it belongs to the segment before
@@ -45,6 +49,8 @@ def interpolate(ta, Xa, tb, breaks=()):
     for i, t in enumerate(tb):
         k = int(np.searchsorted(br, t, side="right"))
         idx = np.nonzero(seg_a == k)[0]
+        if k < br.size and is_kink[k]:   # (the row at the segment's closing kink, too)
+            idx = np.union1d(idx, np.nonzero((ta == br[k]) & (seg_a == k + 1))[0])
         if idx.size == 0:
             continue
         j = int(np.searchsorted(ta[idx], t))
@@ -59,18 +65,18 @@ def interpolate(ta, Xa, tb, breaks=()):
     return out
 
 
-def history_difference(ta, Xa, tb, Xb, breaks=(), windows=(), offsets=None, floors=None):
+def history_difference(ta, Xa, tb, Xb, breaks=(), windows=(), offsets=None, floors=None, kinks=()):
     """Per column, max |Xb - Xa(tb)| / scale over the samples of b outside the ``windows``
     [(t0, t1)], the scale being max |Xa - offset| of the column and at least its ``floors`` entry
     (the size of a change that matters for that quantity: a body's vertical position that moves by
     1e-9 m while the others sway by 0.1 m is not judged by its own round-off).  ``offsets`` (per
     column, default 0) are subtracted for the scale only (positions are measured from their start).
-    A column whose scale is zero gives 0."""
+    A column whose scale is zero gives 0.  ``kinks``: see :func:`interpolate`."""
     tb = np.asarray(tb, dtype=float)
     keep = np.ones(tb.size, dtype=bool)
     for t0, t1 in windows:
         keep &= ~((tb >= t0) & (tb <= t1))
-    Xi = interpolate(ta, Xa, tb[keep], breaks)
+    Xi = interpolate(ta, Xa, tb[keep], breaks, kinks)
     D = np.abs(np.asarray(Xb, dtype=float)[keep] - Xi)
     off = np.zeros(Xa.shape[1]) if offsets is None else np.asarray(offsets, dtype=float)
     scale = np.abs(np.asarray(Xa, dtype=float) - off).max(axis=0) if len(Xa) else np.zeros(Xa.shape[1])
