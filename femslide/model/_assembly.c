@@ -1150,7 +1150,114 @@ out:
     return res;
 }
 
+/* -- equilibration ------------------------------------------------------------------------------------ */
+
+/* 2^-e with x = m 2^e, 0.5 <= m < 1; 1 for x <= 0, infinite or NaN (linalg._pow2) */
+static double pow2_scale(double x)
+{
+    if (!(x > 0.0) || isinf(x))
+        return 1.0;
+    int e;
+    frexp(x, &e);
+    return ldexp(1.0, -e);
+}
+
+/* |x| with a NaN kept: the largest of m and |x|, NaN once either is NaN (numpy's maximum) */
+static inline double max_nan(double m, double x)
+{
+    double a = fabs(x);
+    if (a != a || m != m)
+        return NAN;
+    return a > m ? a : m;
+}
+
+/* equilibrate(M, kl, ku, rs, cs): linalg._equilibrate in one call (the same scales, the same scaled M:
+ * powers of 2, no round-off): M dense (n, n) C order (kl < 0) or the kernel's band layout (n, 2 kl + ku + 1),
+ * M[j, kl + ku + i - j] = A[i, j]; rs, cs (n,) receive the row and column scales */
+static PyObject *py_equilibrate(PyObject *mod, PyObject *args)
+{
+    PyObject *om, *ors, *ocs;
+    Py_ssize_t kl, ku;
+    if (!PyArg_ParseTuple(args, "OnnOO", &om, &kl, &ku, &ors, &ocs))
+        return NULL;
+    Buf bm, br, bc;
+    bm.held = br.held = bc.held = 0;
+    PyObject *res = NULL;
+    if (get_buf(om, &bm, 1, "d", 8, "matrix") < 0 || get_buf(ors, &br, 1, "d", 8, "row scales") < 0 ||
+        get_buf(ocs, &bc, 1, "d", 8, "column scales") < 0)
+        goto out;
+    {
+        Py_ssize_t n = LEN(br), nrow = kl < 0 ? n : 2 * kl + ku + 1;
+        if (LEN(bc) != n || LEN(bm) != n * nrow) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: equilibrate: wrong sizes");
+            goto out;
+        }
+        double *M = DBL(bm), *rs = DBL(br), *cs = DBL(bc);
+        if (kl < 0) {
+            for (Py_ssize_t i = 0; i < n; i++) {
+                double m = 0.0, *ri = M + i * n;
+                for (Py_ssize_t j = 0; j < n; j++)
+                    m = max_nan(m, ri[j]);
+                rs[i] = pow2_scale(m);
+                for (Py_ssize_t j = 0; j < n; j++)
+                    ri[j] *= rs[i];
+            }
+            for (Py_ssize_t j = 0; j < n; j++)
+                cs[j] = 0.0;
+            for (Py_ssize_t i = 0; i < n; i++) {
+                const double *ri = M + i * n;
+                for (Py_ssize_t j = 0; j < n; j++)
+                    cs[j] = max_nan(cs[j], ri[j]);
+            }
+            for (Py_ssize_t j = 0; j < n; j++)
+                cs[j] = pow2_scale(cs[j]);
+            for (Py_ssize_t i = 0; i < n; i++) {
+                double *ri = M + i * n;
+                for (Py_ssize_t j = 0; j < n; j++)
+                    ri[j] *= cs[j];
+            }
+        } else {
+            Py_ssize_t d = kl + ku;
+            for (Py_ssize_t i = 0; i < n; i++)
+                rs[i] = 0.0;
+            /* M[j, c] is A[j + c - d, j]: the rows' largest entries (the places outside A excluded) */
+            for (Py_ssize_t j = 0; j < n; j++) {
+                const double *mj = M + j * nrow;
+                for (Py_ssize_t c = 0; c < nrow; c++) {
+                    Py_ssize_t i = j + c - d;
+                    if (i >= 0 && i < n)
+                        rs[i] = max_nan(rs[i], mj[c]);
+                }
+            }
+            for (Py_ssize_t i = 0; i < n; i++)
+                rs[i] = pow2_scale(rs[i]);
+            for (Py_ssize_t j = 0; j < n; j++) {
+                double *mj = M + j * nrow, m = 0.0;
+                for (Py_ssize_t c = 0; c < nrow; c++) {
+                    Py_ssize_t i = j + c - d;
+                    if (i >= 0 && i < n)
+                        mj[c] *= rs[i];
+                    m = max_nan(m, mj[c]);
+                }
+                cs[j] = pow2_scale(m);
+                for (Py_ssize_t c = 0; c < nrow; c++)
+                    mj[c] *= cs[j];
+            }
+        }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    release(&bm);
+    release(&br);
+    release(&bc);
+    return res;
+}
+
 static PyMethodDef module_methods[] = {
+    {"equilibrate", py_equilibrate, METH_VARARGS,
+     "equilibrate(M, kl, ku, rs, cs): M scaled in place to rows and columns of largest magnitude about 1 "
+     "(powers of 2), rs and cs := the scales (kl < 0: M dense (n, n), else the column-major band)"},
     {"factor", py_factor, METH_VARARGS,
      "factor(M, piv, n, kl, ku) -> info: LU with partial pivoting in place; kl < 0: M dense (n, n), else M the "
      "column-major band with kl sub- and ku superdiagonals ((n, 2 kl + ku + 1) C order); info > 0: zero pivot"},

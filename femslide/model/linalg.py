@@ -300,7 +300,13 @@ def _equilibrate(M, kl=None, ku=None):
     + ku + 1) with M[j, kl + ku + i - j] = A[i, j] (places outside A hold zeros).  A time step's
     matrix holds M / h^2 beside the constraints' O(1) rows (at a located step of 1e-9 s: 1e16 against
     1; its LU without scaling gave solutions 4e-6 apart between two correct LU codes; scaled: 58 for
-    the condition number)."""
+    the condition number).  With the compiled kernel, one call does the same (the same scales and
+    scaled M: its Python loop over the band's diagonals was a fifth of a time step)."""
+    if (M.dtype == np.float64 and M.flags.c_contiguous and kernel_enabled()
+            and hasattr(_kernel, "equilibrate")):
+        rs, cs = np.empty(M.shape[0]), np.empty(M.shape[0])
+        _kernel.equilibrate(M, -1 if kl is None else kl, 0 if ku is None else ku, rs, cs)
+        return rs, cs
     if kl is None:
         rs = _pow2(np.abs(M).max(axis=1))
         M *= rs[:, None]
