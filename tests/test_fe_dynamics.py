@@ -606,6 +606,33 @@ def test_body_inertia_numpy_path_equals_the_scalar_path():
         f2, (r2, c2, v2) = m.inertia(q, v, acc, 2.5, 0.7, g)
         assert np.array_equal(r1, r2) and np.array_equal(c1, c2)
         assert np.allclose(f1, f2, rtol=1e-14, atol=1e-14) and np.allclose(v1, v2, rtol=1e-14, atol=1e-14)
+    # Masses.inertia_parts: three states at once, the derivative split into its parts linear in c_acc
+    # and c_vel; the same force and, recombined, the same derivative as inertia() (to 1e-14: the
+    # parts are exact, inertia()'s combination rounds), in both paths and with and without ground
+    Q, V, ACC = (rng.standard_normal((3, model.n_q)) for _ in range(3))
+    G = rng.standard_normal((3, 2))
+    for scalar in (8, 0):
+        m.SCALAR_BODIES = scalar
+        for ground in (G, None):
+            F, base, mass, vel = m.inertia_parts(Q, V, ACC, ground)
+            for i in range(3):
+                gi = None if ground is None else ground[i]
+                f0, (_, _, v0) = m.inertia(Q[i], V[i], ACC[i], 2.5, 0.7, gi)
+                assert np.allclose(F[i], f0, rtol=1e-14, atol=1e-14)
+                assert np.allclose(base[i] + 2.5 * mass[i] + 0.7 * vel[i], v0, rtol=1e-13, atol=1e-13)
+                assert np.allclose(mass[i], m.matrix(Q[i])[2], rtol=1e-14, atol=1e-13)
+    # the compiled kernel's inertia_parts against the Python loop (the same arithmetic, libm's cos and
+    # sin as math's: bitwise equal on machines without fused multiply-add; 1e-14 asked)
+    from femslide.model import fast
+    if fast.available():
+        m.SCALAR_BODIES = 8
+        for ground in (G, None):
+            with fast.forced(True):
+                a = m.inertia_parts(Q, V, ACC, ground)
+            with fast.forced(False):
+                b = m.inertia_parts(Q, V, ACC, ground)
+            for x, y in zip(a, b):
+                assert np.allclose(x, y, rtol=1e-14, atol=1e-14)
 
 
 def test_friction_in_a_tilted_clamp_held_twice():

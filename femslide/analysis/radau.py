@@ -64,6 +64,7 @@ T_RK = np.array([[0.09443876248897524, -0.14125529502095421, 0.03002919410514742
                  [0.25021312296533332, 0.20412935229379994, -0.38294211275726192],
                  [1.0, 1.0, 0.0]])
 TI_RK = np.linalg.inv(T_RK)
+W2_RK = W_RK @ W_RK
 # the collocation polynomial through 0 and the stages: y(t_n + x h) = y_n + Z^T P [x, x^2, x^3]
 P_RK = np.array([[13.0 / 3.0 + 7.0 * S6 / 3.0, -23.0 / 3.0 - 22.0 * S6 / 3.0, 10.0 / 3.0 + 5.0 * S6],
                  [13.0 / 3.0 - 7.0 * S6 / 3.0, -23.0 / 3.0 + 22.0 * S6 / 3.0, 10.0 / 3.0 - 5.0 * S6],
@@ -84,33 +85,41 @@ def _coo_mv(rows, cols, vals, x, n):
 class CoupledMatrix:
     """The exact Newton matrix of the three coupled stages (see the module docstring), factorised:
     ``solve(r)`` maps a residual of the stacked stages to the Newton correction of the stacked
-    unknowns (femslide.model.linalg.solve_linear dispatches to it)."""
+    unknowns (femslide.model.linalg.solve_linear dispatches to it).  ``mass`` and ``vel`` (3, nnz):
+    the stages' mass matrices and centripetal velocity terms in the masses' COO order
+    (femslide.model.mass.Masses.inertia_parts)."""
 
-    def __init__(self, sysm, A, M_parts, C_parts):
-        self.s, self.A, self.M_parts, self.C_parts = sysm, A, M_parts, C_parts
+    def __init__(self, sysm, A, mass, vel):
+        self.s, self.A, self.mass, self.vel = sysm, A, mass, vel
         self.fact = None
 
     def solve(self, r):
         """The Newton correction for the stacked residual r (factorising at the first call: a
         singular matrix raises there, where Newton reports it)."""
-        if self.fact is None:
-            self.fact = Factorized(self.A)
         s = self.s
         nq, nc, h = s.nq, s.nc, s.h
-        n = nq + nc
-        Rv = r[:3 * nq].reshape(3, nq)
-        Rq = r[3 * nq:6 * nq].reshape(3, nq)
-        Rm = r[6 * nq:].reshape(3, nc)
-        WRq = W_RK @ Rq
+        if self.fact is None:
+            self.fact = Factorized(self.A, overwrite=True)   # (A is this matrix's alone)
+            self.A = None
+            Cv = self.vel if s.Cvals is None else np.concatenate([self.vel, s._Cvals3], axis=1)
+            self.Mv, self.Cv = self.mass.ravel(), Cv.ravel()
+        n, m3 = nq + nc, 3 * nq
+        Rq = r[m3:2 * m3]
+        WRq = (W_RK @ Rq.reshape(3, nq)).ravel()
+        # the stages' C (W dq) / h and M (W^2 dq) / h^2 with (W dq)_i eliminated, all stages in one
+        # bincount each (the entries of a row in the same order as stage by stage)
+        cp = np.bincount(s._Cr, weights=self.Cv * Rq[s._Cc], minlength=m3)
+        mp = np.bincount(s._Mr, weights=self.Mv * WRq[s._Mc], minlength=m3)
         rhs = np.empty((3, n))
-        for i in range(3):
-            rhs[i, :nq] = (Rv[i] + _coo_mv(*self.C_parts[i], Rq[i], nq) / h
-                           + _coo_mv(*self.M_parts[i], WRq[i], nq) / (h * h))
-            rhs[i, nq:] = Rm[i]
+        rhs[:, :nq] = (r[:m3] + cp / h + mp / (h * h)).reshape(3, nq)
+        rhs[:, nq:] = r[2 * m3:].reshape(3, nc)
         x = self.fact.solve(rhs.ravel()).reshape(3, n)
-        dQ, dM = x[:, :nq], x[:, nq:]
-        dV = (W_RK @ dQ - Rq) / h
-        return np.concatenate([dQ.ravel(), dV.ravel(), dM.ravel()])
+        out = np.empty(r.size)
+        dQ = x[:, :nq]
+        out[:m3] = dQ.ravel()
+        out[m3:2 * m3] = ((W_RK @ dQ - Rq.reshape(3, nq)) / h).ravel()
+        out[2 * m3:] = x[:, nq:].ravel()
+        return out
 
 
 class RadauSystem:
@@ -130,6 +139,15 @@ class RadauSystem:
         self.extra = extra or []
         self.Csr = C.tocsr() if C is not None else None
         self.Crows, self.Ccols, self.Cvals = (C.row, C.col, C.data) if C is not None else (None, None, None)
+        # the three stages' mass and damping entries stacked (rows and columns offset by the stage):
+        # CoupledMatrix.solve's products for all stages at once
+        ir, ic = masses.coo_rows, masses.coo_cols
+        off = (np.arange(3) * self.nq)[:, None]
+        self._Mr, self._Mc = (ir[None, :] + off).ravel(), (ic[None, :] + off).ravel()
+        if C is not None:
+            ir, ic = np.concatenate([ir, self.Crows]), np.concatenate([ic, self.Ccols])
+            self._Cvals3 = np.tile(self.Cvals, (3, 1))
+        self._Cr, self._Cc = (ir[None, :] + off).ravel(), (ic[None, :] + off).ravel()
         rot = model.rotation_dofs()
         self._rot = np.concatenate([i * self.nq + rot for i in range(3)]).astype(np.intp)
         self.m_max = float(max(np.abs(masses.matrix(np.zeros(model.n_q))[2]).max(initial=0.0), 0.0))
@@ -186,9 +204,10 @@ class RadauSystem:
             es = ElementState(s.alpha)
             _, A0, _ = m.system(s.y, es, 1.0, None, True)
             lam = MU_REAL / h
-            rows, cols, base = self.masses.inertia(self.qn, s.v, s.acc, 0.0, 0.0, self.ag[0])[1]
-            vm = self.masses.inertia(self.qn, s.v, s.acc, 1.0, 0.0, self.ag[0])[1][2] - base
-            vd = self.masses.inertia(self.qn, s.v, s.acc, 0.0, 1.0, self.ag[0])[1][2] - base
+            rows, cols = self.masses.coo_rows, self.masses.coo_cols
+            _, base, vm, vd = self.masses.inertia_parts(self.qn[None, :], s.v[None, :], s.acc[None, :],
+                                                        None if self.ground is None else self.ag[:1])
+            base, vm, vd = base[0], vm[0], vd[0]
             coos = [(rows, cols, base + lam * vd + lam * lam * vm)] + [ex(s.y, s.v, 0.0)[1] for ex in self.extra]
             Cr, Cc, Cvals = rows, cols, vd
             if self.Crows is not None:
@@ -223,20 +242,23 @@ class RadauSystem:
     def system(self, Y, elements, lam=1.0, control=None, jacobian=True, dense=False):
         """The stacked stage residual at Y (and, with ``jacobian``, the coupled Newton matrix);
         ``elements.trial`` becomes the step's end (the third stage's chord rotations)."""
-        m, nq, h, masses = self.model, self.nq, self.h, self.masses
+        m, nq, nc, h = self.model, self.nq, self.nc, self.h
         ZQ, ZV, MU = self.split(Y)
         Q = self.qn + ZQ
         V = self.s.v + ZV
         ACC = (W_RK @ ZV) / h
-        Rv = np.empty((3, nq))
-        Rm = np.empty((3, self.nc))
+        # the inertia of the three stages in one call, its derivative in parts linear in the
+        # coefficients of the accelerations and velocities
+        F, base, mass, vel = self.masses.inertia_parts(Q, V, ACC, None if self.ground is None else self.ag)
+        m3 = 3 * nq
+        r = np.empty(self.n)
+        Rv, Rm = r[:m3].reshape(3, nq), r[2 * m3:].reshape(3, nc)
         fmax = 0.0
-        vals, M_parts, C_parts, coupling = [], [], [], []
+        vals = []
         for i in range(3):
             y = np.concatenate([Q[i], MU[i]])
-            r, coo, info = m.system(y, self.elements[i], 1.0, None, jacobian, dense="coo")
-            f, (ir, ic, base) = masses.inertia(Q[i], V[i], ACC[i], 0.0, 0.0, self.ag[i])
-            rv = r[:nq] + f
+            ri, coo, info = m.system(y, self.elements[i], 1.0, None, jacobian, dense="coo")
+            rv = ri[:nq] + F[i]
             if self.Csr is not None:
                 rv += self.Csr @ V[i]
             ex_coo = []
@@ -245,40 +267,29 @@ class RadauSystem:
                 rv += fe
                 ex_coo.append(ce)
             Rv[i] = rv
-            Rm[i] = r[nq:]
+            Rm[i] = ri[nq:]
             fmax = max(fmax, info["fmax"])
             if jacobian:
                 if self.big is None:
                     self._pattern(coo, ex_coo)
-                vm = masses.inertia(Q[i], V[i], ACC[i], 1.0, 0.0, self.ag[i])[1][2] - base
-                vd = masses.inertia(Q[i], V[i], ACC[i], 0.0, 1.0, self.ag[i])[1][2] - base
-                vals += [coo[2], base] + [ce[2] for ce in ex_coo]
-                M_parts.append((ir, ic, vm))
-                if self.Crows is not None:
-                    C_parts.append((np.concatenate([ir, self.Crows]), np.concatenate([ic, self.Ccols]),
-                                    np.concatenate([vd, self.Cvals])))
-                else:
-                    C_parts.append((ir, ic, vd))
-                coupling.append((vm, vd))
+                vals += [coo[2], base[i]] + [ce[2] for ce in ex_coo]
         elements.trial = self.elements[2].trial
-        Rq = W_RK @ ZQ - h * V
-        r = np.concatenate([Rv.ravel(), Rq.ravel(), Rm.ravel()])
+        r[m3:2 * m3] = (W_RK @ ZQ - h * V).ravel()
         noise = float(info["noise"]) if jacobian else 0.0
         if self.roundoff_floor and self.noise_in > 1e-6 * (1.0 + fmax):
             noise += self.noise_in
         out = {"fmax": fmax, "noise": noise, "lam": 1.0}
         if not jacobian:
             return r, None, out
-        W2 = W_RK @ W_RK
-        hh = h * h
-        for i in range(3):
-            vm, vd = coupling[i]
-            for j in range(3):
-                vals.append((W2[i, j] / hh) * vm + (W_RK[i, j] / h) * vd)
-                if self.Crows is not None:
-                    vals.append((W_RK[i, j] / h) * self.Cvals)
+        # the coupling blocks (i, j): (W^2)_ij / h^2 M_i + W_ij / h (C_v,i + C), in _pattern's order
+        k = mass.shape[1]
+        blocks = np.empty((3, 3, k + (0 if self.Cvals is None else self.Cvals.size)))
+        blocks[:, :, :k] = (W2_RK / (h * h))[:, :, None] * mass[:, None, :] + (W_RK / h)[:, :, None] * vel[:, None, :]
+        if self.Cvals is not None:
+            blocks[:, :, k:] = (W_RK / h)[:, :, None] * self.Cvals
+        vals.append(blocks.ravel())
         A = self.big.assemble(np.concatenate(vals))
-        return r, CoupledMatrix(self, A, M_parts, C_parts), out
+        return r, CoupledMatrix(self, A, mass, vel), out
 
     # -- what a converged step gives ------------------------------------------------------------
     def end(self, Y):

@@ -1254,7 +1254,112 @@ out:
     return res;
 }
 
+/* -- the inertia of k states ----------------------------------------------------------------------------- */
+
+/* inertia(Q, V, ACC, G, node_dofs, node_vals, body_d, body_data, F, base, mass, vel):
+ * femslide.model.mass.Masses.inertia_parts in one call, the same arithmetic in the same order (bitwise the
+ * same results on a machine without fused multiply-add): Q, V, ACC (k, n_q); G (k, 2) base accelerations or
+ * None; node_dofs (nn,) int64 and node_vals (nn,) the lumped masses (the first half x dofs, then y);
+ * body_d (nb,) int64 the bodies' first dofs, body_data (nb, 4): m, J, rho0_x, rho0_y; outputs F (k, n_q)
+ * (overwritten), base, mass, vel (k, nn + 9 nb) */
+static PyObject *py_inertia(PyObject *mod, PyObject *args)
+{
+    PyObject *o[12];
+    if (!PyArg_ParseTuple(args, "OOOOOOOOOOOO", &o[0], &o[1], &o[2], &o[3], &o[4], &o[5], &o[6], &o[7], &o[8],
+                          &o[9], &o[10], &o[11]))
+        return NULL;
+    static const char *what[12] = {"Q", "V", "ACC", "ground", "node dofs", "node masses", "body dofs",
+                                   "body data", "F", "base", "mass", "vel"};
+    Buf b[12];
+    for (int i = 0; i < 12; i++)
+        b[i].held = 0;
+    PyObject *res = NULL;
+    for (int i = 0; i < 12; i++) {
+        int idx = i == 4 || i == 6, wr = i >= 8;
+        if (get_buf(o[i], &b[i], wr, idx ? "qlLn" : "d", 8, what[i]) < 0)
+            goto out;
+    }
+    {
+        Py_ssize_t nn = LEN(b[5]), nb = LEN(b[6]), nnz = nn + 9 * nb, nF = LEN(b[8]);
+        Py_ssize_t k = nnz > 0 ? LEN(b[9]) / nnz : 0;
+        Py_ssize_t nq = k > 0 ? nF / k : 0;
+        if (k <= 0 || nq * k != nF || LEN(b[0]) != nF || LEN(b[1]) != nF || LEN(b[2]) != nF ||
+            (b[3].held && LEN(b[3]) != 2 * k) || LEN(b[4]) != nn || LEN(b[7]) != 4 * nb || LEN(b[9]) != k * nnz ||
+            LEN(b[10]) != k * nnz || LEN(b[11]) != k * nnz) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: inertia: wrong sizes");
+            goto out;
+        }
+        const long long *nd = IDX(b[4]), *bd = IDX(b[6]);
+        for (Py_ssize_t i = 0; i < nn; i++)
+            if (nd[i] < 0 || nd[i] >= nq) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: inertia: node dof out of range");
+                goto out;
+            }
+        for (Py_ssize_t i = 0; i < nb; i++)
+            if (bd[i] < 0 || bd[i] + 2 >= nq) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: inertia: body dof out of range");
+                goto out;
+            }
+        const double *nv = DBL(b[5]), *bdat = DBL(b[7]), *G = b[3].held ? DBL(b[3]) : NULL;
+        Py_ssize_t half = nn / 2;
+        for (Py_ssize_t s = 0; s < k; s++) {
+            const double *q = DBL(b[0]) + s * nq, *v = DBL(b[1]) + s * nq, *acc = DBL(b[2]) + s * nq;
+            double *F = DBL(b[8]) + s * nq, *bs = DBL(b[9]) + s * nnz, *ms = DBL(b[10]) + s * nnz,
+                   *vs = DBL(b[11]) + s * nnz;
+            double gx = G ? G[2 * s] : 0.0, gy = G ? G[2 * s + 1] : 0.0;
+            for (Py_ssize_t i = 0; i < nq; i++)
+                F[i] = 0.0;
+            for (Py_ssize_t i = 0; i < nn; i++) {
+                F[nd[i]] = nv[i] * acc[nd[i]];
+                if (G)
+                    F[nd[i]] += nv[i] * (i < half ? gx : gy);
+                bs[i] = 0.0;
+                ms[i] = nv[i];
+                vs[i] = 0.0;
+            }
+            for (Py_ssize_t j = 0; j < nb; j++) {
+                Py_ssize_t d = bd[j], o = nn + 9 * j;
+                double m = bdat[4 * j], J = bdat[4 * j + 1], rx = bdat[4 * j + 2], ry = bdat[4 * j + 3];
+                double th = q[d + 2], c = cos(th), sn = sin(th);
+                double px = c * rx - sn * ry, py = sn * rx + c * ry;
+                double ux = acc[d] + gx, uy = acc[d + 1] + gy, tdd = acc[d + 2];
+                double td = v[d + 2], td2 = td * td;
+                double ax = ux - tdd * py - td2 * px;
+                double ay = uy + tdd * px - td2 * py;
+                F[d] += m * ax;
+                F[d + 1] += m * ay;
+                F[d + 2] += J * tdd + m * (px * ay - py * ax);
+                double b2 = m * (td2 * py - tdd * px), b5 = m * (-(tdd * py) - td2 * px);
+                double b8 = -(m * (px * ux + py * uy));
+                for (int e = 0; e < 9; e++)
+                    bs[o + e] = vs[o + e] = 0.0;
+                bs[o + 2] = b2;
+                bs[o + 5] = b5;
+                bs[o + 8] = b8;
+                ms[o] = ms[o + 4] = m;
+                ms[o + 1] = ms[o + 3] = 0.0;
+                ms[o + 2] = ((-m) * py + b2) - b2;
+                ms[o + 5] = (m * px + b5) - b5;
+                ms[o + 6] = (-m) * py;
+                ms[o + 7] = m * px;
+                ms[o + 8] = ((J + m * (px * px + py * py)) + b8) - b8;
+                vs[o + 2] = m * ((-2.0 * td) * px - tdd * px + td2 * py) - b2;
+                vs[o + 5] = m * ((-2.0 * td) * py - tdd * py - td2 * px) - b5;
+            }
+        }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    for (int i = 0; i < 12; i++)
+        release(&b[i]);
+    return res;
+}
+
 static PyMethodDef module_methods[] = {
+    {"inertia", py_inertia, METH_VARARGS,
+     "inertia(Q, V, ACC, G, node_dofs, node_vals, body_d, body_data, F, base, mass, vel): "
+     "femslide.model.mass.Masses.inertia_parts (outputs written in place)"},
     {"equilibrate", py_equilibrate, METH_VARARGS,
      "equilibrate(M, kl, ku, rs, cs): M scaled in place to rows and columns of largest magnitude about 1 "
      "(powers of 2), rs and cs := the scales (kl < 0: M dense (n, n), else the column-major band)"},

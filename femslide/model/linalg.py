@@ -44,6 +44,12 @@ def kernel_enabled() -> bool:
     return env is None or env.lower() != "numpy"
 
 
+def kernel_function(name):
+    """The compiled kernel's function ``name`` when the kernel is used now (:func:`kernel_enabled`) and
+    has it (a kernel built from an older source may not), else None: the caller's numpy path."""
+    return getattr(_kernel, name, None) if kernel_enabled() else None
+
+
 @contextlib.contextmanager
 def kernel_forced(on: bool):
     """Within the block the compiled kernel is used (``on``, if built) or not, whatever the
@@ -333,19 +339,20 @@ def _equilibrate(M, kl=None, ku=None):
 
 class Factorized:
     """An LU factorisation of a dense, banded or sparse Jacobian of :meth:`Model.system` (real or
-    complex) kept for several solves: ``solve(b)``.  LinAlgError when the matrix is singular."""
+    complex) kept for several solves: ``solve(b)``.  LinAlgError when the matrix is singular.
+    ``overwrite``: A's storage may be scaled and factorised in place (A is not used afterwards)."""
 
-    def __init__(self, A):
+    def __init__(self, A, overwrite=False):
         self.band = self.dense = self.sparse = self.kern = None
         self.rs = self.cs = None
         if isinstance(A, BandMatrix):
             p = A.pattern
             self.pattern, kl, ku = p, p.kl, p.ku
-            ab = np.array(A.ab, order="F")          # (a copy, equilibrated below)
+            ab = A.ab if overwrite and A.ab.flags.f_contiguous else np.array(A.ab, order="F")
             lu = ab.T                               # (its columns: C order, the kernel's layout)
             self.rs, self.cs = _equilibrate(lu, kl, ku)
         elif isinstance(A, np.ndarray):
-            lu, kl, ku = np.array(A, order="C"), -1, 0
+            lu, kl, ku = (A if overwrite and A.flags.c_contiguous else np.array(A, order="C")), -1, 0
             self.rs, self.cs = _equilibrate(lu)
         if self.rs is not None and not np.iscomplexobj(lu) and kernel_enabled():
             # the kernel's LU (single-threaded C: a threaded BLAS on a small matrix of a busy machine
