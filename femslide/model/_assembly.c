@@ -18,6 +18,7 @@
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -1162,13 +1163,38 @@ static double pow2_scale(double x)
     return ldexp(1.0, -e);
 }
 
-/* |x| with a NaN kept: the largest of m and |x|, NaN once either is NaN (numpy's maximum) */
-static inline double max_nan(double m, double x)
+/* the scale of a row or column from its largest magnitude m and chk, the sum of (a - a) over its entries
+ * (NaN when one of them is infinite or NaN: numpy's max is then inf or NaN, and _pow2 gives 1; the rows'
+ * own loops flag that with an integer, which vectorises) */
+static inline double scale_of(double m, double chk)
 {
-    double a = fabs(x);
-    if (a != a || m != m)
-        return NAN;
-    return a > m ? a : m;
+    return chk == 0.0 ? pow2_scale(m) : 1.0;
+}
+
+/* the largest |x[i]| of n values (max is exact: four interleaved maxima, no dependency chain); *bad set
+ * when one of them is infinite or NaN */
+static double absmax(const double *x, Py_ssize_t n, int *bad)
+{
+    double m0 = 0.0, m1 = 0.0, m2 = 0.0, m3 = 0.0;
+    int b = 0;
+    Py_ssize_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        double a0 = fabs(x[i]), a1 = fabs(x[i + 1]), a2 = fabs(x[i + 2]), a3 = fabs(x[i + 3]);
+        m0 = a0 > m0 ? a0 : m0;
+        m1 = a1 > m1 ? a1 : m1;
+        m2 = a2 > m2 ? a2 : m2;
+        m3 = a3 > m3 ? a3 : m3;
+        b |= !(a0 <= DBL_MAX) | !(a1 <= DBL_MAX) | !(a2 <= DBL_MAX) | !(a3 <= DBL_MAX);
+    }
+    for (; i < n; i++) {
+        double a = fabs(x[i]);
+        m0 = a > m0 ? a : m0;
+        b |= !(a <= DBL_MAX);
+    }
+    m0 = m1 > m0 ? m1 : m0;
+    m2 = m3 > m2 ? m3 : m2;
+    *bad = b;
+    return m2 > m0 ? m2 : m0;
 }
 
 /* equilibrate(M, kl, ku, rs, cs): linalg._equilibrate in one call (the same scales, the same scaled M:
@@ -1183,6 +1209,7 @@ static PyObject *py_equilibrate(PyObject *mod, PyObject *args)
     Buf bm, br, bc;
     bm.held = br.held = bc.held = 0;
     PyObject *res = NULL;
+    double *chk = NULL;
     if (get_buf(om, &bm, 1, "d", 8, "matrix") < 0 || get_buf(ors, &br, 1, "d", 8, "row scales") < 0 ||
         get_buf(ocs, &bc, 1, "d", 8, "column scales") < 0)
         goto out;
@@ -1192,25 +1219,30 @@ static PyObject *py_equilibrate(PyObject *mod, PyObject *args)
             PyErr_SetString(PyExc_ValueError, "femslide kernel: equilibrate: wrong sizes");
             goto out;
         }
+        chk = PyMem_Malloc(sizeof(double) * (n + 1));
+        if (!chk) {
+            PyErr_NoMemory();
+            goto out;
+        }
         double *M = DBL(bm), *rs = DBL(br), *cs = DBL(bc);
         if (kl < 0) {
             for (Py_ssize_t i = 0; i < n; i++) {
-                double m = 0.0, *ri = M + i * n;
-                for (Py_ssize_t j = 0; j < n; j++)
-                    m = max_nan(m, ri[j]);
-                rs[i] = pow2_scale(m);
-                for (Py_ssize_t j = 0; j < n; j++)
-                    ri[j] *= rs[i];
+                int bad;
+                double m = absmax(M + i * n, n, &bad);
+                rs[i] = bad ? 1.0 : pow2_scale(m);
             }
             for (Py_ssize_t j = 0; j < n; j++)
-                cs[j] = 0.0;
+                cs[j] = chk[j] = 0.0;
             for (Py_ssize_t i = 0; i < n; i++) {
-                const double *ri = M + i * n;
-                for (Py_ssize_t j = 0; j < n; j++)
-                    cs[j] = max_nan(cs[j], ri[j]);
+                double *ri = M + i * n, r = rs[i];
+                for (Py_ssize_t j = 0; j < n; j++) {
+                    double a = fabs(ri[j] *= r);
+                    cs[j] = a > cs[j] ? a : cs[j];
+                    chk[j] += a - a;
+                }
             }
             for (Py_ssize_t j = 0; j < n; j++)
-                cs[j] = pow2_scale(cs[j]);
+                cs[j] = scale_of(cs[j], chk[j]);
             for (Py_ssize_t i = 0; i < n; i++) {
                 double *ri = M + i * n;
                 for (Py_ssize_t j = 0; j < n; j++)
@@ -1219,35 +1251,38 @@ static PyObject *py_equilibrate(PyObject *mod, PyObject *args)
         } else {
             Py_ssize_t d = kl + ku;
             for (Py_ssize_t i = 0; i < n; i++)
-                rs[i] = 0.0;
+                rs[i] = chk[i] = 0.0;
             /* M[j, c] is A[j + c - d, j]: the rows' largest entries (the places outside A excluded) */
             for (Py_ssize_t j = 0; j < n; j++) {
                 const double *mj = M + j * nrow;
-                for (Py_ssize_t c = 0; c < nrow; c++) {
+                Py_ssize_t c0 = d - j > 0 ? d - j : 0, c1 = n + d - j < nrow ? n + d - j : nrow;
+                for (Py_ssize_t c = c0; c < c1; c++) {
+                    double a = fabs(mj[c]);
                     Py_ssize_t i = j + c - d;
-                    if (i >= 0 && i < n)
-                        rs[i] = max_nan(rs[i], mj[c]);
+                    rs[i] = a > rs[i] ? a : rs[i];
+                    chk[i] += a - a;
                 }
             }
             for (Py_ssize_t i = 0; i < n; i++)
-                rs[i] = pow2_scale(rs[i]);
+                rs[i] = scale_of(rs[i], chk[i]);
             for (Py_ssize_t j = 0; j < n; j++) {
-                double *mj = M + j * nrow, m = 0.0;
-                for (Py_ssize_t c = 0; c < nrow; c++) {
-                    Py_ssize_t i = j + c - d;
-                    if (i >= 0 && i < n)
-                        mj[c] *= rs[i];
-                    m = max_nan(m, mj[c]);
-                }
-                cs[j] = pow2_scale(m);
+                double *mj = M + j * nrow;
+                int bad;
+                Py_ssize_t c0 = d - j > 0 ? d - j : 0, c1 = n + d - j < nrow ? n + d - j : nrow;
+                for (Py_ssize_t c = c0; c < c1; c++)
+                    mj[c] *= rs[j + c - d];
+                double m = absmax(mj, nrow, &bad);
+                double sc = bad ? 1.0 : pow2_scale(m);
                 for (Py_ssize_t c = 0; c < nrow; c++)
-                    mj[c] *= cs[j];
+                    mj[c] *= sc;
+                cs[j] = sc;
             }
         }
         Py_INCREF(Py_None);
         res = Py_None;
     }
 out:
+    PyMem_Free(chk);
     release(&bm);
     release(&br);
     release(&bc);
