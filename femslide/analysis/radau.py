@@ -193,6 +193,9 @@ class RadauSystem:
             self.ag = [None, None, None]
         self.elements = [ElementState(s.alpha) for _ in range(3)]
         self._error_matrix = None
+        # the coupling blocks' weights (W^2)_ij / h^2 and W_ij / h, and the damping's blocks W_ij / h C
+        w1 = (W_RK / h)[:, :, None]
+        self._weights = ((W2_RK / (h * h))[:, :, None], w1, None if self.Cvals is None else w1 * self.Cvals)
         vmax = float(np.abs(s.v).max(initial=0.0))
         self.noise_in = EPS * 30.0 * self.m_max * vmax / h   # round-off of M (W ZV)/h (|W| ~ 30)
 
@@ -243,22 +246,24 @@ class RadauSystem:
         """The stacked stage residual at Y (and, with ``jacobian``, the coupled Newton matrix);
         ``elements.trial`` becomes the step's end (the third stage's chord rotations)."""
         m, nq, nc, h = self.model, self.nq, self.nc, self.h
-        ZQ, ZV, MU = self.split(Y)
-        Q = self.qn + ZQ
+        m3 = 3 * nq
+        ZQ, ZV = Y[:m3].reshape(3, nq), Y[m3:2 * m3].reshape(3, nq)
+        Ys = np.empty((3, nq + nc))      # the stages' model unknowns (q, mu), one row each
+        Q = np.add(self.qn, ZQ, out=Ys[:, :nq])
+        Ys[:, nq:] = Y[2 * m3:].reshape(3, nc)
         V = self.s.v + ZV
         ACC = (W_RK @ ZV) / h
         # the inertia of the three stages in one call, its derivative in parts linear in the
         # coefficients of the accelerations and velocities
         F, base, mass, vel = self.masses.inertia_parts(Q, V, ACC, None if self.ground is None else self.ag)
-        m3 = 3 * nq
         r = np.empty(self.n)
         Rv, Rm = r[:m3].reshape(3, nq), r[2 * m3:].reshape(3, nc)
         fmax = 0.0
         vals = []
         for i in range(3):
-            y = np.concatenate([Q[i], MU[i]])
+            y = Ys[i]
             ri, coo, info = m.system(y, self.elements[i], 1.0, None, jacobian, dense="coo")
-            rv = ri[:nq] + F[i]
+            rv = np.add(ri[:nq], F[i], out=Rv[i])
             if self.Csr is not None:
                 rv += self.Csr @ V[i]
             ex_coo = []
@@ -266,7 +271,6 @@ class RadauSystem:
                 fe, ce = ex(y, V[i], 0.0)
                 rv += fe
                 ex_coo.append(ce)
-            Rv[i] = rv
             Rm[i] = ri[nq:]
             fmax = max(fmax, info["fmax"])
             if jacobian:
@@ -283,10 +287,12 @@ class RadauSystem:
             return r, None, out
         # the coupling blocks (i, j): (W^2)_ij / h^2 M_i + W_ij / h (C_v,i + C), in _pattern's order
         k = mass.shape[1]
-        blocks = np.empty((3, 3, k + (0 if self.Cvals is None else self.Cvals.size)))
-        blocks[:, :, :k] = (W2_RK / (h * h))[:, :, None] * mass[:, None, :] + (W_RK / h)[:, :, None] * vel[:, None, :]
-        if self.Cvals is not None:
-            blocks[:, :, k:] = (W_RK / h)[:, :, None] * self.Cvals
+        w2, w1, Cblocks = self._weights
+        blocks = np.empty((3, 3, k + (0 if Cblocks is None else Cblocks.shape[2])))
+        Mb = np.multiply(w2, mass[:, None, :], out=blocks[:, :, :k])
+        Mb += w1 * vel[:, None, :]
+        if Cblocks is not None:
+            blocks[:, :, k:] = Cblocks
         vals.append(blocks.ravel())
         A = self.big.assemble(np.concatenate(vals))
         return r, CoupledMatrix(self, A, mass, vel), out
