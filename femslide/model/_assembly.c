@@ -21,6 +21,9 @@
 #include <float.h>
 #include <math.h>
 #include <string.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #define EPS 2.220446049250313e-16
 
@@ -1171,30 +1174,44 @@ static inline double scale_of(double m, double chk)
     return chk == 0.0 ? pow2_scale(m) : 1.0;
 }
 
-/* the largest |x[i]| of n values (max is exact: four interleaved maxima, no dependency chain); *bad set
- * when one of them is infinite or NaN */
+/* the largest |x[i]| of n values (max is exact in any order: SSE2's maxpd, two lanes twice); *bad set when
+ * one of them is infinite or NaN */
 static double absmax(const double *x, Py_ssize_t n, int *bad)
 {
-    double m0 = 0.0, m1 = 0.0, m2 = 0.0, m3 = 0.0;
-    int b = 0;
     Py_ssize_t i = 0;
+    double m = 0.0;
+    int b = 0;
+#ifdef __SSE2__
+    const __m128d sign = _mm_set1_pd(-0.0), big = _mm_set1_pd(DBL_MAX);
+    __m128d m0 = _mm_setzero_pd(), m1 = _mm_setzero_pd(), b0 = _mm_setzero_pd();
     for (; i + 4 <= n; i += 4) {
-        double a0 = fabs(x[i]), a1 = fabs(x[i + 1]), a2 = fabs(x[i + 2]), a3 = fabs(x[i + 3]);
-        m0 = a0 > m0 ? a0 : m0;
-        m1 = a1 > m1 ? a1 : m1;
-        m2 = a2 > m2 ? a2 : m2;
-        m3 = a3 > m3 ? a3 : m3;
-        b |= !(a0 <= DBL_MAX) | !(a1 <= DBL_MAX) | !(a2 <= DBL_MAX) | !(a3 <= DBL_MAX);
+        __m128d a0 = _mm_andnot_pd(sign, _mm_loadu_pd(x + i)), a1 = _mm_andnot_pd(sign, _mm_loadu_pd(x + i + 2));
+        m0 = _mm_max_pd(a0, m0);     /* (a NaN a gives m0: flagged below) */
+        m1 = _mm_max_pd(a1, m1);
+        b0 = _mm_or_pd(b0, _mm_or_pd(_mm_cmpnle_pd(a0, big), _mm_cmpnle_pd(a1, big)));
     }
+    double t[2];
+    _mm_storeu_pd(t, _mm_max_pd(m0, m1));
+    m = t[0] > t[1] ? t[0] : t[1];
+    b = _mm_movemask_pd(b0) != 0;
+#endif
     for (; i < n; i++) {
         double a = fabs(x[i]);
-        m0 = a > m0 ? a : m0;
+        m = a > m ? a : m;
         b |= !(a <= DBL_MAX);
     }
-    m0 = m1 > m0 ? m1 : m0;
-    m2 = m3 > m2 ? m3 : m2;
     *bad = b;
-    return m2 > m0 ? m2 : m0;
+    return m;
+}
+
+/* row *= r, and the columns' largest magnitudes cm and inf/NaN checks ck updated with it (dense equilibrate) */
+static void scale_row(double *restrict row, double r, double *restrict cm, double *restrict ck, Py_ssize_t n)
+{
+    for (Py_ssize_t j = 0; j < n; j++) {
+        double a = fabs(row[j] *= r);
+        cm[j] = a > cm[j] ? a : cm[j];
+        ck[j] += a - a;
+    }
 }
 
 /* equilibrate(M, kl, ku, rs, cs): linalg._equilibrate in one call (the same scales, the same scaled M:
@@ -1233,20 +1250,15 @@ static PyObject *py_equilibrate(PyObject *mod, PyObject *args)
             }
             for (Py_ssize_t j = 0; j < n; j++)
                 cs[j] = chk[j] = 0.0;
-            for (Py_ssize_t i = 0; i < n; i++) {
-                double *ri = M + i * n, r = rs[i];
-                for (Py_ssize_t j = 0; j < n; j++) {
-                    double a = fabs(ri[j] *= r);
-                    cs[j] = a > cs[j] ? a : cs[j];
-                    chk[j] += a - a;
-                }
-            }
+            for (Py_ssize_t i = 0; i < n; i++)
+                scale_row(M + i * n, rs[i], cs, chk, n);
             for (Py_ssize_t j = 0; j < n; j++)
                 cs[j] = scale_of(cs[j], chk[j]);
             for (Py_ssize_t i = 0; i < n; i++) {
-                double *ri = M + i * n;
+                double *restrict ri = M + i * n;
+                const double *restrict c = cs;
                 for (Py_ssize_t j = 0; j < n; j++)
-                    ri[j] *= cs[j];
+                    ri[j] *= c[j];
             }
         } else {
             Py_ssize_t d = kl + ku;
