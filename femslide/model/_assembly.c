@@ -765,7 +765,32 @@ static void lu_dense_solve(const double *LU, Py_ssize_t n, const Py_ssize_t *piv
         Py_ssize_t p = piv[k];
         if (p != k) { double t = b[k]; b[k] = b[p]; b[p] = t; }
     }
-    for (Py_ssize_t i = 1; i < n; i++) {
+    /* forward: row i's s = b[i] - sum_j<i L[i, j] b[j], the terms in increasing j; four rows at a time
+     * (four independent sums over the j < i they share, then the triangle), each row's terms in the same
+     * order as one row at a time: the same rounding, without waiting for one sum's additions */
+    Py_ssize_t i = 1;
+    for (; i + 4 <= n; i += 4) {
+        const double *r0 = LU + i * n, *r1 = r0 + n, *r2 = r1 + n, *r3 = r2 + n;
+        double s0 = b[i], s1 = b[i + 1], s2 = b[i + 2], s3 = b[i + 3];
+        for (Py_ssize_t j = 0; j < i; j++) {
+            double bj = b[j];
+            s0 -= r0[j] * bj;
+            s1 -= r1[j] * bj;
+            s2 -= r2[j] * bj;
+            s3 -= r3[j] * bj;
+        }
+        b[i] = s0;
+        s1 -= r1[i] * s0;
+        b[i + 1] = s1;
+        s2 -= r2[i] * s0;
+        s2 -= r2[i + 1] * s1;
+        b[i + 2] = s2;
+        s3 -= r3[i] * s0;
+        s3 -= r3[i + 1] * s1;
+        s3 -= r3[i + 2] * s2;
+        b[i + 3] = s3;
+    }
+    for (; i < n; i++) {
         const double *ri = LU + i * n;
         double s = b[i];
         for (Py_ssize_t j = 0; j < i; j++)
