@@ -46,7 +46,7 @@ import numpy as np
 
 from femslide.analysis.newton import newton
 from femslide.errors import SolverFailure
-from femslide.model.linalg import Assembler, Factorized, add_coo
+from femslide.model.linalg import Assembler, Factorized, add_coo, kernel_function
 from femslide.model.state import ElementState, MotionState
 
 S6 = math.sqrt(6.0)
@@ -286,8 +286,13 @@ class RadauSystem:
         if not jacobian:
             return r, None, out
         # the coupling blocks (i, j): (W^2)_ij / h^2 M_i + W_ij / h (C_v,i + C), in _pattern's order
-        k = mass.shape[1]
         w2, w1, Cblocks = self._weights
+        kern = kernel_function("coupled")
+        target = self.big.target() if kern is not None else None
+        if target is not None:   # the kernel writes the values into the matrix's storage (the same sums)
+            kern(target[0], target[1], vals, mass, vel, w2, w1, Cblocks)
+            return r, CoupledMatrix(self, target[2], mass, vel), out
+        k = mass.shape[1]
         blocks = np.empty((3, 3, k + (0 if Cblocks is None else Cblocks.shape[2])))
         Mb = np.multiply(w2, mass[:, None, :], out=blocks[:, :, :k])
         Mb += w1 * vel[:, None, :]

@@ -1428,7 +1428,103 @@ out:
     return res;
 }
 
+/* -- the coupled matrix of a Radau step ------------------------------------------------------------------ */
+
+/* coupled(out, flat, parts, mass, vel, w2, w1, cblocks): femslide.analysis.radau's coupled Newton matrix written
+ * into its storage out (dense (n, n) or the band's (n, 2 kl + ku + 1), zeroed here) through the pattern's
+ * flat map: the values in the pattern's order are the 1-d arrays of the list parts (the stages' model,
+ * inertia and friction entries), then for the blocks (i, j) of the stages, w2[i, j] mass[i] + w1[i, j] vel[i]
+ * (mass, vel (3, k)) followed by cblocks[i, j] ((3, 3, kc) or None); each value added at its place in
+ * that order (numpy's bincount: the same sums) */
+static PyObject *py_coupled(PyObject *mod, PyObject *args)
+{
+    PyObject *oout, *oflat, *oparts, *omass, *ovel, *ow2, *ow1, *oc;
+    if (!PyArg_ParseTuple(args, "OOOOOOOO", &oout, &oflat, &oparts, &omass, &ovel, &ow2, &ow1, &oc))
+        return NULL;
+    PyObject *seq = PySequence_Fast(oparts, "femslide kernel: coupled: parts must be a sequence");
+    if (!seq)
+        return NULL;
+    Buf bo, bf, bm, bv, b2, b1, bc;
+    bo.held = bf.held = bm.held = bv.held = b2.held = b1.held = bc.held = 0;
+    PyObject *res = NULL;
+    if (get_buf(oout, &bo, 1, "d", 8, "storage") < 0 || get_buf(oflat, &bf, 0, "qlLn", 8, "flat") < 0 ||
+        get_buf(omass, &bm, 0, "d", 8, "mass") < 0 || get_buf(ovel, &bv, 0, "d", 8, "vel") < 0 ||
+        get_buf(ow2, &b2, 0, "d", 8, "w2") < 0 || get_buf(ow1, &b1, 0, "d", 8, "w1") < 0 ||
+        get_buf(oc, &bc, 0, "d", 8, "cblocks") < 0)
+        goto out;
+    {
+        Py_ssize_t np_ = PySequence_Fast_GET_SIZE(seq), k = LEN(bm) / 3, kc = LEN(bc) / 9, len = LEN(bo);
+        if (LEN(bm) != 3 * k || LEN(bv) != 3 * k || LEN(b2) != 9 || LEN(b1) != 9 || LEN(bc) != 9 * kc) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: coupled: wrong sizes");
+            goto out;
+        }
+        double *A = DBL(bo);
+        const long long *flat = IDX(bf);
+        Py_ssize_t nf = LEN(bf), p = 0;
+        memset(A, 0, bo.view.len);
+        for (Py_ssize_t q = 0; q < np_; q++) {
+            Buf bp;
+            if (get_buf(PySequence_Fast_GET_ITEM(seq, q), &bp, 0, "d", 8, "part") < 0)
+                goto out;
+            Py_ssize_t m = LEN(bp);
+            const double *v = DBL(bp);
+            if (p + m > nf) {
+                release(&bp);
+                PyErr_SetString(PyExc_ValueError, "femslide kernel: coupled: more values than the pattern");
+                goto out;
+            }
+            for (Py_ssize_t e = 0; e < m; e++, p++) {
+                long long f = flat[p];
+                if (f < 0 || f >= len) {
+                    release(&bp);
+                    PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled: flat map out of range");
+                    goto out;
+                }
+                A[f] += v[e];
+            }
+            release(&bp);
+        }
+        if (p + 9 * (k + kc) != nf) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: coupled: the values do not fill the pattern");
+            goto out;
+        }
+        for (Py_ssize_t e = p; e < nf; e++)
+            if (flat[e] < 0 || flat[e] >= len) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled: flat map out of range");
+                goto out;
+            }
+        const double *M = DBL(bm), *V = DBL(bv), *w2 = DBL(b2), *w1 = DBL(b1), *C = bc.held ? DBL(bc) : NULL;
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double a = w2[3 * i + j], b = w1[3 * i + j];
+                const double *mi = M + i * k, *vi = V + i * k;
+                for (Py_ssize_t e = 0; e < k; e++, p++)
+                    A[flat[p]] += a * mi[e] + b * vi[e];
+                if (C) {
+                    const double *cij = C + (3 * i + j) * kc;
+                    for (Py_ssize_t e = 0; e < kc; e++, p++)
+                        A[flat[p]] += cij[e];
+                }
+            }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    Py_DECREF(seq);
+    release(&bo);
+    release(&bf);
+    release(&bm);
+    release(&bv);
+    release(&b2);
+    release(&b1);
+    release(&bc);
+    return res;
+}
+
 static PyMethodDef module_methods[] = {
+    {"coupled", py_coupled, METH_VARARGS,
+     "coupled(out, flat, parts, mass, vel, w2, w1, cblocks): a Radau step's coupled Newton matrix written into "
+     "its storage (femslide.analysis.radau)"},
     {"inertia", py_inertia, METH_VARARGS,
      "inertia(Q, V, ACC, G, node_dofs, node_vals, body_d, body_data, F, base, mass, vel): "
      "femslide.model.mass.Masses.inertia_parts (outputs written in place)"},

@@ -427,6 +427,18 @@ class Assembler:
                 self.band, self.sparse = None, size > sparse_limit
         self.flat = rows * size + cols if self.band is None and not self.sparse else None
 
+    def target(self):
+        """(storage, flat map, matrix) for a caller that writes the values itself (a kernel adding each
+        value at storage.flat[flat[p]], as :meth:`assemble` sums them): the dense array, or the band's
+        (size, nrow) C-order array and its :class:`BandMatrix`; None for a sparse pattern."""
+        if self.sparse:
+            return None
+        if self.band is not None:
+            ab, raw = self.band.empty()
+            return raw, self.band.flat, BandMatrix(self.band, ab)
+        A = np.empty((self.size, self.size))
+        return A, self.flat, A
+
     def assemble(self, vals):
         if self.band is not None:
             return self.band.assemble(vals)
