@@ -733,3 +733,50 @@ def test_error_estimate_off_and_bad_value():
     assert "error_estimate" not in res.values
     with pytest.raises(BadInput, match="error_estimate"):
         _run(_belt(), t_end=0.2, error_estimate="yes")
+
+
+@pytest.mark.parametrize("n_el", [4, 40])
+def test_radau_stage_system_kernel_equals_numpy(n_el):
+    """RadauSystem.system through the compiled kernel (femslide.model._assembly: ``inertia`` for the
+    three stages' inertia, ``coupled`` writing the coupled Newton matrix into its storage) against its
+    numpy path (Masses.inertia_parts' Python loop, numpy blocks and a bincount): the same residual and
+    the same matrix, bitwise (the same arithmetic in the same order; tolerance 0), on a rod with rhoA
+    and three bodies (welded, one on a damped hinge off its centroid) under Rayleigh-like damping, at
+    a random state: a dense matrix (4 elements) and a band (40 elements)."""
+    import scipy.sparse as sp
+    from femslide.analysis.radau import RadauSystem
+    from femslide.model import fast
+    from femslide.model.state import ElementState, MotionState
+    if not fast.available():
+        pytest.skip("the compiled kernel is not built")
+    s = femslide.Structure(gravity=(0.0, -9.81))
+    s.rod("r", (0.0, 0.0), (0.0, 2.0), EI=1e4, rhoA=3.0, elements=n_el)
+    s.body("a", mass=2.0, centroid=(0.5, 2.5), inertia=0.3, outline=[(0, 2), (1, 2), (1, 3), (0, 3)])
+    s.body("b", mass=1.5, centroid=(2.0, 2.2), inertia=0.2, outline=[(1.5, 2), (2.5, 2), (2.5, 2.4)])
+    s.body("c", mass=0.7, centroid=(3.0, 0.5), inertia=0.05, outline=[(2.8, 0.3), (3.2, 0.3), (3.0, 0.8)])
+    s.pin("base", "r.start", "ground")
+    s.weld("top", "r.end", "a")
+    s.weld("ab", "a", "b", at=(1.5, 2.2))
+    s.pin("cg", "c", "ground", at=(3.0, 0.0), c=100.0)
+    fs = s.freeze()
+    model = Model(fs, {"r": n_el}, *static.scales(fs))
+    masses = Masses(model)
+    rows, cols, vals = masses.matrix(np.zeros(model.n_q))
+    C = sp.coo_matrix((0.3 * vals, (rows, cols)), shape=(model.n_q, model.n_q))
+    sysm = RadauSystem(model, masses, C, None)
+    rng = np.random.default_rng(7)
+    ne = model.elements.L0.size
+    y0 = np.zeros(model.n)
+    y0[:model.n_q] = 1e-3 * rng.standard_normal(model.n_q)
+    st = MotionState(0.0, y0, 0.1 * rng.standard_normal(model.n_q), rng.standard_normal(model.n_q),
+                     ElementState.zero(ne))
+    sysm.prepare(st, 2e-3)
+    Y = sysm.predictor() + 1e-4 * rng.standard_normal(sysm.n)
+    r1, A1, _ = sysm.system(Y, ElementState.zero(ne))
+    with fast.forced(False):   # the model keeps its kernel assembly; the inertia and the coupled matrix go numpy
+        r2, A2, _ = sysm.system(Y, ElementState.zero(ne))
+    assert np.array_equal(r1, r2)
+    M1, M2 = (a.A if isinstance(a.A, np.ndarray) else a.A.ab for a in (A1, A2))
+    assert isinstance(A1.A, np.ndarray) == (n_el == 4)
+    assert np.array_equal(M1, M2)
+    assert np.array_equal(A1.solve(r1), A2.solve(r2))
