@@ -154,6 +154,7 @@ class RadauSystem:
         self.roundoff_floor = True
         self.previous = None   # the last accepted step's collocation polynomial (the next predictor)
         self.big = None        # the coupled matrix's pattern (built at the first Jacobian)
+        self._coupled = kernel_function("coupled")   # the kernel's writer of the coupled matrix, or None
 
     def rotation_dofs(self):
         return self._rot
@@ -217,7 +218,8 @@ class RadauSystem:
                 coos.append((self.Crows, self.Ccols, lam * self.Cvals))
                 Cr, Cc, Cvals = (np.concatenate([rows, self.Crows]), np.concatenate([cols, self.Ccols]),
                                  np.concatenate([vd, self.Cvals]))
-            self._error_matrix = (Factorized(add_coo(A0, *coos)), (rows, cols, vm), (Cr, Cc, Cvals), lam)
+            fact = Factorized(add_coo(A0, *coos), overwrite=True)   # (A0 is this call's own)
+            self._error_matrix = (fact, (rows, cols, vm), (Cr, Cc, Cvals), lam)
         return self._error_matrix
 
     def predictor(self):
@@ -287,7 +289,7 @@ class RadauSystem:
             return r, None, out
         # the coupling blocks (i, j): (W^2)_ij / h^2 M_i + W_ij / h (C_v,i + C), in _pattern's order
         w2, w1, Cblocks = self._weights
-        kern = kernel_function("coupled")
+        kern = self._coupled
         target = self.big.target() if kern is not None else None
         if target is not None:   # the kernel writes the values into the matrix's storage (the same sums)
             kern(target[0], target[1], vals, mass, vel, w2, w1, Cblocks)

@@ -65,7 +65,10 @@ class Masses:
         self.block_cols = np.tile(d, (1, 3)).ravel()
         self._body_list = [(int(d), float(m), float(J), (float(r[0]), float(r[1])))
                            for d, m, J, r in zip(self.body_d, self.body_m, self.body_J, self.body_r)]
-        # the compiled kernel's inputs (femslide.model._assembly.inertia): dofs as int64, per body m, J, rho0
+        # the compiled kernel's inertia (femslide.model._assembly.inertia), if it is used when the masses
+        # are built (they keep it, as a model keeps its assembly), and its inputs: dofs as int64, per body
+        # m, J, rho0
+        self._kern = kernel_function("inertia")
         self._kern_dofs = (self.node_dofs.astype(np.int64), self.body_d.astype(np.int64),
                            np.ascontiguousarray(np.column_stack([self.body_m, self.body_J, self.body_r]).reshape(-1)))
         self.coo_rows = np.concatenate([self.node_dofs, self.block_rows])
@@ -183,7 +186,7 @@ class Masses:
         nd, nv = self.node_dofs, self.node_vals
         nn, nnz = nv.size, self.coo_rows.size
         g = None if ground is None or ground[0] is None else np.asarray(ground, float).reshape(k, 2)
-        kern = kernel_function("inertia")
+        kern = self._kern
         if kern is not None:   # the same arithmetic in C (bodies: libm's cos and sin, as math's)
             F, base, mass, vel = np.empty((k, self.n_q)), np.empty((k, nnz)), np.empty((k, nnz)), np.empty((k, nnz))
             kd, bd, bdat = self._kern_dofs
