@@ -107,13 +107,18 @@ class CoupledMatrix:
         Rq = r[m3:2 * m3]
         WRq = (W_RK @ Rq.reshape(3, nq)).ravel()
         # the stages' C (W dq) / h and M (W^2 dq) / h^2 with (W dq)_i eliminated, all stages in one
-        # bincount each (the entries of a row in the same order as stage by stage)
-        cp = np.bincount(s._Cr, weights=self.Cv * Rq[s._Cc], minlength=m3)
-        mp = np.bincount(s._Mr, weights=self.Mv * WRq[s._Mc], minlength=m3)
-        rhs = np.empty((3, n))
-        rhs[:, :nq] = (r[:m3] + cp / h + mp / (h * h)).reshape(3, nq)
-        rhs[:, nq:] = r[2 * m3:].reshape(3, nc)
-        x = self.fact.solve(rhs.ravel()).reshape(3, n)
+        # bincount each (the entries of a row in the same order as stage by stage), or one kernel call
+        if s._coupled_rhs is not None and r.flags.c_contiguous and r.dtype == np.float64:
+            rhs = np.empty(3 * n)
+            s._coupled_rhs(r, WRq, h, s._Cr, s._Cc, self.Cv, s._Mr, s._Mc, self.Mv, nq, rhs)
+        else:
+            cp = np.bincount(s._Cr, weights=self.Cv * Rq[s._Cc], minlength=m3)
+            mp = np.bincount(s._Mr, weights=self.Mv * WRq[s._Mc], minlength=m3)
+            rhs = np.empty((3, n))
+            rhs[:, :nq] = (r[:m3] + cp / h + mp / (h * h)).reshape(3, nq)
+            rhs[:, nq:] = r[2 * m3:].reshape(3, nc)
+            rhs = rhs.ravel()
+        x = self.fact.solve(rhs).reshape(3, n)
         out = np.empty(r.size)
         dQ = x[:, :nq]
         out[:m3] = dQ.ravel()
@@ -155,6 +160,7 @@ class RadauSystem:
         self.previous = None   # the last accepted step's collocation polynomial (the next predictor)
         self.big = None        # the coupled matrix's pattern (built at the first Jacobian)
         self._coupled = kernel_function("coupled")   # the kernel's writer of the coupled matrix, or None
+        self._coupled_rhs = kernel_function("coupled_rhs")   # ... and of CoupledMatrix.solve's right-hand side
 
     def rotation_dofs(self):
         return self._rot

@@ -1521,7 +1521,85 @@ out:
     return res;
 }
 
+/* coupled_rhs(r, wrq, h, cr, cc, cv, mr, mc, mv, nq, rhs): the right-hand side of femslide.analysis.radau's
+ * coupled Newton system for the stacked residual r = [Rv (3 nq), Rq (3 nq), Rm (3 nc)] with the velocity
+ * corrections eliminated: rhs (3, nq + nc) with rhs[i, :nq] = Rv_i + (C Rq)_i / h + (M wrq)_i / h^2 and
+ * rhs[i, nq:] = Rm_i, the products over the COO entries (cr, cc, cv), (mr, mc, mv) of the three stages
+ * stacked (rows and columns in 0 .. 3 nq), each row's terms summed in their order (numpy's bincount) */
+static PyObject *py_coupled_rhs(PyObject *mod, PyObject *args)
+{
+    PyObject *o[11];
+    double h;
+    Py_ssize_t nq;
+    if (!PyArg_ParseTuple(args, "OOdOOOOOOnO", &o[0], &o[1], &h, &o[3], &o[4], &o[5], &o[6], &o[7], &o[8], &nq,
+                          &o[10]))
+        return NULL;
+    o[2] = o[9] = NULL;
+    static const char *what[11] = {"r", "wrq", "", "cr", "cc", "cv", "mr", "mc", "mv", "", "rhs"};
+    Buf b[11];
+    for (int i = 0; i < 11; i++)
+        b[i].held = 0;
+    PyObject *res = NULL;
+    double *acc = NULL;
+    for (int i = 0; i < 11; i++) {
+        if (o[i] == NULL)
+            continue;
+        int idx = i == 3 || i == 4 || i == 6 || i == 7;
+        if (get_buf(o[i], &b[i], i == 10, idx ? "qlLn" : "d", 8, what[i]) < 0)
+            goto out;
+    }
+    {
+        Py_ssize_t m3 = 3 * nq, n = LEN(b[0]), nc3 = n - 2 * m3, nc = nc3 / 3, kc = LEN(b[3]), km = LEN(b[6]);
+        if (nq < 0 || nc3 < 0 || nc * 3 != nc3 || LEN(b[1]) != m3 || LEN(b[4]) != kc || LEN(b[5]) != kc ||
+            LEN(b[7]) != km || LEN(b[8]) != km || LEN(b[10]) != 3 * (nq + nc)) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: coupled_rhs: wrong sizes");
+            goto out;
+        }
+        const long long *cr = IDX(b[3]), *cc = IDX(b[4]), *mr = IDX(b[6]), *mc = IDX(b[7]);
+        for (Py_ssize_t e = 0; e < kc; e++)
+            if (cr[e] < 0 || cr[e] >= m3 || cc[e] < 0 || cc[e] >= m3) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled_rhs: index out of range");
+                goto out;
+            }
+        for (Py_ssize_t e = 0; e < km; e++)
+            if (mr[e] < 0 || mr[e] >= m3 || mc[e] < 0 || mc[e] >= m3) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled_rhs: index out of range");
+                goto out;
+            }
+        acc = PyMem_Calloc(2 * m3 + 1, sizeof(double));
+        if (!acc) {
+            PyErr_NoMemory();
+            goto out;
+        }
+        const double *r = DBL(b[0]), *wrq = DBL(b[1]), *cv = DBL(b[5]), *mv = DBL(b[8]), *rq = r + m3;
+        double *cp = acc, *mp = acc + m3, *rhs = DBL(b[10]), hh = h * h;
+        for (Py_ssize_t e = 0; e < kc; e++)
+            cp[cr[e]] += cv[e] * rq[cc[e]];
+        for (Py_ssize_t e = 0; e < km; e++)
+            mp[mr[e]] += mv[e] * wrq[mc[e]];
+        for (int i = 0; i < 3; i++) {
+            double *ri = rhs + i * (nq + nc);
+            for (Py_ssize_t d = 0; d < nq; d++) {
+                Py_ssize_t p = i * nq + d;
+                ri[d] = r[p] + cp[p] / h + mp[p] / hh;
+            }
+            for (Py_ssize_t c = 0; c < nc; c++)
+                ri[nq + c] = r[2 * m3 + i * nc + c];
+        }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    PyMem_Free(acc);
+    for (int i = 0; i < 11; i++)
+        release(&b[i]);
+    return res;
+}
+
 static PyMethodDef module_methods[] = {
+    {"coupled_rhs", py_coupled_rhs, METH_VARARGS,
+     "coupled_rhs(r, wrq, h, cr, cc, cv, mr, mc, mv, nq, rhs): the right-hand side of a Radau step's coupled "
+     "Newton system (femslide.analysis.radau.CoupledMatrix.solve)"},
     {"coupled", py_coupled, METH_VARARGS,
      "coupled(out, flat, parts, mass, vel, w2, w1, cblocks): a Radau step's coupled Newton matrix written into "
      "its storage (femslide.analysis.radau)"},
