@@ -299,7 +299,7 @@ def _pow2(x):
     return np.where(x > 0.0, np.ldexp(1.0, -e), 1.0)
 
 
-def _equilibrate(M, kl=None, ku=None):
+def _equilibrate(M, kl=None, ku=None, kern=None):
     """Scale M in place to rows and columns of largest magnitude about 1 (powers of 2: no round-off);
     returns (row scales, column scales): the solution of A x = b is cs * the solution of the scaled
     system with rs * b.  M is A itself (dense, kl None) or its band in the kernel's layout, (n, 2 kl
@@ -307,9 +307,11 @@ def _equilibrate(M, kl=None, ku=None):
     matrix holds M / h^2 beside the constraints' O(1) rows (at a located step of 1e-9 s: 1e16 against
     1; its LU without scaling gave solutions 4e-6 apart between two correct LU codes; scaled: 58 for
     the condition number).  With the compiled kernel, one call does the same (the same scales and
-    scaled M: its Python loop over the band's diagonals was a fifth of a time step)."""
-    if (M.dtype == np.float64 and M.flags.c_contiguous and kernel_enabled()
-            and hasattr(_kernel, "equilibrate")):
+    scaled M: its Python loop over the band's diagonals was a fifth of a time step); ``kern``: the
+    caller's :func:`kernel_enabled` (None: asked here)."""
+    if kern is None:
+        kern = kernel_enabled()
+    if kern and M.dtype == np.float64 and M.flags.c_contiguous and hasattr(_kernel, "equilibrate"):
         rs, cs = np.empty(M.shape[0]), np.empty(M.shape[0])
         _kernel.equilibrate(M, -1 if kl is None else kl, 0 if ku is None else ku, rs, cs)
         return rs, cs
@@ -345,16 +347,17 @@ class Factorized:
     def __init__(self, A, overwrite=False):
         self.band = self.dense = self.sparse = self.kern = None
         self.rs = self.cs = None
+        kern = kernel_enabled()
         if isinstance(A, BandMatrix):
             p = A.pattern
             self.pattern, kl, ku = p, p.kl, p.ku
             ab = A.ab if overwrite and A.ab.flags.f_contiguous else np.array(A.ab, order="F")
             lu = ab.T                               # (its columns: C order, the kernel's layout)
-            self.rs, self.cs = _equilibrate(lu, kl, ku)
+            self.rs, self.cs = _equilibrate(lu, kl, ku, kern)
         elif isinstance(A, np.ndarray):
             lu, kl, ku = (A if overwrite and A.flags.c_contiguous else np.array(A, order="C")), -1, 0
-            self.rs, self.cs = _equilibrate(lu)
-        if self.rs is not None and not np.iscomplexobj(lu) and kernel_enabled():
+            self.rs, self.cs = _equilibrate(lu, None, None, kern)
+        if self.rs is not None and kern and lu.dtype.kind != "c":
             # the kernel's LU (single-threaded C: a threaded BLAS on a small matrix of a busy machine
             # spends 10-100x its time waiting for its threads)
             lu = np.ascontiguousarray(lu, dtype=float)
