@@ -196,8 +196,10 @@ class RadauSystem:
         if self.ground is not None:
             e = self.ground.direction / m.Lref
             self.ag = [self.ground.accel(t) * e for t in self.t]
+            self._ag3 = np.array(self.ag, float).reshape(3, 2)   # (Masses.inertia_parts' ground)
         else:
             self.ag = [None, None, None]
+            self._ag3 = None
         self.elements = [ElementState(s.alpha) for _ in range(3)]
         self._error_matrix = None
         # the coupling blocks' weights (W^2)_ij / h^2 and W_ij / h, and the damping's blocks W_ij / h C
@@ -256,14 +258,15 @@ class RadauSystem:
         m, nq, nc, h = self.model, self.nq, self.nc, self.h
         m3 = 3 * nq
         ZQ, ZV = Y[:m3].reshape(3, nq), Y[m3:2 * m3].reshape(3, nq)
+        Q = self.qn + ZQ
         Ys = np.empty((3, nq + nc))      # the stages' model unknowns (q, mu), one row each
-        Q = np.add(self.qn, ZQ, out=Ys[:, :nq])
+        Ys[:, :nq] = Q
         Ys[:, nq:] = Y[2 * m3:].reshape(3, nc)
         V = self.s.v + ZV
         ACC = (W_RK @ ZV) / h
         # the inertia of the three stages in one call, its derivative in parts linear in the
         # coefficients of the accelerations and velocities
-        F, base, mass, vel = self.masses.inertia_parts(Q, V, ACC, None if self.ground is None else self.ag)
+        F, base, mass, vel = self.masses.inertia_parts(Q, V, ACC, self._ag3)
         r = np.empty(self.n)
         Rv, Rm = r[:m3].reshape(3, nq), r[2 * m3:].reshape(3, nc)
         fmax = 0.0
@@ -286,7 +289,7 @@ class RadauSystem:
                     self._pattern(coo, ex_coo)
                 vals += [coo[2], base[i]] + [ce[2] for ce in ex_coo]
         elements.trial = self.elements[2].trial
-        r[m3:2 * m3] = (W_RK @ ZQ - h * V).ravel()
+        np.subtract(W_RK @ ZQ, h * V, out=r[m3:2 * m3].reshape(3, nq))
         noise = float(info["noise"]) if jacobian else 0.0
         if self.roundoff_floor and self.noise_in > 1e-6 * (1.0 + fmax):
             noise += self.noise_in
