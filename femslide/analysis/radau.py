@@ -287,7 +287,7 @@ class RadauSystem:
             if jacobian:
                 if self.big is None:
                     self._pattern(coo, ex_coo)
-                vals += [coo[2], base[i]] + [ce[2] for ce in ex_coo]
+                vals += [coo[2], base[i]] + [np.ascontiguousarray(ce[2], float) for ce in ex_coo]
         elements.trial = self.elements[2].trial
         np.subtract(W_RK @ ZQ, h * V, out=r[m3:2 * m3].reshape(3, nq))
         noise = float(info["noise"]) if jacobian else 0.0
