@@ -180,14 +180,15 @@ class Masses:
         stage and part.  The parts are rounded as the difference of inertia() at c_acc = 1 (c_vel = 1)
         and at 0 rounds them (the mass matrix's lever column (-m rho_y, m rho_x, J + m |rho|^2) to
         within an ulp of the base terms), so that a time step's Newton matrices, and with them its
-        converged iterates, are bitwise those of the separate calls (a difference of one ulp in the
-        matrix moves Newton's last iterate by up to its tolerance, 1e-8)."""
+        converged iterates, are bitwise those of the separate calls (the exact parts instead moved
+        section 5.2's histories by up to 9e-8 relative: Newton stops within its tolerance, and where
+        within it depends on the matrix's last bits)."""
         k = Q.shape[0]
         nd, nv = self.node_dofs, self.node_vals
         nn, nnz = nv.size, self.coo_rows.size
         g = None if ground is None or ground[0] is None else np.asarray(ground, float).reshape(k, 2)
         kern = self._kern
-        if kern is not None:   # the same arithmetic in C (bodies: libm's cos and sin, as math's)
+        if kern is not None and nnz:   # the same arithmetic in C (bodies: libm's cos and sin, as math's)
             F, base, mass, vel = np.empty((k, self.n_q)), np.empty((k, nnz)), np.empty((k, nnz)), np.empty((k, nnz))
             kd, bd, bdat = self._kern_dofs
             kern(np.ascontiguousarray(Q, float), np.ascontiguousarray(V, float), np.ascontiguousarray(ACC, float),
