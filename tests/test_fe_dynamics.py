@@ -606,6 +606,32 @@ def test_body_inertia_numpy_path_equals_the_scalar_path():
         f2, (r2, c2, v2) = m.inertia(q, v, acc, 2.5, 0.7, g)
         assert np.array_equal(r1, r2) and np.array_equal(c1, c2)
         assert np.allclose(f1, f2, rtol=1e-14, atol=1e-14) and np.allclose(v1, v2, rtol=1e-14, atol=1e-14)
+    # Masses.inertia_parts: three states at once, the derivative split into its parts linear in c_acc
+    # and c_vel; the same force and, recombined, the same derivative as inertia() (to 1e-14: the
+    # parts are exact, inertia()'s combination rounds), in both paths and with and without ground
+    Q, V, ACC = (rng.standard_normal((3, model.n_q)) for _ in range(3))
+    G = rng.standard_normal((3, 2))
+    for scalar in (8, 0):
+        m.SCALAR_BODIES = scalar
+        for ground in (G, None):
+            F, base, mass, vel = m.inertia_parts(Q, V, ACC, ground)
+            for i in range(3):
+                gi = None if ground is None else ground[i]
+                f0, (_, _, v0) = m.inertia(Q[i], V[i], ACC[i], 2.5, 0.7, gi)
+                assert np.allclose(F[i], f0, rtol=1e-14, atol=1e-14)
+                assert np.allclose(base[i] + 2.5 * mass[i] + 0.7 * vel[i], v0, rtol=1e-13, atol=1e-13)
+                assert np.allclose(mass[i], m.matrix(Q[i])[2], rtol=1e-14, atol=1e-13)
+    # the compiled kernel's inertia_parts against the Python loop (the same arithmetic, libm's cos and
+    # sin as math's: bitwise equal on machines without fused multiply-add; 1e-14 asked)
+    from femslide.model import fast
+    if fast.available():
+        with fast.forced(True):
+            mk = Masses(model)
+        with fast.forced(False):
+            mp = Masses(model)
+        for ground in (G, None):
+            for x, y in zip(mk.inertia_parts(Q, V, ACC, ground), mp.inertia_parts(Q, V, ACC, ground)):
+                assert np.allclose(x, y, rtol=1e-14, atol=1e-14)
 
 
 def test_friction_in_a_tilted_clamp_held_twice():
@@ -706,3 +732,53 @@ def test_error_estimate_off_and_bad_value():
     assert "error_estimate" not in res.values
     with pytest.raises(BadInput, match="error_estimate"):
         _run(_belt(), t_end=0.2, error_estimate="yes")
+
+
+@pytest.mark.parametrize("n_el", [4, 40])
+def test_radau_stage_system_kernel_equals_numpy(n_el):
+    """RadauSystem.system through the compiled kernel (femslide.model._assembly: ``inertia`` for the
+    three stages' inertia, ``coupled`` writing the coupled Newton matrix into its storage) against its
+    numpy path (Masses.inertia_parts' Python loop, numpy blocks and a bincount): the same residual and
+    the same matrix, bitwise (the same arithmetic in the same order; tolerance 0), on a rod with rhoA
+    and three bodies (welded, one on a damped hinge off its centroid) under Rayleigh-like damping, at
+    a random state: a dense matrix (4 elements) and a band (40 elements)."""
+    import scipy.sparse as sp
+    from femslide.analysis.radau import RadauSystem
+    from femslide.model import fast
+    from femslide.model.state import ElementState, MotionState
+    if not fast.available():
+        pytest.skip("the compiled kernel is not built")
+    s = femslide.Structure(gravity=(0.0, -9.81))
+    s.rod("r", (0.0, 0.0), (0.0, 2.0), EI=1e4, rhoA=3.0, elements=n_el)
+    s.body("a", mass=2.0, centroid=(0.5, 2.5), inertia=0.3, outline=[(0, 2), (1, 2), (1, 3), (0, 3)])
+    s.body("b", mass=1.5, centroid=(2.0, 2.2), inertia=0.2, outline=[(1.5, 2), (2.5, 2), (2.5, 2.4)])
+    s.body("c", mass=0.7, centroid=(3.0, 0.5), inertia=0.05, outline=[(2.8, 0.3), (3.2, 0.3), (3.0, 0.8)])
+    s.pin("base", "r.start", "ground")
+    s.weld("top", "r.end", "a")
+    s.weld("ab", "a", "b", at=(1.5, 2.2))
+    s.pin("cg", "c", "ground", at=(3.0, 0.0), c=100.0)
+    fs = s.freeze()
+    model = Model(fs, {"r": n_el}, *static.scales(fs))
+    masses = Masses(model)
+    rows, cols, vals = masses.matrix(np.zeros(model.n_q))
+    C = sp.coo_matrix((0.3 * vals, (rows, cols)), shape=(model.n_q, model.n_q))
+    sysm = RadauSystem(model, masses, C, None)
+    with fast.forced(False):   # the model keeps its kernel assembly; the inertia and the coupled matrix go numpy
+        sysm_np = RadauSystem(model, Masses(model), C, None)
+    rng = np.random.default_rng(7)
+    ne = model.elements.L0.size
+    y0 = np.zeros(model.n)
+    y0[:model.n_q] = 1e-3 * rng.standard_normal(model.n_q)
+    st = MotionState(0.0, y0, 0.1 * rng.standard_normal(model.n_q), rng.standard_normal(model.n_q),
+                     ElementState.zero(ne))
+    sysm.prepare(st, 2e-3)
+    sysm_np.prepare(st, 2e-3)
+    Y = sysm.predictor() + 1e-4 * rng.standard_normal(sysm.n)
+    r1, A1, _ = sysm.system(Y, ElementState.zero(ne))
+    r2, A2, _ = sysm_np.system(Y, ElementState.zero(ne))
+    assert sysm._coupled is not None and sysm_np._coupled is None and sysm_np.masses._kern is None
+    assert np.array_equal(r1, r2)
+    M1, M2 = (a.A if isinstance(a.A, np.ndarray) else a.A.ab for a in (A1, A2))
+    assert isinstance(A1.A, np.ndarray) == (n_el == 4)
+    assert np.array_equal(M1, M2)
+    assert np.array_equal(A1.solve(r1), A2.solve(r2))

@@ -46,7 +46,7 @@ import numpy as np
 
 from femslide.analysis.newton import newton
 from femslide.errors import SolverFailure
-from femslide.model.linalg import Assembler, Factorized, add_coo
+from femslide.model.linalg import Assembler, Factorized, add_coo, kernel_function
 from femslide.model.state import ElementState, MotionState
 
 S6 = math.sqrt(6.0)
@@ -64,6 +64,7 @@ T_RK = np.array([[0.09443876248897524, -0.14125529502095421, 0.03002919410514742
                  [0.25021312296533332, 0.20412935229379994, -0.38294211275726192],
                  [1.0, 1.0, 0.0]])
 TI_RK = np.linalg.inv(T_RK)
+W2_RK = W_RK @ W_RK
 # the collocation polynomial through 0 and the stages: y(t_n + x h) = y_n + Z^T P [x, x^2, x^3]
 P_RK = np.array([[13.0 / 3.0 + 7.0 * S6 / 3.0, -23.0 / 3.0 - 22.0 * S6 / 3.0, 10.0 / 3.0 + 5.0 * S6],
                  [13.0 / 3.0 - 7.0 * S6 / 3.0, -23.0 / 3.0 + 22.0 * S6 / 3.0, 10.0 / 3.0 - 5.0 * S6],
@@ -84,33 +85,46 @@ def _coo_mv(rows, cols, vals, x, n):
 class CoupledMatrix:
     """The exact Newton matrix of the three coupled stages (see the module docstring), factorised:
     ``solve(r)`` maps a residual of the stacked stages to the Newton correction of the stacked
-    unknowns (femslide.model.linalg.solve_linear dispatches to it)."""
+    unknowns (femslide.model.linalg.solve_linear dispatches to it).  ``mass`` and ``vel`` (3, nnz):
+    the stages' mass matrices and centripetal velocity terms in the masses' COO order
+    (femslide.model.mass.Masses.inertia_parts)."""
 
-    def __init__(self, sysm, A, M_parts, C_parts):
-        self.s, self.A, self.M_parts, self.C_parts = sysm, A, M_parts, C_parts
+    def __init__(self, sysm, A, mass, vel):
+        self.s, self.A, self.mass, self.vel = sysm, A, mass, vel
         self.fact = None
 
     def solve(self, r):
         """The Newton correction for the stacked residual r (factorising at the first call: a
         singular matrix raises there, where Newton reports it)."""
-        if self.fact is None:
-            self.fact = Factorized(self.A)
         s = self.s
         nq, nc, h = s.nq, s.nc, s.h
-        n = nq + nc
-        Rv = r[:3 * nq].reshape(3, nq)
-        Rq = r[3 * nq:6 * nq].reshape(3, nq)
-        Rm = r[6 * nq:].reshape(3, nc)
-        WRq = W_RK @ Rq
-        rhs = np.empty((3, n))
-        for i in range(3):
-            rhs[i, :nq] = (Rv[i] + _coo_mv(*self.C_parts[i], Rq[i], nq) / h
-                           + _coo_mv(*self.M_parts[i], WRq[i], nq) / (h * h))
-            rhs[i, nq:] = Rm[i]
-        x = self.fact.solve(rhs.ravel()).reshape(3, n)
-        dQ, dM = x[:, :nq], x[:, nq:]
-        dV = (W_RK @ dQ - Rq) / h
-        return np.concatenate([dQ.ravel(), dV.ravel(), dM.ravel()])
+        if self.fact is None:
+            self.fact = Factorized(self.A, overwrite=True)   # (A is this matrix's alone)
+            self.A = None
+            Cv = self.vel if s.Cvals is None else np.concatenate([self.vel, s._Cvals3], axis=1)
+            self.Mv, self.Cv = self.mass.ravel(), Cv.ravel()
+        n, m3 = nq + nc, 3 * nq
+        Rq = r[m3:2 * m3]
+        WRq = (W_RK @ Rq.reshape(3, nq)).ravel()
+        # the stages' C (W dq) / h and M (W^2 dq) / h^2 with (W dq)_i eliminated, all stages in one
+        # bincount each (the entries of a row in the same order as stage by stage), or one kernel call
+        if s._coupled_rhs is not None and r.flags.c_contiguous and r.dtype == np.float64:
+            rhs = np.empty(3 * n)
+            s._coupled_rhs(r, WRq, h, s._Cr, s._Cc, self.Cv, s._Mr, s._Mc, self.Mv, nq, rhs)
+        else:
+            cp = np.bincount(s._Cr, weights=self.Cv * Rq[s._Cc], minlength=m3)
+            mp = np.bincount(s._Mr, weights=self.Mv * WRq[s._Mc], minlength=m3)
+            rhs = np.empty((3, n))
+            rhs[:, :nq] = (r[:m3] + cp / h + mp / (h * h)).reshape(3, nq)
+            rhs[:, nq:] = r[2 * m3:].reshape(3, nc)
+            rhs = rhs.ravel()
+        x = self.fact.solve(rhs).reshape(3, n)
+        out = np.empty(r.size)
+        dQ = x[:, :nq]
+        out[:m3] = dQ.ravel()
+        out[m3:2 * m3] = ((W_RK @ dQ - Rq.reshape(3, nq)) / h).ravel()
+        out[2 * m3:] = x[:, nq:].ravel()
+        return out
 
 
 class RadauSystem:
@@ -134,12 +148,23 @@ class RadauSystem:
         self.extra = extra or []
         self.Csr = C.tocsr() if C is not None else None
         self.Crows, self.Ccols, self.Cvals = (C.row, C.col, C.data) if C is not None else (None, None, None)
+        # the three stages' mass and damping entries stacked (rows and columns offset by the stage):
+        # CoupledMatrix.solve's products for all stages at once
+        ir, ic = masses.coo_rows, masses.coo_cols
+        off = (np.arange(3) * self.nq)[:, None]
+        self._Mr, self._Mc = (ir[None, :] + off).ravel(), (ic[None, :] + off).ravel()
+        if C is not None:
+            ir, ic = np.concatenate([ir, self.Crows]), np.concatenate([ic, self.Ccols])
+            self._Cvals3 = np.tile(self.Cvals, (3, 1))
+        self._Cr, self._Cc = (ir[None, :] + off).ravel(), (ic[None, :] + off).ravel()
         rot = model.rotation_dofs()
         self._rot = np.concatenate([i * self.nq + rot for i in range(3)]).astype(np.intp)
         self.m_max = float(max(np.abs(masses.matrix(np.zeros(model.n_q))[2]).max(initial=0.0), 0.0))
         self.roundoff_floor = True
         self.previous = None   # the last accepted step's collocation polynomial (the next predictor)
         self.big = None        # the coupled matrix's pattern (built at the first Jacobian)
+        self._coupled = kernel_function("coupled")   # the kernel's writer of the coupled matrix, or None
+        self._coupled_rhs = kernel_function("coupled_rhs")   # ... and of CoupledMatrix.solve's right-hand side
 
     def rotation_dofs(self):
         return self._rot
@@ -205,10 +230,15 @@ class RadauSystem:
         if self.ground is not None:
             e = self.ground.direction / m.Lref
             self.ag = [self.ground.accel(t) * e for t in self.t]
+            self._ag3 = np.array(self.ag, float).reshape(3, 2)   # (Masses.inertia_parts' ground)
         else:
             self.ag = [None, None, None]
+            self._ag3 = None
         self.elements = [ElementState(s.alpha) for _ in range(3)]
         self._error_matrix = None
+        # the coupling blocks' weights (W^2)_ij / h^2 and W_ij / h, and the damping's blocks W_ij / h C
+        w1 = (W_RK / h)[:, :, None]
+        self._weights = ((W2_RK / (h * h))[:, :, None], w1, None if self.Cvals is None else w1 * self.Cvals)
         vmax = float(np.abs(s.v).max(initial=0.0))
         self.noise_in = EPS * 30.0 * self.m_max * vmax / h   # round-off of M (W ZV)/h (|W| ~ 30)
 
@@ -224,16 +254,18 @@ class RadauSystem:
             else:
                 _, A0, _ = m.system(s.y, es, 1.0, None, True)
             lam = MU_REAL / h
-            rows, cols, base = self.masses.inertia(self.qn, s.v, s.acc, 0.0, 0.0, self.ag[0])[1]
-            vm = self.masses.inertia(self.qn, s.v, s.acc, 1.0, 0.0, self.ag[0])[1][2] - base
-            vd = self.masses.inertia(self.qn, s.v, s.acc, 0.0, 1.0, self.ag[0])[1][2] - base
+            rows, cols = self.masses.coo_rows, self.masses.coo_cols
+            _, base, vm, vd = self.masses.inertia_parts(self.qn[None, :], s.v[None, :], s.acc[None, :],
+                                                        None if self.ground is None else self.ag[:1])
+            base, vm, vd = base[0], vm[0], vd[0]
             coos = [(rows, cols, base + lam * vd + lam * lam * vm)] + [ex(s.y, s.v, 0.0)[1] for ex in self.extra]
             Cr, Cc, Cvals = rows, cols, vd
             if self.Crows is not None:
                 coos.append((self.Crows, self.Ccols, lam * self.Cvals))
                 Cr, Cc, Cvals = (np.concatenate([rows, self.Crows]), np.concatenate([cols, self.Ccols]),
                                  np.concatenate([vd, self.Cvals]))
-            self._error_matrix = (Factorized(add_coo(A0, *coos)), (rows, cols, vm), (Cr, Cc, Cvals), lam)
+            fact = Factorized(add_coo(A0, *coos), overwrite=True)   # (A0 is this call's own)
+            self._error_matrix = (fact, (rows, cols, vm), (Cr, Cc, Cvals), lam)
         return self._error_matrix
 
     def predictor(self):
@@ -261,20 +293,26 @@ class RadauSystem:
     def system(self, Y, elements, lam=1.0, control=None, jacobian=True, dense=False):
         """The stacked stage residual at Y (and, with ``jacobian``, the coupled Newton matrix);
         ``elements.trial`` becomes the step's end (the third stage's chord rotations)."""
-        nq, h, masses = self.nq, self.h, self.masses
-        ZQ, ZV, MU = self.split(Y)
+        nq, nc, h = self.nq, self.nc, self.h
+        m3 = 3 * nq
+        ZQ, ZV = Y[:m3].reshape(3, nq), Y[m3:2 * m3].reshape(3, nq)
         Q = self.qn + ZQ
+        Ys = np.empty((3, nq + nc))      # the stages' model unknowns (q, mu), one row each
+        Ys[:, :nq] = Q
+        Ys[:, nq:] = Y[2 * m3:].reshape(3, nc)
         V = self.s.v + ZV
         ACC = (W_RK @ ZV) / h
-        Rv = np.empty((3, nq))
-        Rm = np.empty((3, self.nc))
+        # the inertia of the three stages in one call, its derivative in parts linear in the
+        # coefficients of the accelerations and velocities
+        F, base, mass, vel = self.masses.inertia_parts(Q, V, ACC, self._ag3)
+        r = np.empty(self.n)
+        Rv, Rm = r[:m3].reshape(3, nq), r[2 * m3:].reshape(3, nc)
         fmax = 0.0
-        vals, M_parts, C_parts, coupling = [], [], [], []
+        vals = []
         for i in range(3):
-            y = np.concatenate([Q[i], MU[i]])
-            r, coo, info = self.model_system(y, self.elements[i], jacobian)
-            f, (ir, ic, base) = masses.inertia(Q[i], V[i], ACC[i], 0.0, 0.0, self.ag[i])
-            rv = r[:nq] + f
+            y = Ys[i]
+            ri, coo, info = self.model_system(y, self.elements[i], jacobian)
+            rv = np.add(ri[:nq], F[i], out=Rv[i])
             if self.Csr is not None:
                 rv += self.Csr @ V[i]
             ex_coo = []
@@ -282,41 +320,36 @@ class RadauSystem:
                 fe, ce = ex(y, V[i], 0.0)
                 rv += fe
                 ex_coo.append(ce)
-            Rv[i] = rv
-            Rm[i] = r[nq:]
+            Rm[i] = ri[nq:]
             fmax = max(fmax, info["fmax"])
             if jacobian:
                 if self.big is None:
                     self._pattern(coo, ex_coo)
-                vm = masses.inertia(Q[i], V[i], ACC[i], 1.0, 0.0, self.ag[i])[1][2] - base
-                vd = masses.inertia(Q[i], V[i], ACC[i], 0.0, 1.0, self.ag[i])[1][2] - base
-                vals += [coo[2], base] + [ce[2] for ce in ex_coo]
-                M_parts.append((ir, ic, vm))
-                if self.Crows is not None:
-                    C_parts.append((np.concatenate([ir, self.Crows]), np.concatenate([ic, self.Ccols]),
-                                    np.concatenate([vd, self.Cvals])))
-                else:
-                    C_parts.append((ir, ic, vd))
-                coupling.append((vm, vd))
+                vals += [coo[2], base[i]] + [np.ascontiguousarray(ce[2], float) for ce in ex_coo]
         elements.trial = self.elements[2].trial
-        Rq = W_RK @ ZQ - h * V
-        r = np.concatenate([Rv.ravel(), Rq.ravel(), Rm.ravel()])
+        np.subtract(W_RK @ ZQ, h * V, out=r[m3:2 * m3].reshape(3, nq))
         noise = float(info["noise"]) if jacobian else 0.0
         if self.roundoff_floor and self.noise_in > 1e-6 * (1.0 + fmax):
             noise += self.noise_in
         out = {"fmax": fmax, "noise": noise, "lam": 1.0}
         if not jacobian:
             return r, None, out
-        W2 = W_RK @ W_RK
-        hh = h * h
-        for i in range(3):
-            vm, vd = coupling[i]
-            for j in range(3):
-                vals.append((W2[i, j] / hh) * vm + (W_RK[i, j] / h) * vd)
-                if self.Crows is not None:
-                    vals.append((W_RK[i, j] / h) * self.Cvals)
+        # the coupling blocks (i, j): (W^2)_ij / h^2 M_i + W_ij / h (C_v,i + C), in _pattern's order
+        w2, w1, Cblocks = self._weights
+        kern = self._coupled
+        target = self.big.target() if kern is not None else None
+        if target is not None:   # the kernel writes the values into the matrix's storage (the same sums)
+            kern(target[0], target[1], vals, mass, vel, w2, w1, Cblocks)
+            return r, CoupledMatrix(self, target[2], mass, vel), out
+        k = mass.shape[1]
+        blocks = np.empty((3, 3, k + (0 if Cblocks is None else Cblocks.shape[2])))
+        Mb = np.multiply(w2, mass[:, None, :], out=blocks[:, :, :k])
+        Mb += w1 * vel[:, None, :]
+        if Cblocks is not None:
+            blocks[:, :, k:] = Cblocks
+        vals.append(blocks.ravel())
         A = self.big.assemble(np.concatenate(vals))
-        return r, CoupledMatrix(self, A, M_parts, C_parts), out
+        return r, CoupledMatrix(self, A, mass, vel), out
 
     # -- what a converged step gives ------------------------------------------------------------
     def end(self, Y):

@@ -18,8 +18,12 @@
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include <float.h>
 #include <math.h>
 #include <string.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #define EPS 2.220446049250313e-16
 
@@ -761,7 +765,32 @@ static void lu_dense_solve(const double *LU, Py_ssize_t n, const Py_ssize_t *piv
         Py_ssize_t p = piv[k];
         if (p != k) { double t = b[k]; b[k] = b[p]; b[p] = t; }
     }
-    for (Py_ssize_t i = 1; i < n; i++) {
+    /* forward: row i's s = b[i] - sum_j<i L[i, j] b[j], the terms in increasing j; four rows at a time
+     * (four independent sums over the j < i they share, then the triangle), each row's terms in the same
+     * order as one row at a time: the same rounding, without waiting for one sum's additions */
+    Py_ssize_t i = 1;
+    for (; i + 4 <= n; i += 4) {
+        const double *r0 = LU + i * n, *r1 = r0 + n, *r2 = r1 + n, *r3 = r2 + n;
+        double s0 = b[i], s1 = b[i + 1], s2 = b[i + 2], s3 = b[i + 3];
+        for (Py_ssize_t j = 0; j < i; j++) {
+            double bj = b[j];
+            s0 -= r0[j] * bj;
+            s1 -= r1[j] * bj;
+            s2 -= r2[j] * bj;
+            s3 -= r3[j] * bj;
+        }
+        b[i] = s0;
+        s1 -= r1[i] * s0;
+        b[i + 1] = s1;
+        s2 -= r2[i] * s0;
+        s2 -= r2[i + 1] * s1;
+        b[i + 2] = s2;
+        s3 -= r3[i] * s0;
+        s3 -= r3[i + 1] * s1;
+        s3 -= r3[i + 2] * s2;
+        b[i + 3] = s3;
+    }
+    for (; i < n; i++) {
         const double *ri = LU + i * n;
         double s = b[i];
         for (Py_ssize_t j = 0; j < i; j++)
@@ -1150,7 +1179,436 @@ out:
     return res;
 }
 
+/* -- equilibration ------------------------------------------------------------------------------------ */
+
+/* 2^-e with x = m 2^e, 0.5 <= m < 1; 1 for x <= 0, infinite or NaN (linalg._pow2) */
+static double pow2_scale(double x)
+{
+    if (!(x > 0.0) || isinf(x))
+        return 1.0;
+    int e;
+    frexp(x, &e);
+    return ldexp(1.0, -e);
+}
+
+/* the scale of a row or column from its largest magnitude m and chk, the sum of (a - a) over its entries
+ * (NaN when one of them is infinite or NaN: numpy's max is then inf or NaN, and _pow2 gives 1; the rows'
+ * own loops flag that with an integer, which vectorises) */
+static inline double scale_of(double m, double chk)
+{
+    return chk == 0.0 ? pow2_scale(m) : 1.0;
+}
+
+/* the largest |x[i]| of n values (max is exact in any order: SSE2's maxpd, two lanes twice); *bad set when
+ * one of them is infinite or NaN */
+static double absmax(const double *x, Py_ssize_t n, int *bad)
+{
+    Py_ssize_t i = 0;
+    double m = 0.0;
+    int b = 0;
+#ifdef __SSE2__
+    const __m128d sign = _mm_set1_pd(-0.0), big = _mm_set1_pd(DBL_MAX);
+    __m128d m0 = _mm_setzero_pd(), m1 = _mm_setzero_pd(), b0 = _mm_setzero_pd();
+    for (; i + 4 <= n; i += 4) {
+        __m128d a0 = _mm_andnot_pd(sign, _mm_loadu_pd(x + i)), a1 = _mm_andnot_pd(sign, _mm_loadu_pd(x + i + 2));
+        m0 = _mm_max_pd(a0, m0);     /* (a NaN a gives m0: flagged below) */
+        m1 = _mm_max_pd(a1, m1);
+        b0 = _mm_or_pd(b0, _mm_or_pd(_mm_cmpnle_pd(a0, big), _mm_cmpnle_pd(a1, big)));
+    }
+    double t[2];
+    _mm_storeu_pd(t, _mm_max_pd(m0, m1));
+    m = t[0] > t[1] ? t[0] : t[1];
+    b = _mm_movemask_pd(b0) != 0;
+#endif
+    for (; i < n; i++) {
+        double a = fabs(x[i]);
+        m = a > m ? a : m;
+        b |= !(a <= DBL_MAX);
+    }
+    *bad = b;
+    return m;
+}
+
+/* row *= r, and the columns' largest magnitudes cm and inf/NaN checks ck updated with it (dense equilibrate) */
+static void scale_row(double *restrict row, double r, double *restrict cm, double *restrict ck, Py_ssize_t n)
+{
+    for (Py_ssize_t j = 0; j < n; j++) {
+        double a = fabs(row[j] *= r);
+        cm[j] = a > cm[j] ? a : cm[j];
+        ck[j] += a - a;
+    }
+}
+
+/* equilibrate(M, kl, ku, rs, cs): linalg._equilibrate in one call (the same scales, the same scaled M:
+ * powers of 2, no round-off): M dense (n, n) C order (kl < 0) or the kernel's band layout (n, 2 kl + ku + 1),
+ * M[j, kl + ku + i - j] = A[i, j]; rs, cs (n,) receive the row and column scales */
+static PyObject *py_equilibrate(PyObject *mod, PyObject *args)
+{
+    PyObject *om, *ors, *ocs;
+    Py_ssize_t kl, ku;
+    if (!PyArg_ParseTuple(args, "OnnOO", &om, &kl, &ku, &ors, &ocs))
+        return NULL;
+    Buf bm, br, bc;
+    bm.held = br.held = bc.held = 0;
+    PyObject *res = NULL;
+    double *chk = NULL;
+    if (get_buf(om, &bm, 1, "d", 8, "matrix") < 0 || get_buf(ors, &br, 1, "d", 8, "row scales") < 0 ||
+        get_buf(ocs, &bc, 1, "d", 8, "column scales") < 0)
+        goto out;
+    {
+        Py_ssize_t n = LEN(br), nrow = kl < 0 ? n : 2 * kl + ku + 1;
+        if (LEN(bc) != n || LEN(bm) != n * nrow) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: equilibrate: wrong sizes");
+            goto out;
+        }
+        chk = PyMem_Malloc(sizeof(double) * (n + 1));
+        if (!chk) {
+            PyErr_NoMemory();
+            goto out;
+        }
+        double *M = DBL(bm), *rs = DBL(br), *cs = DBL(bc);
+        if (kl < 0) {
+            for (Py_ssize_t i = 0; i < n; i++) {
+                int bad;
+                double m = absmax(M + i * n, n, &bad);
+                rs[i] = bad ? 1.0 : pow2_scale(m);
+            }
+            for (Py_ssize_t j = 0; j < n; j++)
+                cs[j] = chk[j] = 0.0;
+            for (Py_ssize_t i = 0; i < n; i++)
+                scale_row(M + i * n, rs[i], cs, chk, n);
+            for (Py_ssize_t j = 0; j < n; j++)
+                cs[j] = scale_of(cs[j], chk[j]);
+            for (Py_ssize_t i = 0; i < n; i++) {
+                double *restrict ri = M + i * n;
+                const double *restrict c = cs;
+                for (Py_ssize_t j = 0; j < n; j++)
+                    ri[j] *= c[j];
+            }
+        } else {
+            Py_ssize_t d = kl + ku;
+            for (Py_ssize_t i = 0; i < n; i++)
+                rs[i] = chk[i] = 0.0;
+            /* M[j, c] is A[j + c - d, j]: the rows' largest entries (the places outside A excluded) */
+            for (Py_ssize_t j = 0; j < n; j++) {
+                const double *mj = M + j * nrow;
+                Py_ssize_t c0 = d - j > 0 ? d - j : 0, c1 = n + d - j < nrow ? n + d - j : nrow;
+                for (Py_ssize_t c = c0; c < c1; c++) {
+                    double a = fabs(mj[c]);
+                    Py_ssize_t i = j + c - d;
+                    rs[i] = a > rs[i] ? a : rs[i];
+                    chk[i] += a - a;
+                }
+            }
+            for (Py_ssize_t i = 0; i < n; i++)
+                rs[i] = scale_of(rs[i], chk[i]);
+            for (Py_ssize_t j = 0; j < n; j++) {
+                double *mj = M + j * nrow;
+                int bad;
+                Py_ssize_t c0 = d - j > 0 ? d - j : 0, c1 = n + d - j < nrow ? n + d - j : nrow;
+                for (Py_ssize_t c = c0; c < c1; c++)
+                    mj[c] *= rs[j + c - d];
+                double m = absmax(mj, nrow, &bad);
+                double sc = bad ? 1.0 : pow2_scale(m);
+                for (Py_ssize_t c = 0; c < nrow; c++)
+                    mj[c] *= sc;
+                cs[j] = sc;
+            }
+        }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    PyMem_Free(chk);
+    release(&bm);
+    release(&br);
+    release(&bc);
+    return res;
+}
+
+/* -- the inertia of k states ----------------------------------------------------------------------------- */
+
+/* inertia(Q, V, ACC, G, node_dofs, node_vals, body_d, body_data, F, base, mass, vel):
+ * femslide.model.mass.Masses.inertia_parts in one call, the same arithmetic in the same order (bitwise the
+ * same results on a machine without fused multiply-add): Q, V, ACC (k, n_q); G (k, 2) base accelerations or
+ * None; node_dofs (nn,) int64 and node_vals (nn,) the lumped masses (the first half x dofs, then y);
+ * body_d (nb,) int64 the bodies' first dofs, body_data (nb, 4): m, J, rho0_x, rho0_y; outputs F (k, n_q)
+ * (overwritten), base, mass, vel (k, nn + 9 nb) */
+static PyObject *py_inertia(PyObject *mod, PyObject *args)
+{
+    PyObject *o[12];
+    if (!PyArg_ParseTuple(args, "OOOOOOOOOOOO", &o[0], &o[1], &o[2], &o[3], &o[4], &o[5], &o[6], &o[7], &o[8],
+                          &o[9], &o[10], &o[11]))
+        return NULL;
+    static const char *what[12] = {"Q", "V", "ACC", "ground", "node dofs", "node masses", "body dofs",
+                                   "body data", "F", "base", "mass", "vel"};
+    Buf b[12];
+    for (int i = 0; i < 12; i++)
+        b[i].held = 0;
+    PyObject *res = NULL;
+    for (int i = 0; i < 12; i++) {
+        int idx = i == 4 || i == 6, wr = i >= 8;
+        if (get_buf(o[i], &b[i], wr, idx ? "qlLn" : "d", 8, what[i]) < 0)
+            goto out;
+    }
+    {
+        Py_ssize_t nn = LEN(b[5]), nb = LEN(b[6]), nnz = nn + 9 * nb, nF = LEN(b[8]);
+        Py_ssize_t k = nnz > 0 ? LEN(b[9]) / nnz : 0;
+        Py_ssize_t nq = k > 0 ? nF / k : 0;
+        if (k <= 0 || nq * k != nF || LEN(b[0]) != nF || LEN(b[1]) != nF || LEN(b[2]) != nF ||
+            (b[3].held && LEN(b[3]) != 2 * k) || LEN(b[4]) != nn || LEN(b[7]) != 4 * nb || LEN(b[9]) != k * nnz ||
+            LEN(b[10]) != k * nnz || LEN(b[11]) != k * nnz) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: inertia: wrong sizes");
+            goto out;
+        }
+        const long long *nd = IDX(b[4]), *bd = IDX(b[6]);
+        for (Py_ssize_t i = 0; i < nn; i++)
+            if (nd[i] < 0 || nd[i] >= nq) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: inertia: node dof out of range");
+                goto out;
+            }
+        for (Py_ssize_t i = 0; i < nb; i++)
+            if (bd[i] < 0 || bd[i] + 2 >= nq) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: inertia: body dof out of range");
+                goto out;
+            }
+        const double *nv = DBL(b[5]), *bdat = DBL(b[7]), *G = b[3].held ? DBL(b[3]) : NULL;
+        Py_ssize_t half = nn / 2;
+        for (Py_ssize_t s = 0; s < k; s++) {
+            const double *q = DBL(b[0]) + s * nq, *v = DBL(b[1]) + s * nq, *acc = DBL(b[2]) + s * nq;
+            double *F = DBL(b[8]) + s * nq, *bs = DBL(b[9]) + s * nnz, *ms = DBL(b[10]) + s * nnz,
+                   *vs = DBL(b[11]) + s * nnz;
+            double gx = G ? G[2 * s] : 0.0, gy = G ? G[2 * s + 1] : 0.0;
+            for (Py_ssize_t i = 0; i < nq; i++)
+                F[i] = 0.0;
+            for (Py_ssize_t i = 0; i < nn; i++) {
+                F[nd[i]] = nv[i] * acc[nd[i]];
+                if (G)
+                    F[nd[i]] += nv[i] * (i < half ? gx : gy);
+                bs[i] = 0.0;
+                ms[i] = nv[i];
+                vs[i] = 0.0;
+            }
+            for (Py_ssize_t j = 0; j < nb; j++) {
+                Py_ssize_t d = bd[j], o = nn + 9 * j;
+                double m = bdat[4 * j], J = bdat[4 * j + 1], rx = bdat[4 * j + 2], ry = bdat[4 * j + 3];
+                double th = q[d + 2], c = cos(th), sn = sin(th);
+                double px = c * rx - sn * ry, py = sn * rx + c * ry;
+                double ux = acc[d] + gx, uy = acc[d + 1] + gy, tdd = acc[d + 2];
+                double td = v[d + 2], td2 = td * td;
+                double ax = ux - tdd * py - td2 * px;
+                double ay = uy + tdd * px - td2 * py;
+                F[d] += m * ax;
+                F[d + 1] += m * ay;
+                F[d + 2] += J * tdd + m * (px * ay - py * ax);
+                double b2 = m * (td2 * py - tdd * px), b5 = m * (-(tdd * py) - td2 * px);
+                double b8 = -(m * (px * ux + py * uy));
+                for (int e = 0; e < 9; e++)
+                    bs[o + e] = vs[o + e] = 0.0;
+                bs[o + 2] = b2;
+                bs[o + 5] = b5;
+                bs[o + 8] = b8;
+                ms[o] = ms[o + 4] = m;
+                ms[o + 1] = ms[o + 3] = 0.0;
+                ms[o + 2] = ((-m) * py + b2) - b2;
+                ms[o + 5] = (m * px + b5) - b5;
+                ms[o + 6] = (-m) * py;
+                ms[o + 7] = m * px;
+                ms[o + 8] = ((J + m * (px * px + py * py)) + b8) - b8;
+                vs[o + 2] = m * ((-2.0 * td) * px - tdd * px + td2 * py) - b2;
+                vs[o + 5] = m * ((-2.0 * td) * py - tdd * py - td2 * px) - b5;
+            }
+        }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    for (int i = 0; i < 12; i++)
+        release(&b[i]);
+    return res;
+}
+
+/* -- the coupled matrix of a Radau step ------------------------------------------------------------------ */
+
+/* coupled(out, flat, parts, mass, vel, w2, w1, cblocks): femslide.analysis.radau's coupled Newton matrix written
+ * into its storage out (dense (n, n) or the band's (n, 2 kl + ku + 1), zeroed here) through the pattern's
+ * flat map: the values in the pattern's order are the 1-d arrays of the list parts (the stages' model,
+ * inertia and friction entries), then for the blocks (i, j) of the stages, w2[i, j] mass[i] + w1[i, j] vel[i]
+ * (mass, vel (3, k)) followed by cblocks[i, j] ((3, 3, kc) or None); each value added at its place in
+ * that order (numpy's bincount: the same sums) */
+static PyObject *py_coupled(PyObject *mod, PyObject *args)
+{
+    PyObject *oout, *oflat, *oparts, *omass, *ovel, *ow2, *ow1, *oc;
+    if (!PyArg_ParseTuple(args, "OOOOOOOO", &oout, &oflat, &oparts, &omass, &ovel, &ow2, &ow1, &oc))
+        return NULL;
+    PyObject *seq = PySequence_Fast(oparts, "femslide kernel: coupled: parts must be a sequence");
+    if (!seq)
+        return NULL;
+    Buf bo, bf, bm, bv, b2, b1, bc;
+    bo.held = bf.held = bm.held = bv.held = b2.held = b1.held = bc.held = 0;
+    PyObject *res = NULL;
+    if (get_buf(oout, &bo, 1, "d", 8, "storage") < 0 || get_buf(oflat, &bf, 0, "qlLn", 8, "flat") < 0 ||
+        get_buf(omass, &bm, 0, "d", 8, "mass") < 0 || get_buf(ovel, &bv, 0, "d", 8, "vel") < 0 ||
+        get_buf(ow2, &b2, 0, "d", 8, "w2") < 0 || get_buf(ow1, &b1, 0, "d", 8, "w1") < 0 ||
+        get_buf(oc, &bc, 0, "d", 8, "cblocks") < 0)
+        goto out;
+    {
+        Py_ssize_t np_ = PySequence_Fast_GET_SIZE(seq), k = LEN(bm) / 3, kc = LEN(bc) / 9, len = LEN(bo);
+        if (LEN(bm) != 3 * k || LEN(bv) != 3 * k || LEN(b2) != 9 || LEN(b1) != 9 || LEN(bc) != 9 * kc) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: coupled: wrong sizes");
+            goto out;
+        }
+        double *A = DBL(bo);
+        const long long *flat = IDX(bf);
+        Py_ssize_t nf = LEN(bf), p = 0;
+        memset(A, 0, bo.view.len);
+        for (Py_ssize_t q = 0; q < np_; q++) {
+            Buf bp;
+            if (get_buf(PySequence_Fast_GET_ITEM(seq, q), &bp, 0, "d", 8, "part") < 0)
+                goto out;
+            Py_ssize_t m = LEN(bp);
+            const double *v = DBL(bp);
+            if (p + m > nf) {
+                release(&bp);
+                PyErr_SetString(PyExc_ValueError, "femslide kernel: coupled: more values than the pattern");
+                goto out;
+            }
+            for (Py_ssize_t e = 0; e < m; e++, p++) {
+                long long f = flat[p];
+                if (f < 0 || f >= len) {
+                    release(&bp);
+                    PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled: flat map out of range");
+                    goto out;
+                }
+                A[f] += v[e];
+            }
+            release(&bp);
+        }
+        if (p + 9 * (k + kc) != nf) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: coupled: the values do not fill the pattern");
+            goto out;
+        }
+        for (Py_ssize_t e = p; e < nf; e++)
+            if (flat[e] < 0 || flat[e] >= len) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled: flat map out of range");
+                goto out;
+            }
+        const double *M = DBL(bm), *V = DBL(bv), *w2 = DBL(b2), *w1 = DBL(b1), *C = bc.held ? DBL(bc) : NULL;
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double a = w2[3 * i + j], b = w1[3 * i + j];
+                const double *mi = M + i * k, *vi = V + i * k;
+                for (Py_ssize_t e = 0; e < k; e++, p++)
+                    A[flat[p]] += a * mi[e] + b * vi[e];
+                if (C) {
+                    const double *cij = C + (3 * i + j) * kc;
+                    for (Py_ssize_t e = 0; e < kc; e++, p++)
+                        A[flat[p]] += cij[e];
+                }
+            }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    Py_DECREF(seq);
+    release(&bo);
+    release(&bf);
+    release(&bm);
+    release(&bv);
+    release(&b2);
+    release(&b1);
+    release(&bc);
+    return res;
+}
+
+/* coupled_rhs(r, wrq, h, cr, cc, cv, mr, mc, mv, nq, rhs): the right-hand side of femslide.analysis.radau's
+ * coupled Newton system for the stacked residual r = [Rv (3 nq), Rq (3 nq), Rm (3 nc)] with the velocity
+ * corrections eliminated: rhs (3, nq + nc) with rhs[i, :nq] = Rv_i + (C Rq)_i / h + (M wrq)_i / h^2 and
+ * rhs[i, nq:] = Rm_i, the products over the COO entries (cr, cc, cv), (mr, mc, mv) of the three stages
+ * stacked (rows and columns in 0 .. 3 nq), each row's terms summed in their order (numpy's bincount) */
+static PyObject *py_coupled_rhs(PyObject *mod, PyObject *args)
+{
+    PyObject *o[11];
+    double h;
+    Py_ssize_t nq;
+    if (!PyArg_ParseTuple(args, "OOdOOOOOOnO", &o[0], &o[1], &h, &o[3], &o[4], &o[5], &o[6], &o[7], &o[8], &nq,
+                          &o[10]))
+        return NULL;
+    o[2] = o[9] = NULL;
+    static const char *what[11] = {"r", "wrq", "", "cr", "cc", "cv", "mr", "mc", "mv", "", "rhs"};
+    Buf b[11];
+    for (int i = 0; i < 11; i++)
+        b[i].held = 0;
+    PyObject *res = NULL;
+    double *acc = NULL;
+    for (int i = 0; i < 11; i++) {
+        if (o[i] == NULL)
+            continue;
+        int idx = i == 3 || i == 4 || i == 6 || i == 7;
+        if (get_buf(o[i], &b[i], i == 10, idx ? "qlLn" : "d", 8, what[i]) < 0)
+            goto out;
+    }
+    {
+        Py_ssize_t m3 = 3 * nq, n = LEN(b[0]), nc3 = n - 2 * m3, nc = nc3 / 3, kc = LEN(b[3]), km = LEN(b[6]);
+        if (nq < 0 || nc3 < 0 || nc * 3 != nc3 || LEN(b[1]) != m3 || LEN(b[4]) != kc || LEN(b[5]) != kc ||
+            LEN(b[7]) != km || LEN(b[8]) != km || LEN(b[10]) != 3 * (nq + nc)) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: coupled_rhs: wrong sizes");
+            goto out;
+        }
+        const long long *cr = IDX(b[3]), *cc = IDX(b[4]), *mr = IDX(b[6]), *mc = IDX(b[7]);
+        for (Py_ssize_t e = 0; e < kc; e++)
+            if (cr[e] < 0 || cr[e] >= m3 || cc[e] < 0 || cc[e] >= m3) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled_rhs: index out of range");
+                goto out;
+            }
+        for (Py_ssize_t e = 0; e < km; e++)
+            if (mr[e] < 0 || mr[e] >= m3 || mc[e] < 0 || mc[e] >= m3) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled_rhs: index out of range");
+                goto out;
+            }
+        acc = PyMem_Calloc(2 * m3 + 1, sizeof(double));
+        if (!acc) {
+            PyErr_NoMemory();
+            goto out;
+        }
+        const double *r = DBL(b[0]), *wrq = DBL(b[1]), *cv = DBL(b[5]), *mv = DBL(b[8]), *rq = r + m3;
+        double *cp = acc, *mp = acc + m3, *rhs = DBL(b[10]), hh = h * h;
+        for (Py_ssize_t e = 0; e < kc; e++)
+            cp[cr[e]] += cv[e] * rq[cc[e]];
+        for (Py_ssize_t e = 0; e < km; e++)
+            mp[mr[e]] += mv[e] * wrq[mc[e]];
+        for (int i = 0; i < 3; i++) {
+            double *ri = rhs + i * (nq + nc);
+            for (Py_ssize_t d = 0; d < nq; d++) {
+                Py_ssize_t p = i * nq + d;
+                ri[d] = r[p] + cp[p] / h + mp[p] / hh;
+            }
+            for (Py_ssize_t c = 0; c < nc; c++)
+                ri[nq + c] = r[2 * m3 + i * nc + c];
+        }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    PyMem_Free(acc);
+    for (int i = 0; i < 11; i++)
+        release(&b[i]);
+    return res;
+}
+
 static PyMethodDef module_methods[] = {
+    {"coupled_rhs", py_coupled_rhs, METH_VARARGS,
+     "coupled_rhs(r, wrq, h, cr, cc, cv, mr, mc, mv, nq, rhs): the right-hand side of a Radau step's coupled "
+     "Newton system (femslide.analysis.radau.CoupledMatrix.solve)"},
+    {"coupled", py_coupled, METH_VARARGS,
+     "coupled(out, flat, parts, mass, vel, w2, w1, cblocks): a Radau step's coupled Newton matrix written into "
+     "its storage (femslide.analysis.radau)"},
+    {"inertia", py_inertia, METH_VARARGS,
+     "inertia(Q, V, ACC, G, node_dofs, node_vals, body_d, body_data, F, base, mass, vel): "
+     "femslide.model.mass.Masses.inertia_parts (outputs written in place)"},
+    {"equilibrate", py_equilibrate, METH_VARARGS,
+     "equilibrate(M, kl, ku, rs, cs): M scaled in place to rows and columns of largest magnitude about 1 "
+     "(powers of 2), rs and cs := the scales (kl < 0: M dense (n, n), else the column-major band)"},
     {"factor", py_factor, METH_VARARGS,
      "factor(M, piv, n, kl, ku) -> info: LU with partial pivoting in place; kl < 0: M dense (n, n), else M the "
      "column-major band with kl sub- and ku superdiagonals ((n, 2 kl + ku + 1) C order); info > 0: zero pivot"},

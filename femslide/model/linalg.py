@@ -44,6 +44,12 @@ def kernel_enabled() -> bool:
     return env is None or env.lower() != "numpy"
 
 
+def kernel_function(name):
+    """The compiled kernel's function ``name`` when the kernel is used now (:func:`kernel_enabled`) and
+    has it (a kernel built from an older source may not), else None: the caller's numpy path."""
+    return getattr(_kernel, name, None) if kernel_enabled() else None
+
+
 @contextlib.contextmanager
 def kernel_forced(on: bool):
     """Within the block the compiled kernel is used (``on``, if built) or not, whatever the
@@ -293,14 +299,22 @@ def _pow2(x):
     return np.where(x > 0.0, np.ldexp(1.0, -e), 1.0)
 
 
-def _equilibrate(M, kl=None, ku=None):
+def _equilibrate(M, kl=None, ku=None, kern=None):
     """Scale M in place to rows and columns of largest magnitude about 1 (powers of 2: no round-off);
     returns (row scales, column scales): the solution of A x = b is cs * the solution of the scaled
     system with rs * b.  M is A itself (dense, kl None) or its band in the kernel's layout, (n, 2 kl
     + ku + 1) with M[j, kl + ku + i - j] = A[i, j] (places outside A hold zeros).  A time step's
     matrix holds M / h^2 beside the constraints' O(1) rows (at a located step of 1e-9 s: 1e16 against
     1; its LU without scaling gave solutions 4e-6 apart between two correct LU codes; scaled: 58 for
-    the condition number)."""
+    the condition number).  With the compiled kernel, one call does the same (the same scales and
+    scaled M: its Python loop over the band's diagonals was a fifth of a time step); ``kern``: the
+    caller's :func:`kernel_enabled` (None: asked here)."""
+    if kern is None:
+        kern = kernel_enabled()
+    if kern and M.dtype == np.float64 and M.flags.c_contiguous and hasattr(_kernel, "equilibrate"):
+        rs, cs = np.empty(M.shape[0]), np.empty(M.shape[0])
+        _kernel.equilibrate(M, -1 if kl is None else kl, 0 if ku is None else ku, rs, cs)
+        return rs, cs
     if kl is None:
         rs = _pow2(np.abs(M).max(axis=1))
         M *= rs[:, None]
@@ -327,21 +341,23 @@ def _equilibrate(M, kl=None, ku=None):
 
 class Factorized:
     """An LU factorisation of a dense, banded or sparse Jacobian of :meth:`Model.system` (real or
-    complex) kept for several solves: ``solve(b)``.  LinAlgError when the matrix is singular."""
+    complex) kept for several solves: ``solve(b)``.  LinAlgError when the matrix is singular.
+    ``overwrite``: A's storage may be scaled and factorised in place (A is not used afterwards)."""
 
-    def __init__(self, A):
+    def __init__(self, A, overwrite=False):
         self.band = self.dense = self.sparse = self.kern = None
         self.rs = self.cs = None
+        kern = kernel_enabled()
         if isinstance(A, BandMatrix):
             p = A.pattern
             self.pattern, kl, ku = p, p.kl, p.ku
-            ab = np.array(A.ab, order="F")          # (a copy, equilibrated below)
+            ab = A.ab if overwrite and A.ab.flags.f_contiguous else np.array(A.ab, order="F")
             lu = ab.T                               # (its columns: C order, the kernel's layout)
-            self.rs, self.cs = _equilibrate(lu, kl, ku)
+            self.rs, self.cs = _equilibrate(lu, kl, ku, kern)
         elif isinstance(A, np.ndarray):
-            lu, kl, ku = np.array(A, order="C"), -1, 0
-            self.rs, self.cs = _equilibrate(lu)
-        if self.rs is not None and not np.iscomplexobj(lu) and kernel_enabled():
+            lu, kl, ku = (A if overwrite and A.flags.c_contiguous else np.array(A, order="C")), -1, 0
+            self.rs, self.cs = _equilibrate(lu, None, None, kern)
+        if self.rs is not None and kern and lu.dtype.kind != "c":
             # the kernel's LU (single-threaded C: a threaded BLAS on a small matrix of a busy machine
             # spends 10-100x its time waiting for its threads)
             lu = np.ascontiguousarray(lu, dtype=float)
@@ -413,6 +429,18 @@ class Assembler:
             if self.band.kl + self.band.ku >= size // 4:
                 self.band, self.sparse = None, size > sparse_limit
         self.flat = rows * size + cols if self.band is None and not self.sparse else None
+
+    def target(self):
+        """(storage, flat map, matrix) for a caller that writes the values itself (a kernel adding each
+        value at storage.flat[flat[p]], as :meth:`assemble` sums them): the dense array, or the band's
+        (size, nrow) C-order array and its :class:`BandMatrix`; None for a sparse pattern."""
+        if self.sparse:
+            return None
+        if self.band is not None:
+            ab, raw = self.band.empty()
+            return raw, self.band.flat, BandMatrix(self.band, ab)
+        A = np.empty((self.size, self.size))
+        return A, self.flat, A
 
     def assemble(self, vals):
         if self.band is not None:

@@ -28,6 +28,8 @@ import math
 
 import numpy as np
 
+from femslide.model.linalg import kernel_function
+
 
 class Masses:
     """The masses of a :class:`femslide.model.discrete.Model` (model units, see the module docstring)."""
@@ -63,6 +65,12 @@ class Masses:
         self.block_cols = np.tile(d, (1, 3)).ravel()
         self._body_list = [(int(d), float(m), float(J), (float(r[0]), float(r[1])))
                            for d, m, J, r in zip(self.body_d, self.body_m, self.body_J, self.body_r)]
+        # the compiled kernel's inertia (femslide.model._assembly.inertia), if it is used when the masses
+        # are built (they keep it, as a model keeps its assembly), and its inputs: dofs as int64, per body
+        # m, J, rho0
+        self._kern = kernel_function("inertia")
+        self._kern_dofs = (self.node_dofs.astype(np.int64), self.body_d.astype(np.int64),
+                           np.ascontiguousarray(np.column_stack([self.body_m, self.body_J, self.body_r]).reshape(-1)))
         self.coo_rows = np.concatenate([self.node_dofs, self.block_rows])
         self.coo_cols = np.concatenate([self.node_dofs, self.block_cols])
         self.total_mass = float(node_m.sum() + sum(b.mass for b in bodies))  # kg
@@ -161,6 +169,102 @@ class Masses:
         B[:, 5] = mc * px + m * (-2.0 * c_vel * td * py - tdd * py - td2 * px)
         B[:, 8] = c_acc * (J + m * (px * px + py * py)) - m * (px * ux + py * uy)
         return f, (self.coo_rows, self.coo_cols, np.concatenate([c_acc * self.node_vals, B.ravel()]))
+
+    def inertia_parts(self, Q, V, ACC, ground=None):
+        """:meth:`inertia` at k states at once (the rows of Q, V, ACC, each (k, n_q); ``ground`` None
+        or k base accelerations (2,), model units), its derivative split by its linear dependence on
+        c_acc and c_vel: returns (F (k, n_q), base, mass, vel), each of the last three (k, nnz) values
+        in the order of (``coo_rows``, ``coo_cols``), such that inertia(q, v, acc, c_acc, c_vel)'s
+        derivative is base + c_acc mass + c_vel vel (mass: the mass matrix M(q); vel: the centripetal
+        terms' velocity part).  One call per Newton iteration of a time step instead of three per
+        stage and part.  The parts are rounded as the difference of inertia() at c_acc = 1 (c_vel = 1)
+        and at 0 rounds them (the mass matrix's lever column (-m rho_y, m rho_x, J + m |rho|^2) to
+        within an ulp of the base terms), so that a time step's Newton matrices, and with them its
+        converged iterates, are bitwise those of the separate calls (the exact parts instead moved
+        section 5.2's histories by up to 9e-8 relative: Newton stops within its tolerance, and where
+        within it depends on the matrix's last bits)."""
+        k = Q.shape[0]
+        nd, nv = self.node_dofs, self.node_vals
+        nn, nnz = nv.size, self.coo_rows.size
+        g = None if ground is None or ground[0] is None else np.asarray(ground, float).reshape(k, 2)
+        kern = self._kern
+        if kern is not None and nnz:   # the same arithmetic in C (bodies: libm's cos and sin, as math's)
+            F, base, mass, vel = np.empty((k, self.n_q)), np.empty((k, nnz)), np.empty((k, nnz)), np.empty((k, nnz))
+            kd, bd, bdat = self._kern_dofs
+            kern(np.ascontiguousarray(Q, float), np.ascontiguousarray(V, float), np.ascontiguousarray(ACC, float),
+                 g, kd, nv, bd, bdat, F, base, mass, vel)
+            return F, base, mass, vel
+        F = np.zeros((k, self.n_q))
+        if nd.size:
+            F[:, nd] = nv * ACC[:, nd]
+            if g is not None:
+                h = nd.size // 2
+                F[:, nd[:h]] += nv[:h] * g[:, :1]
+                F[:, nd[h:]] += nv[h:] * g[:, 1:]
+        base = np.zeros((k, nnz))
+        vel = np.zeros((k, nnz))
+        mass = np.empty((k, nnz))
+        mass[:, :nn] = nv
+        if not self.body_d.size:
+            return F, base, mass, vel
+        if self.body_d.size <= self.SCALAR_BODIES:   # scalar arithmetic: faster than numpy's calls
+            for s in range(k):
+                q, v, acc, Fs, bs, ms, vs = Q[s], V[s], ACC[s], F[s], base[s], mass[s], vel[s]
+                gx, gy = (float(g[s, 0]), float(g[s, 1])) if g is not None else (0.0, 0.0)
+                o = nn
+                for d, m, J, (rx, ry) in self._body_list:
+                    th = float(q[d + 2])
+                    c, s_ = math.cos(th), math.sin(th)
+                    px, py = c * rx - s_ * ry, s_ * rx + c * ry
+                    ux, uy, tdd = float(acc[d]) + gx, float(acc[d + 1]) + gy, float(acc[d + 2])
+                    td = float(v[d + 2])
+                    td2 = td * td
+                    ax = ux - tdd * py - td2 * px
+                    ay = uy + tdd * px - td2 * py
+                    Fs[d:d + 3] += (m * ax, m * ay, J * tdd + m * (px * ay - py * ax))
+                    b2, b5 = m * (td2 * py - tdd * px), m * (-(tdd * py) - td2 * px)
+                    b8 = -(m * (px * ux + py * uy))
+                    bs[o + 2], bs[o + 5], bs[o + 8] = b2, b5, b8
+                    ms[o:o + 9] = (m, 0.0, (-m * py + b2) - b2, 0.0, m, (m * px + b5) - b5, -m * py, m * px,
+                                   (J + m * (px * px + py * py) + b8) - b8)
+                    vs[o + 2] = m * (-2.0 * td * px - tdd * px + td2 * py) - b2
+                    vs[o + 5] = m * (-2.0 * td * py - tdd * py - td2 * px) - b5
+                    o += 9
+            return F, base, mass, vel
+        d = self.body_d
+        m, J = self.body_m, self.body_J
+        th = Q[:, d + 2]
+        c, s_ = np.cos(th), np.sin(th)
+        rx, ry = self.body_r[:, 0], self.body_r[:, 1]
+        px, py = c * rx - s_ * ry, s_ * rx + c * ry
+        ux, uy, tdd = ACC[:, d], ACC[:, d + 1], ACC[:, d + 2]
+        td = V[:, d + 2]
+        td2 = td * td
+        if g is not None:
+            ux = ux + g[:, :1]
+            uy = uy + g[:, 1:]
+        ax = ux - tdd * py - td2 * px
+        ay = uy + tdd * px - td2 * py
+        F[:, d] += m * ax
+        F[:, d + 1] += m * ay
+        F[:, d + 2] += J * tdd + m * (px * ay - py * ax)
+        nb = d.size
+        B = base[:, nn:].reshape(k, nb, 9)
+        b2, b5 = m * (td2 * py - tdd * px), m * (-(tdd * py) - td2 * px)
+        b8 = -(m * (px * ux + py * uy))
+        B[:, :, 2], B[:, :, 5], B[:, :, 8] = b2, b5, b8
+        Mb = mass[:, nn:].reshape(k, nb, 9)
+        Mb[:, :, 0] = Mb[:, :, 4] = m
+        Mb[:, :, 1] = Mb[:, :, 3] = 0.0
+        Mb[:, :, 2] = (-m * py + b2) - b2
+        Mb[:, :, 5] = (m * px + b5) - b5
+        Mb[:, :, 6] = -m * py
+        Mb[:, :, 7] = m * px
+        Mb[:, :, 8] = (J + m * (px * px + py * py) + b8) - b8
+        Vb = vel[:, nn:].reshape(k, nb, 9)
+        Vb[:, :, 2] = m * (-2.0 * td * px - tdd * px + td2 * py) - b2
+        Vb[:, :, 5] = m * (-2.0 * td * py - tdd * py - td2 * px) - b5
+        return F, base, mass, vel
 
     def kinetic(self, q, v):
         """Kinetic energy (model units: Fref Lref)."""
