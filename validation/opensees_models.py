@@ -362,53 +362,89 @@ def opensees_oscillation(dt=1e-3, t_end=3.0, rotation=-0.01, penalty=1e9, axial=
 
 
 def opensees_massive_cantilever(n=32, dt=1e-3, t_end=3.0, EI=10.0, EA=1e7, rhoA=1.0, L=1.0, amplitude=1.0,
-                                frequency=1.0, tol=1e-12):
-    """validation/massive-cantilever.toml in OpenSees: a cantilever of ``n`` corotational
-    ``elasticBeamColumn`` elements (EI [N m^2], EA [N]) clamped at x = 0, rhoA L / n lumped at the
-    inner nodes (half at the free end; translations only, as femslide lumps), shaken at its base by
-    the acceleration amplitude sin(2 pi frequency t) along y, applied as the inertia loads -m_i a_g(t)
-    on the lumped masses (relative coordinates, as femslide; a ``Sine`` time series on a ``Plain``
-    pattern: openseespy 3.7's ``UniformExcitation`` pattern command did not return here), from rest;
-    Newmark average acceleration, Newton, NormDispIncr ``tol``, BandGeneral with
-    RCM, constant ``dt`` to ``t_end``.  Returns a dict: ``status``, ``steps``, ``newton_iterations``,
-    ``analysis_s`` (the analyze loop), ``tip_v_max`` [m] (largest |v| of the free end relative to the
-    base), ``all_s`` (with the model building)."""
+                                frequency=1.0, tol=1e-12, axis=(1.0, 0.0), direction=(0.0, 1.0), tip_mass=0.0,
+                                tip_inertia=0.0, transf="Corotational", integrator=("Newmark", 0.5, 0.25),
+                                history=False, eigen=0):
+    """validation/massive-cantilever.toml (defaults) or meshes/structures/cantilever-tip-mass.toml
+    (``axis=(0, 1)``, ``direction=(1, 0)``, ``tip_mass``, ``tip_inertia``) in OpenSees: a cantilever of
+    ``n`` equal ``elasticBeamColumn`` elements (EI [N m^2], EA [N], geometric transformation
+    ``transf``: "Corotational" or "Linear") of length ``L`` [m] along the unit vector ``axis``, clamped
+    at the origin; rhoA L / n [kg] lumped at the inner nodes and half of it at the free end
+    (translations only, no rotary inertia at the nodes, as femslide lumps:
+    femslide/model/mass.py), plus a tip body whose centroid is the free end: ``tip_mass`` [kg] on its
+    translations and ``tip_inertia`` [kg m^2] on its rotation.  The base is shaken by the acceleration
+    a_g = amplitude sin(2 pi frequency t) [m/s^2, Hz] along the unit vector ``direction``, applied as the
+    inertia loads -m_i a_g(t) on the lumped translational masses (relative coordinates, as femslide:
+    the same equations as a ``UniformExcitation`` pattern, whose command does not return in openseespy
+    3.7.1.2 here, measured again for issue 22; a ``Trig`` time series on a ``Plain`` pattern, exact at
+    every step's end), from rest (a_g(0) = 0: OpenSees' zero initial accelerations are exact).
+    Transient: ``integrator`` (OpenSees' arguments: ("Newmark", 0.5, 0.25) average acceleration,
+    ("HHT", 0.9), ...), Newton, NormDispIncr ``tol`` [m] (at most 50 iterations), BandGeneral with RCM,
+    ``round(t_end / dt)`` constant steps ``dt`` [s].
+
+    Returns a dict: ``status`` (0 = every step converged; the run stops at the first failure),
+    ``steps``, ``newton_iterations``, ``analysis_s`` (perf_counter around the analyze loop: the steps and
+    the read of the free end's displacement), ``tip_v_max`` [m] (largest |displacement| of the free end
+    relative to the base, along the rod's normal (-axis_y, axis_x)), ``all_s`` (with the model
+    building); with ``eigen`` > 0 the first ``eigen`` natural frequencies ``frequencies_hz`` [Hz] of the
+    model before the transient (``eigen -fullGenLapack``: the mass matrix is singular on the massless
+    rotations); with ``history`` the arrays ``t`` [s] and ``tip_u``, ``tip_v`` [m] (the free end's
+    displacement relative to the base along x and y) at t = 0 and at every step's end."""
+    import numpy as np
     import openseespy.opensees as ops
     t_build = time.perf_counter()
     ops.wipe()
     ops.logFile(os.devnull, "-noEcho")
     ops.model("basic", "-ndm", 2, "-ndf", 3)
+    ax, ay = axis
     for i in range(n + 1):
-        ops.node(i + 1, L * i / n, 0.0)
+        ops.node(i + 1, ax * L * i / n, ay * L * i / n)
     ops.fix(1, 1, 1, 1)
-    ops.geomTransf("Corotational", 1)
+    ops.geomTransf(transf, 1)
     for i in range(n):
         ops.element("elasticBeamColumn", i + 1, i + 1, i + 2, EA, 1.0, EI, 1)
     m = rhoA * L / n
-    for i in range(1, n + 1):
-        mi = m if i < n else 0.5 * m
-        ops.mass(i + 1, mi, mi, 0.0)
-    ops.timeSeries("Sine", 1, 0.0, 1e9, 1.0 / frequency, "-factor", amplitude)
+    masses = [m if i < n else 0.5 * m + tip_mass for i in range(1, n + 1)]
+    for i, mi in zip(range(1, n + 1), masses):
+        ops.mass(i + 1, mi, mi, tip_inertia if i == n else 0.0)
+    freq = None
+    if eigen:
+        lam = np.array(ops.eigen("-fullGenLapack", eigen), float)
+        freq = np.sqrt(lam) / (2 * math.pi)
+    ops.timeSeries("Trig", 1, 0.0, 1e9, 1.0 / frequency, "-factor", amplitude)
     ops.pattern("Plain", 1, 1)
-    for i in range(1, n + 1):
-        ops.load(i + 1, 0.0, -(m if i < n else 0.5 * m), 0.0)
+    dx, dy = direction
+    for i, mi in zip(range(1, n + 1), masses):
+        ops.load(i + 1, -mi * dx, -mi * dy, 0.0)
     ops.system("BandGeneral")
     ops.numberer("RCM")
     ops.constraints("Plain")
     ops.test("NormDispIncr", tol, 50, 0)
     ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
+    ops.integrator(*integrator)
     ops.analysis("Transient")
     steps = int(round(t_end / dt))
     iters, vmax, status = 0, 0.0, 0
+    t = np.zeros(steps + 1)
+    tip = np.zeros((steps + 1, 2))
+    k = 0
     t0 = time.perf_counter()
-    for _ in range(steps):
+    for k in range(1, steps + 1):
         status = ops.analyze(1, dt)
         if status:
+            k -= 1
             break
         iters += ops.testIter()
-        vmax = max(vmax, abs(ops.nodeDisp(n + 1, 2)))
+        u = ops.nodeDisp(n + 1)
+        vmax = max(vmax, abs(-ay * u[0] + ax * u[1]))
+        if history:
+            t[k], tip[k] = ops.getTime(), u[:2]
     dt_an = time.perf_counter() - t0
     ops.wipe()
-    return {"status": int(status), "steps": steps, "newton_iterations": iters, "analysis_s": dt_an,
-            "tip_v_max": vmax, "all_s": time.perf_counter() - t_build}
+    out = {"status": int(status), "steps": steps, "newton_iterations": iters, "analysis_s": dt_an,
+           "tip_v_max": vmax, "all_s": time.perf_counter() - t_build}
+    if freq is not None:
+        out["frequencies_hz"] = freq
+    if history:
+        out.update(t=t[:k + 1], tip_u=tip[:k + 1, 0], tip_v=tip[:k + 1, 1])
+    return out
