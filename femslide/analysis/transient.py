@@ -226,12 +226,14 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             # velocity follows the masses, and at a reversal it may still carry the old sign by a
             # hair; if it really moves the other way, the next step's start finds it late)
             fresh = [fr.fresh(k, s.t) for k in range(ph.size)]
-            if any(fresh[1::2]):
-                # a contact that has just lifted starts at gap 0 (it is not late, and a landing
-                # within the step crosses from there); a rebound's flight is resolved by the steps
-                ph = ph.copy()
-                ph[1::2] = np.where(fresh[1::2], np.maximum(ph[1::2], 0.0), ph[1::2])
-                h = min(h, fr.flight_step(s, fresh))
+            if any(fresh):
+                # a slip just begun starts at velocity 0, a contact just lifted at gap 0: neither is
+                # late, and a reversal or a landing within the step crosses from there (a slip that
+                # reversed within its first step was switched late, at the step's end, as a
+                # zero-duration stick); a rebound's flight is resolved by the steps
+                ph = np.where(fresh, np.maximum(ph, 0.0), ph)
+                if any(fresh[1::2]):
+                    h = min(h, fr.flight_step(s, fresh))
             late = [i for i in np.nonzero(ph < -1e-10)[0] if not fresh[i]]
             if late:
                 switches = switches + 1 if s.t == t_switch else 1
