@@ -1,4 +1,5 @@
-import femslide, time
+import femslide
+import time
 t0=time.time()
 try:
     res = femslide.simulate("/tmp/rv/rock_e.toml", **{"simulate.t_end": 0.5})
