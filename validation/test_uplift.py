@@ -121,6 +121,36 @@ def test_rocking_block_comes_to_rest():
     assert res["energy_balance"] <= 1e-6
 
 
+def test_block_on_two_friction_contacts_slides_as_one():
+    """A wide block (100 kg, 2 m x 0.5 m: it does not tip) on two unilateral frictional contacts at
+    its corners (mu = 0.2, mu0 = 0.25) under the ground acceleration 3 sin(2 pi t) m/s^2: stuck, its
+    two locks hold one freedom twice (the split of the friction force is undetermined: one carries
+    it, the pair holds within mu0 (N1 + N2) = mu0 m g); it breaks away when 3 sin(2 pi t0) = mu0 g,
+    slides back with w'' = -a_g + mu g and sticks when w' = 0: the closed form of
+    tests/test_fe_dynamics.py (t0 = 0.152320 s, t1 = 0.5311778 s, w1 = -4.028833 cm), both corners
+    together, within 1e-6 s and 1e-6 m at tolerance 1e-8."""
+    from scipy.optimize import brentq
+    g, mu, mu0, A, W = 9.81, 0.2, 0.25, 3.0, 2 * math.pi
+    t0 = math.asin(mu0 * g / A) / W
+    t1 = brentq(lambda t: A / W * (math.cos(W * t) - math.cos(W * t0)) + mu * g * (t - t0), t0 + 1e-3, t0 + 0.9)
+    w1 = A / W * ((math.sin(W * t1) - math.sin(W * t0)) / W - (t1 - t0) * math.cos(W * t0)) \
+        + 0.5 * mu * g * (t1 - t0) ** 2
+    s = femslide.Structure(gravity=(0.0, -g))
+    s.body("block", mass=100.0, centroid=(0.0, 0.25), inertia=100.0 * 4.25 / 12.0,
+           outline=[(-1.0, 0.0), (1.0, 0.0), (1.0, 0.5), (-1.0, 0.5)])
+    for n, x in (("left", -1.0), ("right", 1.0)):
+        s.roller(n, "block", "ground", axis=(1.0, 0.0), at=(x, 0.0), mu=mu, mu0=mu0, unilateral=True)
+    from femslide.analysis.simulate import parse_spec, simulate
+    res = simulate(s.freeze(), parse_spec({"t_end": 0.6, "tolerance": 1e-8, "error_estimate": False,
+                                           "ground": {"direction": [1.0, 0.0], "amplitude": A, "frequency": 1.0}}))
+    for n in ("left", "right"):
+        ev = res["events"][n]
+        assert [e["kind"] for e in ev] == ["stick", "slip-", "stick"], ev
+        assert abs(ev[1]["t"] - t0) < 1e-6 and abs(ev[2]["t"] - t1) < 1e-6
+        assert res["peaks"]["joints"][n]["slide_min"] == pytest.approx(w1, abs=1e-6)
+    assert res["energy_balance"] <= 1e-6
+
+
 BAR = """
 gravity = [0.0, -9.81]
 [[body]]

@@ -169,6 +169,8 @@ def locate_step(attempt, f, f0, h, cand, max_iter=60, x_min=0.0):
         tried[x] = c
         return -f(c)
     lo, g_lo, hi, g_hi = 0.0, -f0, h, -f(cand)
+    if h <= x_min:   # (no trial shorter than the resolution: the event is at the step's end)
+        return h, cand
     if 0.0 < x_min < h:
         g = trial(x_min)
         if g is not None:
@@ -189,4 +191,6 @@ def locate_step(attempt, f, f0, h, cand, max_iter=60, x_min=0.0):
         else:
             hi, g_hi = x, gx
     x = root_up(trial, lo, hi, min(g_lo, -1e-300), g_hi, xtol=1e-12, maxiter=max_iter)
+    if x not in tried:   # (the bracket's end never tried - its start: the nearest trial past it)
+        x = min((k for k in tried if k >= x), default=h)
     return x, tried[x]

@@ -93,7 +93,7 @@ class Friction:
         if y is not None:
             self._pool(y)
         else:   # (the pooling of the last state, while its joints are still stuck)
-            self.pooled = {j: c for j, c in self.pooled.items() if j in stuck and c in stuck}
+            self.pooled = {j: c for j, c in self.pooled.items() if j in stuck and (c is None or c in stuck)}
         key = (tuple(self.mode), tuple(self.lifted), tuple(sorted(self.pooled)))
         sysm = self._systems.get(key)
         if sysm is None:
@@ -157,11 +157,11 @@ class Friction:
 
     # -- events -------------------------------------------------------------------------------------
     def event(self, i, t, kind):
-        """Record joint i's new mode at t; a repeat of the joint's last event at the same instant
-        (within SAME_INSTANT: the stick test may confirm a slip direction twice, or two events located
-        to the locator's tolerance may coincide) is not recorded."""
+        """Record joint i's new mode at t; a repeat of the joint's last event is not recorded (the
+        stick test may confirm a slip direction twice: at one instant, or a hair after a slip's start
+        whose velocity moved the wrong way by round-off)."""
         ev = self.events[self.joints[i].name]
-        if not ev or ev[-1]["kind"] != kind or abs(ev[-1]["t"] - t) > SAME_INSTANT * max(1.0, abs(t)):
+        if not ev or ev[-1]["kind"] != kind:   # (a repeat: the joint re-tested into the mode it was in)
             ev.append({"t": t, "kind": kind})
 
     def phi(self, y, v):
@@ -202,13 +202,9 @@ class Friction:
         for i, fj in enumerate(self.joints):
             if not (fj.unilateral and self.lifted[i] and fresh[2 * i + 1]):
                 continue
-            g0, G = fj.gap(q)
-            v = float(G @ s.v[fj.dofs])
+            v, a = fj.gap_rates(q, s.v, s.acc)
             if v <= 0.0:
                 continue
-            eps = 1e-4 * max(float(np.abs(q[fj.dofs]).max()), 1.0) / max(float(np.abs(s.v[fj.dofs]).max()), 1e-300)
-            z = q + eps * s.v + 0.5 * eps * eps * s.acc
-            a = 2.0 * (fj.gap(z)[0] - g0 - eps * v) / (eps * eps)
             if a < 0.0:
                 out = min(out, 0.5 * v / -a)
         return out
@@ -374,6 +370,28 @@ def _switch(fr, s: MotionState, k, h_s):
     return _restart(fr, s, old, h_s)
 
 
+def switch_all(fr, s: MotionState, slots, h_s):
+    """The mode changes of the event ``slots`` due at one instant: the slipping joints that come to
+    rest together take one stick test (:func:`_settle`: a rigid block on two contacts stops as one;
+    tested in turn, the first would carry the other's sliding friction too and slip on), then each
+    other slot in turn if its mode still fails in the state the switches before left (a landing that
+    comes to rest on both corners leaves the other corner pressing, not lifting).  Returns (state,
+    step system, energy released)."""
+    rest = [k // 2 for k in slots if k % 2 == 0 and fr.mode[k // 2] in (1, -1)]
+    released, sysm, done = 0.0, None, False
+    if len(rest) > 1:
+        s, sysm, released = _settle(fr, s, h_s, rest, fr.stuck())
+        slots = [k for k in slots if k // 2 not in rest or k % 2]
+        done = True
+    for k in slots:
+        if done and fr.phi(s.y, s.v)[k] >= 0.0:
+            continue
+        s, sysm, more = _switch(fr, s, k, h_s)
+        released += more
+        done = True
+    return s, sysm, released
+
+
 def start(fr, s: MotionState, h_s):
     """The modes at the start of a run: the contacts lifted at the start (event "lift" at t), then
     the stick test of every friction joint in contact (:func:`_settle`)."""
@@ -446,7 +464,9 @@ def _land(fr, s: MotionState, i, h_s):
     if fj.friction:
         fr.mode[i] = 0
         fr.stick_at[i] = float(fj.link.slide(s.y[:fr.base.n_q][fj.dofs])[0])
-    s, lost, bounce = _impact(fr, MotionState(s.t, fr.convert(s.y, old, fr.stuck()), s.v, s.acc, s.elements), i)
+    s = MotionState(s.t, fr.convert(s.y, old, fr.stuck()), s.v, s.acc, s.elements)
+    s = _onto_constraints(fr.system(), s)
+    s, lost, bounce = _impact(fr, s, i)
     if bounce:   # it flies on: released again at once
         old2 = fr.stuck()
         fr.lifted[i] = True
@@ -542,6 +562,34 @@ def _impact(fr, s: MotionState, i):
     v_out = _heavy(v, v_new, sysm.masses.massive_dofs())
     lost = sysm.masses.kinetic(q, v) - sysm.masses.kinetic(q, v_out)
     return MotionState(s.t, y, v_out, s.acc, s.elements), lost, bounce
+
+
+def _onto_constraints(sysm, s: MotionState, iters=6):
+    """The state s with its positions on the constraints of the step system's modes: the smallest
+    correction in the mass metric (M dq + G^T a = 0, G dq = -g, Newton on g).  A landing is located
+    to the resolution of event times (t_same): its contact's gap is then a few times its approach
+    velocity times that, which the next step would close with impulsive forces (a rocking block
+    coming to rest on both corners read multipliers of 100 times its weight and lifted a corner)."""
+    m = sysm.model
+    n_q, nc = m.n_q, m.n_c
+    y = s.y.copy()
+    M = sysm.masses.dense(y[:n_q])
+    for _ in range(iters):
+        r, (rows, cols, vals), _ = sysm.model_system(y, ElementState(s.alpha))
+        g = r[n_q:n_q + nc].copy()
+        g[sysm.released] = 0.0
+        if float(np.abs(g).max(initial=0.0)) <= 1e-14:
+            break
+        G = np.zeros((nc, n_q))
+        sel = (rows >= n_q) & (cols < n_q)
+        np.add.at(G, (rows[sel] - n_q, cols[sel]), vals[sel])
+        G[sysm.released] = 0.0
+        A = np.block([[M, G.T], [G, np.zeros((nc, nc))]])
+        x = np.linalg.lstsq(A, np.concatenate([np.zeros(n_q), -g]), rcond=None)[0]
+        if not np.all(np.isfinite(x)):
+            break
+        y[:n_q] += x[:n_q]
+    return MotionState(s.t, y, s.v, s.acc, s.elements)
 
 
 def _heavy(v, v_new, heavy):

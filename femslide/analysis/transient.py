@@ -53,11 +53,12 @@ from femslide.analysis.radau import (
 )
 from femslide.model.state import ElementState, MotionState
 from femslide.analysis.events import locate_step
-from femslide.analysis.stickslip import SAME_INSTANT, _switch, start
+from femslide.analysis.stickslip import SAME_INSTANT, _switch, start, switch_all
 from femslide.errors import BadInput, SolverFailure
 
 CHECK_FACTOR = 10.0    # the check run of an error estimate is at this multiple of the tolerance ...
 ORDER_GLOBAL = 5.0     # ... and the global error ~ steps^-ORDER_GLOBAL (Radau IIA: order 5)
+EVENT_STEPS = 50      # the step allowance of a run grows by this for each event
 MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/analysis/simulate.py comes first)
 
 
@@ -171,7 +172,8 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         sysm = RadauSystem(model, masses, C, ground)
         s = consistent_start(sysm, s, h_s)
     else:
-        fr.tolerance = tolerance
+        if not fr.tolerance:
+            fr.tolerance = tolerance
         s, sysm, released = start(fr, s, h_s)
         D += released
         J += released
@@ -192,7 +194,9 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         return max(SAME_INSTANT * max(1.0, abs(t)), 0.1 * tolerance * (period or 0.0))
     ph_of = None   # the state the event functions ph were evaluated at
     while s.t < t_end * (1 - 1e-14):
-        if out.steps + out.rejected >= max_steps:
+        # (each event - a friction switch, a lift, a landing - brings its own restart and located steps)
+        n_ev = sum(len(v) for v in fr.events.values()) if fr is not None else 0
+        if out.steps + out.rejected >= max_steps + EVENT_STEPS * n_ev:
             raise SolverFailure(f"simulate: the step count limit {max_steps} was reached at t = {s.t:.6g} s "
                                 f"(tolerance too tight or the motion too fast for this t_end)")
         if wall_limit and time.perf_counter() - t0 > wall_limit:
@@ -405,8 +409,8 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         elif due:   # (the switches read the lock multipliers of the state: exact where every dof has mass)
             acc_l, mu_l = start_multipliers(sysm, s, s.acc.copy(), s.y[n_q:])
             s = MotionState(t1, np.concatenate([s.y[:n_q], mu_l]), s.v, acc_l, s.elements)
-        for i in due:   # (several joints may change modes at one instant: each in turn)
-            s, sysm, released = _switch(fr, s, i, START_STEP * h_next)
+        if due:   # (several joints may change modes at one instant: femslide.analysis.stickslip.switch_all)
+            s, sysm, released = switch_all(fr, s, due, START_STEP * h_next)
             D += released
             J += released
         T = masses.kinetic(s.y[:n_q], s.v)         # (after a switch: the state it left)

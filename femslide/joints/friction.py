@@ -75,6 +75,15 @@ class FrictionJoint:
         g, G, _ = self.link._parts(q[self.dofs].tolist())
         return float(g[0]), np.array(G[0])
 
+    def gap_rates(self, q, v, acc):
+        """(gap', gap'') of a contact at positions q, velocities v and accelerations acc: G v and
+        G acc + v^T H v, with the gradient G and the Hessian H of its first equation."""
+        _, G, hess = self.link._parts(q[self.dofs].tolist())
+        vd, ad = v[self.dofs], acc[self.dofs]
+        g1 = float(np.dot(G[0], vd))
+        g2 = float(np.dot(G[0], ad)) + sum(val * vd[i] * vd[j] for e, i, j, val in hess if e == 0)
+        return g1, g2
+
     def pressure(self, y):
         """A contact's normal force -Q (model units): >= 0 while it presses (the force -Q n on a)."""
         return -float(y[self.mu_idx[0]])
