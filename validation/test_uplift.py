@@ -104,21 +104,24 @@ def test_rocking_block_at_its_tolerance():
     assert abs(w1 / ref[0]["w_plus"] - 1.0) <= 3 * max(res["error_estimate"], 1e-6)
 
 
-def test_rocking_block_comes_to_rest():
+@pytest.mark.parametrize("tol", [1e-6, 1e-4])
+def test_rocking_block_comes_to_rest(tol):
     """Run for 15 s the block rocks down to rest: its impacts accumulate in finite time (each
     landing slower by Housner's r), the landings below the tolerance of the first come to rest on
     both corners (their locks pooled: a rigid block on two stuck contacts).  The energy the impacts
-    took is the whole potential energy of the tilt, m g R (cos(alpha - theta0) - cos(alpha)) (1e-6),
-    and the block ends flat and at rest."""
-    res = femslide.simulate(ROCKING, **{"simulate.t_end": 15.0})
+    took is the whole potential energy of the tilt, m g R (cos(alpha - theta0) - cos(alpha)), to
+    3 tolerance (measured 3.4e-8 at 1e-6, 9.9e-6 at 1e-4), and the block ends flat and at rest
+    (before the review fixes, at 1e-4 it ran away: converged, energy balance 1.0, 905 m away)."""
+    res = femslide.simulate(ROCKING, **{"simulate.t_end": 15.0, "simulate.tolerance": tol})
     R, alpha = math.hypot(B, H), math.atan2(B, H)
     V0 = MASS * 9.81 * R * (math.cos(alpha - THETA0) - math.cos(alpha))
-    assert abs(res["energy"]["dissipated"] / V0 - 1.0) <= 1e-6
+    assert abs(res["energy"]["dissipated"] / V0 - 1.0) <= 3 * tol
     assert abs(res.history["bodies.block.rotation"][-1]) <= 1e-9
     assert abs(res.history["bodies.block.rotation_rate"][-1]) <= 1e-9
+    assert abs(res.history["bodies.block.x"][-1]) <= 1e-9
     last = max((e for n in ("left", "right") for e in res["events"][n]), key=lambda e: e["t"])
     assert last["kind"] == "land" and last["t"] < 14.0
-    assert res["energy_balance"] <= 1e-6
+    assert res["energy_balance"] <= 3 * tol
 
 
 def test_block_on_two_friction_contacts_slides_as_one():
