@@ -38,19 +38,23 @@ def interpolate(ta, Xa, tb, breaks=(), kinks=()):
     ta = np.asarray(ta, dtype=float)
     Xa = np.asarray(Xa, dtype=float)
     kk = np.asarray(list(kinks), dtype=float)
-    br = np.unique(np.concatenate([np.asarray(list(breaks), dtype=float), kk]))
+    dup = np.nonzero(ta[:-1] == ta[1:])[0]
+    # (two rows at one time are a switch - its left limit and the state after -: a break, listed or not)
+    br = np.unique(np.concatenate([np.asarray(list(breaks), dtype=float), ta[dup], kk]))
     is_kink = np.isin(br, kk)
     seg_a = np.searchsorted(br, ta, side="right")     # segment index of every sample
     # a row followed by another at the same time is a left limit (the state before an event's
     # switch): it belongs to the segment before
-    dup = np.nonzero(ta[:-1] == ta[1:])[0]
     seg_a[dup] = np.searchsorted(br, ta[dup], side="left")
     out = np.full((len(tb), Xa.shape[1]), np.nan)
     for i, t in enumerate(tb):
         k = int(np.searchsorted(br, t, side="right"))
         idx = np.nonzero(seg_a == k)[0]
-        if k < br.size and is_kink[k]:   # (the row at the segment's closing kink, too)
-            idx = np.union1d(idx, np.nonzero((ta == br[k]) & (seg_a == k + 1))[0])
+        if k < br.size and is_kink[k] and not np.any(ta[idx] == br[k]):
+            # (the row at the segment's closing kink, too - unless the segment has a row at that time:
+            # the left limit of an event there)
+            at = np.nonzero((ta == br[k]) & (seg_a == k + 1))[0]
+            idx = np.union1d(idx, at[:1])
         if idx.size == 0:
             continue
         j = int(np.searchsorted(ta[idx], t))
