@@ -197,8 +197,9 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         # (each event - a friction switch, a lift, a landing - brings its own restart and located steps)
         n_ev = sum(len(v) for v in fr.events.values()) if fr is not None else 0
         if out.steps + out.rejected >= max_steps + EVENT_STEPS * n_ev:
-            raise SolverFailure(f"simulate: the step count limit {max_steps} was reached at t = {s.t:.6g} s "
-                                f"(tolerance too tight or the motion too fast for this t_end)")
+            raise SolverFailure(f"simulate: the step count limit {max_steps + EVENT_STEPS * n_ev} ({max_steps} and "
+                                f"{EVENT_STEPS} per event, {n_ev} events) was reached at t = {s.t:.6g} s "
+                                f"(tolerance too tight, the motion too fast for this t_end, or events piling up)")
         if wall_limit and time.perf_counter() - t0 > wall_limit:
             raise SolverFailure(f"simulate: stopped at t = {s.t:.6g} s of t_end = {t_end:g} s: the wall-time "
                                 f"limit of {wall_limit:g} s was reached")
