@@ -50,6 +50,7 @@ class Friction:
         self.mode = [0 if fj.friction and not up else FREE for fj, up in zip(self.joints, self.lifted)]
         self.stick_at = [0.0] * len(self.joints)
         self.events = {fj.name: [] for fj in self.joints}
+        self.last = [None] * len(self.joints)   # (t, kind) of each joint's last switch
         self.size = 2 * len(self.joints)    # event slots: 2 i friction, 2 i + 1 contact
         self.v_landing = [0.0] * len(self.joints)   # the largest approach speed of each contact's landings
         self.tolerance = 0.0                # the run's tolerance: a rebound below it (relative) is plastic
@@ -161,6 +162,7 @@ class Friction:
         stick test may confirm a slip direction twice: at one instant, or a hair after a slip's start
         whose velocity moved the wrong way by round-off)."""
         ev = self.events[self.joints[i].name]
+        self.last[i] = (t, kind)   # (the joint's last switch, recorded or not: fresh)
         if not ev or ev[-1]["kind"] != kind:   # (a repeat: the joint re-tested into the mode it was in)
             ev.append({"t": t, "kind": kind})
 
@@ -184,12 +186,12 @@ class Friction:
         the friction slot of a joint that has just started to slip, the contact slot of one that has
         just lifted or landed (a function just located at zero is not late at that instant)."""
         i, what = divmod(k, 2)
-        ev = self.events[self.joints[i].name]
-        if not ev or abs(ev[-1]["t"] - t) > SAME_INSTANT * max(1.0, abs(t)):
+        last = self.last[i]
+        if last is None or abs(last[0] - t) > SAME_INSTANT * max(1.0, abs(t)):
             return False
         if what == 0:
             return self.mode[i] in (1, -1)
-        return ev[-1]["kind"] in ("lift", "land")
+        return last[1] in ("lift", "land")
 
     def flight_step(self, s, fresh):
         """The longest step [s] that resolves the flights just begun at the state s (``fresh``: the
