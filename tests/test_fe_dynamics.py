@@ -87,6 +87,21 @@ def _belt(axis=(1.0, 0.0), k=200.0, m=1.0, simulate=None, mu=None):
     return s
 
 
+def _three_bodies(n_el):
+    """A rod of n_el elements with mass carrying two welded bodies, and a third body pinned to the
+    ground with a spring: the body inertia terms of many bodies (the kernel and numpy paths)."""
+    s = femslide.Structure(gravity=(0.0, -9.81))
+    s.rod("r", (0.0, 0.0), (0.0, 2.0), EI=1e4, rhoA=3.0, elements=n_el)
+    s.body("a", mass=2.0, centroid=(0.5, 2.5), inertia=0.3, outline=[(0, 2), (1, 2), (1, 3), (0, 3)])
+    s.body("b", mass=1.5, centroid=(2.0, 2.2), inertia=0.2, outline=[(1.5, 2), (2.5, 2), (2.5, 2.4)])
+    s.body("c", mass=0.7, centroid=(3.0, 0.5), inertia=0.05, outline=[(2.8, 0.3), (3.2, 0.3), (3.0, 0.8)])
+    s.pin("base", "r.start", "ground")
+    s.weld("top", "r.end", "a")
+    s.weld("ab", "a", "b", at=(1.5, 2.2))
+    s.pin("cg", "c", "ground", at=(3.0, 0.0), c=100.0)
+    return s
+
+
 def _run(s, **table):
     from femslide.analysis.simulate import parse_spec, simulate
     res = simulate(s.freeze(), parse_spec(table))
@@ -582,15 +597,7 @@ def test_body_inertia_numpy_path_equals_the_scalar_path():
     centroid) and random states, both give the same
     inertia force and Jacobian entries to 1e-14 (the numpy path is what structures with more than
     Masses.SCALAR_BODIES bodies use)."""
-    s = femslide.Structure(gravity=(0.0, -9.81))
-    s.rod("r", (0.0, 0.0), (0.0, 2.0), EI=1e4, rhoA=3.0, elements=4)
-    s.body("a", mass=2.0, centroid=(0.5, 2.5), inertia=0.3, outline=[(0, 2), (1, 2), (1, 3), (0, 3)])
-    s.body("b", mass=1.5, centroid=(2.0, 2.2), inertia=0.2, outline=[(1.5, 2), (2.5, 2), (2.5, 2.4)])
-    s.body("c", mass=0.7, centroid=(3.0, 0.5), inertia=0.05, outline=[(2.8, 0.3), (3.2, 0.3), (3.0, 0.8)])
-    s.pin("base", "r.start", "ground")
-    s.weld("top", "r.end", "a")
-    s.weld("ab", "a", "b", at=(1.5, 2.2))
-    s.pin("cg", "c", "ground", at=(3.0, 0.0), c=100.0)
+    s = _three_bodies(4)
     # (the model alone: rod, a and b turn freely about "base", a mechanism whose static path
     # following only round-off decides)
     fs = s.freeze()
@@ -748,15 +755,7 @@ def test_radau_stage_system_kernel_equals_numpy(n_el):
     from femslide.model.state import ElementState, MotionState
     if not fast.available():
         pytest.skip("the compiled kernel is not built")
-    s = femslide.Structure(gravity=(0.0, -9.81))
-    s.rod("r", (0.0, 0.0), (0.0, 2.0), EI=1e4, rhoA=3.0, elements=n_el)
-    s.body("a", mass=2.0, centroid=(0.5, 2.5), inertia=0.3, outline=[(0, 2), (1, 2), (1, 3), (0, 3)])
-    s.body("b", mass=1.5, centroid=(2.0, 2.2), inertia=0.2, outline=[(1.5, 2), (2.5, 2), (2.5, 2.4)])
-    s.body("c", mass=0.7, centroid=(3.0, 0.5), inertia=0.05, outline=[(2.8, 0.3), (3.2, 0.3), (3.0, 0.8)])
-    s.pin("base", "r.start", "ground")
-    s.weld("top", "r.end", "a")
-    s.weld("ab", "a", "b", at=(1.5, 2.2))
-    s.pin("cg", "c", "ground", at=(3.0, 0.0), c=100.0)
+    s = _three_bodies(n_el)
     fs = s.freeze()
     model = Model(fs, {"r": n_el}, *static.scales(fs))
     masses = Masses(model)

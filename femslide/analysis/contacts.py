@@ -35,8 +35,7 @@ def lifted_as(fs, lifted):
 def gap(model, name, y):
     """The gap w . n [model lengths] of contact ``name`` at y (also when it is released)."""
     link = model.joint[name]
-    g, _, _ = link.joint_kind.equations(link, y[:model.n_q][link.dofs].tolist())
-    return float(g[0])
+    return link.gap(y[:model.n_q][link.dofs])
 
 
 def with_contacts(fs, solve_one):

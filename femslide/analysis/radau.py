@@ -77,6 +77,18 @@ SAFETY = 0.5           # the local error estimate is held below SAFETY * toleran
 START_STEP = 1e-2      # the tiny step of a consistent (re)start, relative to the step size
 
 
+def constraint_gradient(coo, n_q, n_c, released=()):
+    """The constraints' gradient G (n_c, n_q), dense, from a model Jacobian's COO entries (rows,
+    cols, vals) (:meth:`femslide.model.discrete.Model.system` with ``dense="coo"``: the constraint
+    rows lie beyond n_q), the ``released`` rows (lifted contacts, pooled locks) zero."""
+    rows, cols, vals = coo
+    G = np.zeros((n_c, n_q))
+    sel = (rows >= n_q) & (rows < n_q + n_c) & (cols < n_q)
+    np.add.at(G, (rows[sel] - n_q, cols[sel]), vals[sel])
+    G[np.asarray(released, dtype=np.intp)] = 0.0
+    return G
+
+
 def _coo_mv(rows, cols, vals, x, n):
     """(rows, cols, vals) @ x for a COO matrix of n rows (duplicates summed)."""
     return np.bincount(rows, weights=vals * x[cols], minlength=n)
@@ -477,9 +489,7 @@ def start_multipliers(sysm: RadauSystem, s: MotionState, acc, mu_step):
         gamma[sysm.released] = 0.0
     light = np.setdiff1d(np.arange(nq), heavy)
     M = sysm.masses.dense(q)
-    G = np.zeros((nc, nq))
-    sel = (rows >= nq) & (cols < nq)
-    np.add.at(G, (rows[sel] - nq, cols[sel]), vals[sel])
+    G = constraint_gradient((rows, cols, vals), nq, nc)
     GT = np.zeros((nq, nc))
     sel = (rows < nq) & (cols >= nq)
     np.add.at(GT, (rows[sel], cols[sel] - nq), vals[sel])

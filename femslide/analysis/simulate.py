@@ -402,7 +402,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             row.append(-fr.coefficient(n, y) * F)
         for n in contacts:
             link = model.joint[n]
-            row.append(float(link.joint_kind.equations(link, q[link.dofs].tolist())[0][0]) * L)
+            row.append(link.gap(q[link.dofs]) * L)
         if bodies:   # absolute velocity and acceleration of the centroids: relative motion + the ground's
             vg = ag = 0.0
             if spec.ground is not None:

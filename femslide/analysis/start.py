@@ -62,13 +62,13 @@ def carry(m_from, y, m_to, n_to):
     return z
 
 
-def held_start(fs, counts, L, F, y, elements, ini, drop=(), lock=()):
+def held_start(fs, counts, L, F, y, elements, ini, drop=(), lock=(), full=None):
     """The static state (y, elements) held at the ``initial`` values (model units), walked there in
     small steps, with the joints ``drop`` left out and the slides of ``lock`` locked; y in the
-    layout of the structure's own model."""
+    layout of the structure's own model ``full`` (built when not given)."""
     from femslide.analysis.newton import newton
     from femslide.model.discrete import Model
-    full = Model(fs, counts, L, F)
+    full = full or Model(fs, counts, L, F)
     m = Model(fs, counts, L, F, finalize=False)
     if drop:
         m.constraints = [c for c in m.constraints if c.name not in drop]
@@ -135,7 +135,7 @@ def contact_start(fs, counts, L, F, model, y, elements, ini, first=()):
     the contacts when no set tried is feasible."""
     contacts = [j for j in fs.joints if j.unilateral]
     if not contacts:
-        y0, e0 = held_start(fs, counts, L, F, y, elements, ini)
+        y0, e0 = held_start(fs, counts, L, F, y, elements, ini, full=model)
         return y0, e0, ()
     n_q = model.n_q
     tried = []
@@ -143,7 +143,7 @@ def contact_start(fs, counts, L, F, model, y, elements, ini, first=()):
     for drop in tries:
         lock = [j.name for j in contacts if j.name not in drop and j.mu is not None and j.mu0 > 0.0]
         try:
-            y0, e0 = held_start(fs, counts, L, F, y, elements, ini, drop, lock)
+            y0, e0 = held_start(fs, counts, L, F, y, elements, ini, drop, lock, full=model)
         except SolverFailure as exc:
             tried.append(f"{', '.join(drop) or 'none'} lifted: {exc}")
             continue
@@ -151,7 +151,7 @@ def contact_start(fs, counts, L, F, model, y, elements, ini, first=()):
         for j in contacts:
             link = model.joint[j.name]
             if j.name in drop:
-                gap = float(link._parts(y0[:n_q][link.dofs].tolist())[0][0])
+                gap = link.gap(y0[:n_q][link.dofs])
                 if gap < -GAP_TOL:
                     bad.append(f"{j.name} would sink {-gap * L:.3g} m into its guide")
             else:

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from femslide.analysis.radau import NEWTON_TOL, consistent_start
+from femslide.analysis.radau import NEWTON_TOL, consistent_start, constraint_gradient
 from femslide.errors import SolverFailure
 from femslide.joints.friction import FrictionJoint
 from femslide.joints.holds import SlideHold
@@ -125,12 +125,9 @@ class Friction:
         m = self._model(stuck)
         n_q, nc0 = self.base.n_q, self.base.n_c
         # (the lock targets of the current modes: the gradient does not depend on them)
-        _, (rows, cols, vals), _ = m.system(y, ElementState.zero(m.elements.size if m.elements is not None else 0),
-                                            1.0, None, True, dense="coo")
-        G = np.zeros((m.n_c, n_q))
-        sel = (rows >= n_q) & (cols < n_q)
-        np.add.at(G, (rows[sel] - n_q, cols[sel]), vals[sel])
-        G[self.released()] = 0.0
+        _, coo, _ = m.system(y, ElementState.zero(m.elements.size if m.elements is not None else 0),
+                             1.0, None, True, dense="coo")
+        G = constraint_gradient(coo, n_q, m.n_c, self.released())
         keep = set(_independent_rows(G).tolist())
         for k, j in enumerate(stuck):
             if nc0 + k in keep:
@@ -577,15 +574,12 @@ def _onto_constraints(sysm, s: MotionState, iters=6):
     y = s.y.copy()
     M = sysm.masses.dense(y[:n_q])
     for _ in range(iters):
-        r, (rows, cols, vals), _ = sysm.model_system(y, ElementState(s.alpha))
+        r, coo, _ = sysm.model_system(y, ElementState(s.alpha))
         g = r[n_q:n_q + nc].copy()
         g[sysm.released] = 0.0
         if float(np.abs(g).max(initial=0.0)) <= 1e-14:
             break
-        G = np.zeros((nc, n_q))
-        sel = (rows >= n_q) & (cols < n_q)
-        np.add.at(G, (rows[sel] - n_q, cols[sel]), vals[sel])
-        G[sysm.released] = 0.0
+        G = constraint_gradient(coo, n_q, nc, sysm.released)
         A = np.block([[M, G.T], [G, np.zeros((nc, nc))]])
         x = np.linalg.lstsq(A, np.concatenate([np.zeros(n_q), -g]), rcond=None)[0]
         if not np.all(np.isfinite(x)):
@@ -613,11 +607,7 @@ def _kkt(fr, sysm, y, alpha, v, b, impulses=None):
     m = sysm.model
     n_q, nc = m.n_q, m.n_c
     q = y[:n_q]
-    _, (rows, cols, vals), _ = sysm.model_system(y, ElementState(alpha))
-    G = np.zeros((nc, n_q))
-    sel = (rows >= n_q) & (cols < n_q)
-    np.add.at(G, (rows[sel] - n_q, cols[sel]), vals[sel])
-    G[sysm.released] = 0.0
+    G = constraint_gradient(sysm.model_system(y, ElementState(alpha))[1], n_q, nc, sysm.released)
     M = sysm.masses.dense(q)
     B = G.T.copy()
     for k, (c, mo) in enumerate(zip(fr.joints, fr.mode)):   # friction impulses of the slipping joints

@@ -192,6 +192,11 @@ class Link:
                 jv += row
 
     # -- joint quantities ------------------------------------------------------------------------------
+    def gap(self, z):
+        """A contact's gap w . n (model units): the kind's first equation (:func:`on_guide`) at the
+        joint dofs z, also when the statics released the joint (``keep`` empty)."""
+        return float(self.joint_kind.equations(self, z.tolist())[0][0])
+
     def slide(self, z):
         """Slide s = w . e (model units), its gradient and Hessian over the joint dofs (kinds with a guide).
         The reference slide (0 when a starts at ``at``) is subtracted by the caller."""

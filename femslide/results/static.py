@@ -362,8 +362,7 @@ def extract(model, y, alpha, arrays=None, lam=1.0) -> dict:
         elif free == "rotation":
             out["rotation"] = float(link.rotation(q[link.dofs])[0])
         if j.unilateral:   # a contact's gap: a's point's distance from the guide on its +n side
-            g, _, _ = link.joint_kind.equations(link, q[link.dofs].tolist())
-            out["gap"] = float(g[0]) * L
+            out["gap"] = link.gap(q[link.dofs]) * L
         joints[j.name] = out
         if j.b == "ground":
             reactions[j.name] = {"Fx": out["Fx"], "Fy": out["Fy"], "M": out["M"]}
