@@ -39,7 +39,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from friction_events import FrictionSystem, Ground
-from linear_dynamics import LinearStructure, modal_harmonic, modes, peak_abs
+from linear_dynamics import LinearStructure, modal_harmonic, modal_harmonic_damped, modes, peak_abs
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 STRUCTURES = os.path.join(os.path.dirname(HERE), "meshes", "structures")
@@ -83,9 +83,18 @@ def _harmonic(d):
     return float(g["amplitude"]), 2 * math.pi * float(g["frequency"])
 
 
-def _modal_reference(name, path, d, S, cols, offsets, T1_from=None):
+CHUNK = 20000   # samples per evaluation of a modal history
+
+
+def _modal_reference(name, path, d, S, cols, offsets, T1_from=None, forces=(), ground_terms=None, damping=None,
+                     peaks=True):
     """Histories and peaks of the outputs ``cols`` {column: row (n,)} under the file's harmonic
-    ground motion by modal superposition."""
+    ground motion by modal superposition.  ``damping`` (alpha, beta) of Rayleigh damping (C = alpha M
+    + beta K on the model's coordinates, K the linear stiffness): modal damping ratios, and the
+    columns ``forces`` (element end forces, rows of K) carry their damping part beta (row @ q').
+    ``ground_terms`` {column: c}: c a_g(t) added (the inertia of a support node's own lumped mass,
+    which moves with the ground: it is carried by the support).  ``peaks``: False leaves ``peaks``
+    empty (they take a fine grid over every mode: about a minute and gigabytes on the mast)."""
     rows = np.array(list(cols.values()))
     Mr, Cr, Kr, fmap, keep, R = S.reduced(rows)
     assert np.abs(Cr).max() == 0.0
@@ -93,11 +102,27 @@ def _modal_reference(name, path, d, S, cols, offsets, T1_from=None):
     md = modes(Mr, Kr, fg)
     A, W = _harmonic(d)
     t_end = float(d["simulate"]["t_end"])
+    alpha, beta = damping or (0.0, 0.0)
+    zeta = alpha / (2 * md.omega) + beta * md.omega / 2 if (alpha or beta) else None
+    ground_terms = ground_terms or {}
     hist = {}
+
+    def one(t, k, c):
+        t = np.asarray(t, float)
+        if t.size > CHUNK:   # (in chunks: memory ~ modes x samples)
+            return np.concatenate([one(t[i:i + CHUNK], k, c) for i in range(0, t.size, CHUNK)])
+        if alpha or beta:
+            x = modal_harmonic_damped(md, A, W, t, R[k:k + 1], zeta)[0]
+            if c in forces:
+                x = x + beta * modal_harmonic_damped(md, A, W, t, R[k:k + 1], zeta, 1)[0]
+        else:
+            x = modal_harmonic(md, A, W, t, R[k:k + 1])[0]
+        return x + ground_terms.get(c, 0.0) * A * np.sin(W * t)
+
     for k, c in enumerate(cols):
-        hist[c] = (lambda t, k=k: modal_harmonic(md, A, W, t, R[k:k + 1])[0])
+        hist[c] = (lambda t, k=k, c=c: one(t, k, c))
     dt = 2 * math.pi / max(W, md.omega[md.omega < 1e4 * md.omega[md.omega > 0].min()].max()) / 40
-    peaks = {c: peak_abs(hist[c], 0.0, t_end, dt) for c in cols}
+    peaks = {c: peak_abs(hist[c], 0.0, t_end, dt) for c in cols} if peaks else {}
     T1 = 2 * math.pi / md.omega[md.omega > 0].min()
     return Reference(name, path, t_end, hist, peaks, md.frequencies_hz, T1, offsets,
                      extra={"modal": md, "rows": R, "A": A, "W": W})
@@ -171,12 +196,18 @@ def shear_building_frequencies(file="two-storey-frame.toml"):
 
 # -- b) the cantilever with a tip mass ---------------------------------------------------------------------
 
-def cantilever_tip_mass(file="cantilever-tip-mass.toml"):
+def cantilever_tip_mass(file="cantilever-tip-mass.toml", damping=None, peaks=True):
     """Exact response of the discretised mast of meshes/structures/cantilever-tip-mass.toml (module
     docstring): coordinates u, v, theta of every node above the foot (the top node is the tip body's
     centroid), femslide's lumped masses, the node rotations condensed (no inertia).  Outputs: tip
-    displacement along x, root shear Fx and moment M (ground on the mast)."""
+    displacement along x, tip rotation, root shear Fx and moment M (ground on the mast); the root
+    shear includes the foot node's own lumped mass rhoA L_e / 2 times the ground acceleration (the
+    foot moves with the ground, and the weld carries its inertia).  ``damping``: (alpha, beta) of
+    Rayleigh damping (None: the file's ``simulate.damping``, or none)."""
     path, d = read(file)
+    if damping is None:
+        dm = d["simulate"].get("damping", {})
+        damping = (float(dm.get("alpha", 0.0)), float(dm.get("beta", 0.0)))
     assert d["gravity"] == [0.0, 0.0]
     (rod,) = d["rod"]
     (tip,) = d["body"]
@@ -190,11 +221,13 @@ def cantilever_tip_mass(file="cantilever-tip-mass.toml"):
     for i in range(1, n_el):
         S.mass(S.dofs(f"mast.{i}.u", f"mast.{i}.v", None), m_node)
     S.mass(_body_maps(S, "tip"), m_node / 2 + float(tip["mass"]), float(tip["inertia"]))
-    cols = {"bodies.tip.x": S.output("coord", "tip.u")}
+    cols = {"bodies.tip.x": S.output("coord", "tip.u"), "bodies.tip.rotation": S.output("coord", "tip.th")}
     R = S.reaction([(els[0], 0)])
     cols["reactions.root.Fx"] = R[0]
     cols["reactions.root.M"] = R[2]
-    return _modal_reference("cantilever-tip-mass", path, d, S, cols, {"bodies.tip.x": tip["centroid"][0]})
+    return _modal_reference("cantilever-tip-mass", path, d, S, cols, {"bodies.tip.x": tip["centroid"][0]},
+                            forces=("reactions.root.Fx", "reactions.root.M"),
+                            ground_terms={"reactions.root.Fx": m_node / 2}, damping=damping, peaks=peaks)
 
 
 def euler_bernoulli_tip_mass(file="cantilever-tip-mass.toml", count=4):

@@ -303,6 +303,33 @@ def modal_harmonic(md: Modal, A, W, t, rows, derivative=0):
     return np.atleast_2d(rows) @ md.Phi @ eta
 
 
+def modal_harmonic_damped(md: Modal, A, W, t, rows, zeta, derivative=0):
+    """As :func:`modal_harmonic` with modal damping ratios ``zeta`` (m,) (Rayleigh C = alpha M +
+    beta K: zeta_j = alpha / (2 omega_j) + beta omega_j / 2): every mode's response to
+    p sin(W t) from rest, eta'' + 2 zeta w eta' + w^2 eta = p sin(W t), in closed form (the forced
+    part plus the free part through the roots r1, r2 = -zeta w +- sqrt(zeta^2 - 1) w, complex for
+    an under-damped mode; every mode elastic).  Derivative 0 or 1.  Returns (k, len(t))."""
+    if derivative not in (0, 1):
+        raise ValueError("derivative 0 or 1")
+    if np.any(md.omega == 0.0):
+        raise ValueError("a rigid-body mode: use modal_harmonic")
+    t = np.atleast_1d(np.asarray(t, float))[None, :]
+    w, z = md.omega[:, None], np.asarray(zeta, float)[:, None]
+    p = (md.Gamma * A)[:, None]
+    den = (w ** 2 - W ** 2) ** 2 + (2 * z * w * W) ** 2
+    a, b = p * (w ** 2 - W ** 2) / den, -p * 2 * z * w * W / den   # forced part a sin + b cos
+    root = np.sqrt((z * w) ** 2 - w ** 2 + 0j)
+    r1, r2 = -z * w + root, -z * w - root
+    c2 = (-a * W + r1 * b) / (r2 - r1)       # free part c1 e^(r1 t) + c2 e^(r2 t): eta(0) = eta'(0) = 0
+    c1 = -b - c2
+    if derivative == 0:
+        eta = a * np.sin(W * t) + b * np.cos(W * t) + (c1 * np.exp(r1 * t) + c2 * np.exp(r2 * t)).real
+    else:
+        eta = (a * W * np.cos(W * t) - b * W * np.sin(W * t)
+               + (c1 * r1 * np.exp(r1 * t) + c2 * r2 * np.exp(r2 * t)).real)
+    return np.atleast_2d(rows) @ md.Phi @ eta
+
+
 def peak_abs(f, t0, t1, dt, samples=None):
     """max |f(t)| over [t0, t1] (f vectorised): the largest sample on a grid of spacing <= dt (or the
     given ``samples`` = (t, f(t)) on any grid), refined by a bounded scalar search between its

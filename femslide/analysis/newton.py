@@ -8,9 +8,11 @@ the trial rotations are those of the returned state, and the caller commits them
 state it keeps) or reverts them.
 
 Convergence: force residual below ``tol`` (1 + largest internal nodal force) and constraint residual
-below ``tol`` (model units are nondimensional: lengths by a, forces by P).  A stiff model (EA/P up to
-1e15) cannot reach ``tol``: its force residual is then accepted below the estimated round-off bound
-of the element forces, but only when it is there both before and after a Newton step (so a residual
+below ``tol`` (model units are nondimensional: lengths by a, forces by P); a caller whose forces of
+interest are smaller than that (a time step: the motion's forces, not the static ones) gives their
+scale ``fscale``, and the force residual is measured against the smaller of the two.  A stiff model
+(EA/P up to 1e15) cannot reach ``tol``: its force residual is then accepted below the estimated
+round-off bound of the element forces, but only when it is there both before and after a Newton step (so a residual
 that merely dips under a loose bound is not taken for convergence), or after 4 steps there.  Steps
 that would turn a rotation by more than ``max_rot`` are scaled down (a trust region for the exact but
 strongly nonlinear corotational kinematics).  Never raises: the caller reads ``info.converged`` and
@@ -34,11 +36,13 @@ class NewtonInfo:
     reason: str = ""
 
 
-def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_rot=0.5):
+def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_rot=0.5, fscale=None):
     """Newton iterations from y (modified copy returned).  Never raises: check ``info.converged``.
 
     Steps whose largest rotation increment exceeds ``max_rot`` [rad] are scaled down (a trust
-    region for the corotational kinematics, which are exact but strongly nonlinear).
+    region for the corotational kinematics, which are exact but strongly nonlinear).  ``fscale``
+    (model units, or None): the force residual is relative to min(1 + largest internal force,
+    fscale).
     """
     y = y.copy()
     n_q = model.n_q
@@ -55,7 +59,7 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
         # relative to the internal forces, floored at the round-off level of the element forces
         # (estimated with the Jacobian; a residual-only evaluation keeps the last estimate)
         rq, res_g, _ = norms(r, n_q)
-        res_f = rq / (1.0 + info["fmax"])
+        res_f = rq / _denominator(info, fscale)
         if A is not None:
             finfo = info   # the round-off floor of this state, estimated when first needed
         res = max(res_f, res_g)
@@ -66,14 +70,14 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
             return y, NewtonInfo(False, it, hist, "residual is not finite")
         # converged: below tol, or below the (worst-case) round-off bound, under which the residual
         # no longer measures the error, both before and after a Newton step
-        if res_g <= tol and (res_f <= tol or (floor_step and res_f <= _floor(finfo))):
+        if res_g <= tol and (res_f <= tol or (floor_step and res_f <= _floor(finfo, fscale))):
             return y, NewtonInfo(True, it - 1, hist, "" if res_f <= tol else "at round-off level")
         if A is None:
             r, A, info = model.system(y, elements, lam, control)
             finfo = info
             if control is None and isinstance(A, np.ndarray):
                 model.last_tangent = A
-        at_floor = res_g <= tol and res_f <= _floor(finfo)
+        at_floor = res_g <= tol and res_f <= _floor(finfo, fscale)
         floor_its = floor_its + 1 if at_floor else 0
         # stagnation at the round-off level of a stiff model: no progress for 4 iterations
         stalled = stalled + 1 if res > 0.5 * best else 0
@@ -94,7 +98,7 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
         floor_step = at_floor
         if floor_its >= 4:
             r, _, info = model.system(y, elements, lam, control, jacobian=False)
-            hist.append(float(np.abs(r[:n_q]).max()) / (1.0 + info["fmax"]))
+            hist.append(float(np.abs(r[:n_q]).max()) / _denominator(info, fscale))
             return y, NewtonInfo(True, it, hist, "at round-off level")
         # round-off floor: a step at the level of machine precision cannot improve further
         if res <= 1e3 * tol and res >= 0.5 * prev and sq <= 1e-14 * (1.0 + norms(y, n_q)[0]):
@@ -105,6 +109,13 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
     return y, NewtonInfo(False, maxit, hist, f"no convergence in {maxit} iterations")
 
 
-def _floor(info):
+def _denominator(info, fscale):
+    """What the force residual is measured against: 1 + the largest internal force, or ``fscale``
+    when that is smaller."""
+    d = 1.0 + info["fmax"]
+    return d if fscale is None else min(d, fscale)
+
+
+def _floor(info, fscale=None):
     """The relative round-off floor of the force residual (the model's estimate, computed when read)."""
-    return info["noise"] / (1.0 + info["fmax"])
+    return info["noise"] / _denominator(info, fscale)

@@ -387,7 +387,8 @@ class RadauSystem:
         return eq, lam * eq - rq
 
     def dense(self, Y):
-        """The collocation polynomial of the step: a function t -> (y, v) on [t_n, t_n + h]."""
+        """The collocation polynomial of the step: a function t -> (y, v, acc) on [t_n, t_n + h]
+        (acc the derivative of the velocities' polynomial)."""
         ZQ, ZV, MU = self.split(Y)
         s, h = self.s, self.h
         Zq, Zv, Zm = ZQ.T @ P_RK, ZV.T @ P_RK, (MU - self.mun).T @ P_RK
@@ -400,7 +401,7 @@ class RadauSystem:
             y = y0.copy()
             y[:nq] += Zq @ X
             y[nq:] += Zm @ X
-            return y, v0 + Zv @ X
+            return y, v0 + Zv @ X, Zv @ np.array([1.0, 2.0 * x, 3.0 * x * x]) / h
         return at
 
     def remember(self, Y):

@@ -16,7 +16,9 @@ from femslide.analysis.excitation import parse as parse_ground
 from femslide.errors import BadInput
 
 DEFAULT_ELEMENTS = 8
-SIM_KEYS = ("t_end", "tolerance", "damping", "ground", "initial", "elements", "error_estimate", "max_time")
+MAX_SAMPLES = 1e7   # rows of a sampled history at most (output_interval)
+SIM_KEYS = ("t_end", "tolerance", "damping", "ground", "initial", "elements", "error_estimate", "max_time",
+            "output_interval")
 
 
 @dataclass
@@ -32,6 +34,7 @@ class Spec:
     turning: tuple = ()                   # bodies whose rotation rate's zeros are located (turning points)
     estimate: bool = True                 # a check run at CHECK_FACTOR * tolerance gives error_estimate
     max_time: float | None = None         # the user's wall-time limit [s] of the run (None: none)
+    output_interval: float | None = None  # the history's rows at multiples of this [s] (None: every step)
 
 
 def _num(where, x, lo, hi, lo_open=False):
@@ -101,6 +104,13 @@ def parse_spec(table, base_dir=".", where="[simulate]") -> Spec:
     sp_.estimate = est
     if table.get("max_time") is not None:
         sp_.max_time = _num(f"{where} max_time", table["max_time"], 0.0, 1e9, lo_open=True)
+    if table.get("output_interval") is not None:
+        sp_.output_interval = _num(f"{where} output_interval", table["output_interval"], 0.0, sp_.t_end,
+                                   lo_open=True)
+        if sp_.t_end / sp_.output_interval > MAX_SAMPLES:
+            raise BadInput(f"{where} output_interval = {sp_.output_interval:g} s gives more than {MAX_SAMPLES:g} "
+                           f"rows over t_end = {sp_.t_end:g} s; allowed: [{sp_.t_end / MAX_SAMPLES:g}, "
+                           f"{sp_.t_end:g}] s")
     n = parse_elements(table, where)
     if n is not None:
         sp_.elements = n

@@ -8,6 +8,7 @@
     ground = {direction = [1.0, 0.0], amplitude = 1.0, frequency = 2.0}   # or {direction, record, scale}
     initial = {body = "deck", rotation = -0.01}    # or u = [dx, dy]; or {joint = "belt", slide = 0.07}
     elements = 8                                   # elements per rod without its own `elements`
+    output_interval = 0.01                         # s: the history's rows at its multiples (default: every step)
 
 The run: the static equilibrium under the loads (femslide.analysis.static, on the fixed mesh; a structure
 that is a mechanism without friction - a block on a ground slider without a spring - starts from the
@@ -451,7 +452,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             run = integrate(model, masses, y0, e0, spec.t_end, tol, C=C, ground=spec.ground,
                             observe=obs, h0=0.02 / f_ref[0] * spec.tolerance ** 0.25, h_max=hm,
                             max_steps=max_steps, wall_limit=left, progress=progress, q_ref=y_s, friction=fr,
-                            period=1.0 / f_ref[0], watch=watch)
+                            period=1.0 / f_ref[0], watch=watch, sample=spec.output_interval)
         except SolverFailure as err:
             exc = err
             if deadline is not None and time.perf_counter() >= deadline:

@@ -59,6 +59,7 @@ from femslide.errors import BadInput, SolverFailure
 CHECK_FACTOR = 10.0    # the check run of an error estimate is at this multiple of the tolerance ...
 ORDER_GLOBAL = 5.0     # ... and the global error ~ steps^-ORDER_GLOBAL (Radau IIA: order 5)
 EVENT_STEPS = 50      # the step allowance of a run grows by this for each event
+F_MOTION_MIN = 1e-9  # floor of the motion's force scale (model units) that Newton's residual is measured against
 MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/analysis/simulate.py comes first)
 
 
@@ -101,7 +102,7 @@ def _dip(f0, f_stages, f1, calm):
 
 def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=None, observe=None,
               h0=None, h_max=None, max_steps=MAX_STEPS, wall_limit=None, progress=None, q_ref=None,
-              friction=None, period=None, watch=()):
+              friction=None, period=None, watch=(), sample=None):
     """Integrate from rest at the state (y0, elements0) (model units; the elements' history
     committed there) to ``t_end`` [s].
 
@@ -114,6 +115,10 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     remembered (default: the whole run); ``watch``: functions g(y, v) (model units) whose sign
     changes are located as events: the step ends there, and ``crossings`` lists (index, t).
     ``wall_limit`` [s]: the user's limit on the wall time of this integration (None: none).
+    ``sample`` [s]: record the rows at the multiples of this interval (inside a step from its
+    collocation polynomial: positions and multipliers to the integrator's order, velocities and
+    accelerations to lower orders), at t_end and at every event (the rows before and after it),
+    instead of at every step (None).
     Raises SolverFailure when a step cannot be completed
     (Newton fails at the smallest step)
     or the step count (a runaway's safety net) or the wall-time limit runs out."""
@@ -141,8 +146,19 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     bal = 0.0
     Csr = C.tocsr() if C is not None else None
     fr = friction
-    # Newton's residual (relative to the internal forces) well below the step's error budget
+    # Newton's residual well below the step's error budget: relative to the internal forces and to
+    # the motion's forces (the largest mass times the largest acceleration, the ground's included,
+    # remembered over a period as the amplitude is): a force residual that is small beside the
+    # static forces may still be large beside the motion's (a mast's tip at 1e-6 was 8x off)
     newton_tol = min(NEWTON_TOL_MAX, max(NEWTON_TOL, 1e-3 * tolerance))
+    m_max = float(np.abs(masses.matrix(zero)[2]).max(initial=0.0))
+    g_len = 0.0 if ground is None else float(np.linalg.norm(ground.direction)) / model.Lref
+
+    def motion_force(t, acc):
+        a = float(np.abs(acc[heavy]).max(initial=0.0))
+        if ground is not None:
+            a += abs(float(ground.accel(t))) * g_len
+        return m_max * a
 
     def ground_power(q, v, t):
         if ground is None:
@@ -158,7 +174,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         """One step of size h from s: (y, alpha, v, acc, Y) at its end (Y: the step's Newton
         unknowns, its stages) or None, and Newton's info."""
         sysm.prepare(s, h)
-        Y, info = newton(sysm, sysm.predictor(), s.elements, tol=newton_tol, maxit=12)
+        Y, info = newton(sysm, sysm.predictor(), s.elements, tol=newton_tol, maxit=12, fscale=f_motion)
         alpha1 = s.elements.trial
         s.elements.revert()   # (every trial starts from the state's committed history)
         out.newton_iterations += info.iterations
@@ -177,6 +193,8 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         s, sysm, released = start(fr, s, h_s)
         D += released
         J += released
+    f_motion = max(motion_force(s.t, s.acc), F_MOTION_MIN)
+    k_sample = 1   # the next sample is at k_sample * sample
     if observe:
         out.rows.append(observe(0.0, s.y, s.alpha, s.v, s.acc))
     watch = list(watch)
@@ -381,7 +399,23 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         # the amplitude of the recent motion (a decaying memory of one period): a decaying or
         # growing motion keeps its relative accuracy
         amp = max(disp, amp * math.exp(-h / period) if period else amp, 1e-6)
+        f_motion = max(motion_force(s.t + h, acc1), f_motion * math.exp(-h / period) if period else f_motion,
+                       F_MOTION_MIN)
         t1 = t_stop if (t_stop is not None and not cross.any()) else s.t + h
+        on_grid = False
+        if sample and observe:
+            # the samples inside the step, from its collocation polynomial (the elements' chord
+            # rotations of its end: they only unwrap angles); one at the step's end is its own row
+            at_t = None
+            while k_sample * sample < t1 - 1e-9 * sample:
+                tk = k_sample * sample
+                at_t = at_t or sysm.dense(Y)
+                yk, vk, ak = at_t(tk)
+                out.rows.append(observe(tk, yk, alpha1, vk, ak))
+                k_sample += 1
+            on_grid = abs(t1 - k_sample * sample) <= 1e-9 * sample
+            if on_grid:
+                k_sample += 1
         if ground is not None or Csr is not None or fr is not None:   # (else no work, no loss)
             dW, dD = sysm.work(Y, ground_power, loss_power)
             W += dW
@@ -418,7 +452,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         V = model.potential(s.y, s.alpha) - V0
         Emax = max(Emax, abs(T), abs(V), abs(D), abs(W))
         bal = max(bal, abs(T + V + D - W - T0))
-        if observe:
+        if observe and (not sample or on_grid or due or t1 >= t_end * (1 - 1e-14)):
             out.rows.append(observe(t1, s.y, s.alpha, s.v, s.acc))
         if progress:
             progress(t1)
