@@ -151,6 +151,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     # remembered over a period as the amplitude is): a force residual that is small beside the
     # static forces may still be large beside the motion's (a mast's tip at 1e-6 was 8x off)
     newton_tol = min(NEWTON_TOL_MAX, max(NEWTON_TOL, 1e-3 * tolerance))
+    motion_share = max(1.0, 1e-3 * tolerance / newton_tol)   # (against the motion: 1e-3 tolerance, uncapped)
     m_max = float(np.abs(masses.matrix(zero)[2]).max(initial=0.0))
     g_len = 0.0 if ground is None else float(np.linalg.norm(ground.direction)) / model.Lref
 
@@ -174,7 +175,8 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         """One step of size h from s: (y, alpha, v, acc, Y) at its end (Y: the step's Newton
         unknowns, its stages) or None, and Newton's info."""
         sysm.prepare(s, h)
-        Y, info = newton(sysm, sysm.predictor(), s.elements, tol=newton_tol, maxit=12, fscale=f_motion)
+        Y, info = newton(sysm, sysm.predictor(), s.elements, tol=newton_tol, maxit=12,
+                         fscale=f_motion * motion_share)
         alpha1 = s.elements.trial
         s.elements.revert()   # (every trial starts from the state's committed history)
         out.newton_iterations += info.iterations
