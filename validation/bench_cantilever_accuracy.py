@@ -18,7 +18,7 @@ femslide's long steps make it much larger than ``err_tip``).
 * femslide: Radau IIA at ``simulate.tolerance`` 1e-3 .. 1e-7 (and the half decades between) with
   ``simulate.error_estimate = false`` (no check run): steps (accepted; ``rejected_steps`` besides), the
   integration's time (``integration_time_s``), the tip history error at its steps (the history's
-  samples: femslide reports no dense output).
+  rows, one per step: no ``output_interval``).
   femslide's rods are corotational; at this drift (2e-5 of the height) the geometric nonlinearity is
   ~1e-9 of the response, far below every error measured here.
 * OpenSees (openseespy; skipped without it): the same structure (validation/opensees_models.py
@@ -42,15 +42,17 @@ validation/bench_cantilever_accuracy.csv and, with matplotlib, bench_cantilever_
 against steps and against time).  Times are of this machine; compare them as ratios within one run.
 Run:  python validation/bench_cantilever_accuracy.py
 
-Measured (the committed csv and png): frequencies of OpenSees, femslide and the reference equal to
-2.6e-9; at history error 1e-4 femslide needs 189 steps (268 with its rejected ones; the run at
-tolerance 1e-4: 205 steps, error 9.4e-5), OpenSees Newmark 6822 (HHT 0.9: 7646): 0.028 x the steps,
-about the same time (0.8 here; 0.57 to 1.01 over four runs of this script: femslide's steps cost
-~3 ms, Newmark's ~0.1 ms).  OpenSees' methods are of order 2.0; femslide's error against its steps
-is not monotone (tolerance 1e-5 takes 1266 steps and 537 rejected, more than 3e-6 and 1e-6) and its
-error is 0.3 to 8.7 x the tolerance.  Between its samples femslide's history is much less accurate
-than at them (linear interpolation 8.2e-3 at tolerance 1e-4: its steps of up to 18 ms are long for
-the 36 Hz mode).
+Measured (the committed csv and png, after Newton's residual was measured against the motion's forces):
+frequencies of OpenSees, femslide and the reference equal to 2.6e-9; at history error 1e-4 femslide
+needs 168 steps (227 with its rejected ones; the run at tolerance 1e-4: 190 steps, error 8.7e-5),
+OpenSees Newmark 6822 (HHT 0.9: 7646): 0.025 x the steps, 0.41 x the time in this run (femslide's
+steps cost ~1.5 ms, Newmark's ~0.1 ms).  OpenSees' methods are of order 2.0.  femslide's steps grow
+monotonically as the tolerance tightens (96 at 1e-3 ... 2249 at 1e-7) and its error is 0.32 to 1.1 x
+the tolerance over 1e-3 ... 1e-7.  Before (the residual measured against the static forces only):
+tolerance 1e-5 took 1266 steps, more than 3e-6 and 1e-6, and the error was up to 8.7 x the tolerance.
+Between its samples femslide's history is much less accurate than at them (linear interpolation
+1.05e-2 at tolerance 1e-4: its steps of up to 19 ms are long for the 36 Hz mode); ``output_interval``
+gives rows on a regular grid from the steps' polynomials (not used here).
 """
 from __future__ import annotations
 
