@@ -107,6 +107,14 @@ class Level:
             self._arrays = rod_arrays(self.model, self.y, self.alpha, self.cuts)
         return self._arrays
 
+    def watched(self, watch):
+        """(values, kinds) of ``watch(level, structure)`` on this level, computed once (the
+        refinement's and the runner's are the same)."""
+        if self._watched is None:
+            v, kinds = watch(self, self.model.structure)
+            self._watched = (np.asarray(v, float), list(kinds))
+        return self._watched
+
     def largest_moment(self) -> float:
         """Largest |bending moment| [N m] over all rods."""
         return largest_moment(self.model, self.y, self.alpha, self.cuts)

@@ -339,10 +339,7 @@ def _solve(fs, meshes, watch, path, target, theory) -> Solution:
         return lv
 
     def values(lv):
-        if lv._watched is None:
-            v, kinds = watch(lv, fs)
-            lv._watched = (np.asarray(v, float), list(kinds))
-        return lv._watched
+        return lv.watched(watch)
 
     raw_values = False
     notes = []

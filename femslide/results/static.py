@@ -60,10 +60,13 @@ class _Inside:
     - N(xi) = G(xi) . t(xi), V(xi) = -G(xi) . n(xi).
 
     Peaks of |M|, |N|, |V| inside an element (a column's moment a few millimetres from its root
-    inside a long first element) are found by sampling and a golden-section search, so ``M_max`` and
-    its position ``s_M_max`` are those of the continuous solution, not of the nodes."""
+    inside a long first element) are found in closed form for M (a cubic in xi: the roots of M') and
+    by sampling and a golden-section search for N and V, so ``M_max`` and its position ``s_M_max``
+    are those of the continuous solution, not of the nodes."""
 
-    def __init__(self, model, y, alpha, cuts, lam):
+    def __init__(self, model, y, alpha, cuts, lam, moment_only=False):
+        """``moment_only``: only what :meth:`moment` and :meth:`moment_peak` need (not the cut
+        force G, nor N and V), which without distributed loads is the end moments and the chords."""
         es = model.elements
         q = y[:model.n_q]
         U = model.nodal(q)
@@ -73,21 +76,26 @@ class _Inside:
         D = Xe[es.conn[:, 1]] - Xe[es.conn[:, 0]]
         Ln = np.hypot(D[:, 0], D[:, 1])
         self.t = t = D / Ln[:, None]
-        self.n = nrm = np.column_stack([-t[:, 1], t[:, 0]])
         L0 = self.L0 = es.L0
-        q1 = model.elem_q1 if lam == 1.0 else lam * model.elem_q1
-        q2 = model.elem_q2 if lam == 1.0 else lam * model.elem_q2
-        self.q1, self.dq = q1, q2 - q1
-        p1 = np.einsum("ij,ij->i", q1, nrm)
-        p2 = np.einsum("ij,ij->i", q2, nrm)
-        a1 = np.einsum("ij,ij->i", q1, t)
-        dp, da = p2 - p1, np.einsum("ij,ij->i", q2, t) - a1
-        self.p1, self.p2 = p1, p2
-        # the consistent end moments and start force of the element's load (femslide.elements.loads)
-        LL = L0 * L0
-        self.Ms = -qb[:, 0] + (LL * p1 / 12.0 + LL * dp / 30.0)
-        self.Me = qb[:, 1] + (LL * p1 / 12.0 + LL * dp / 20.0)
-        self.G0 = Gmid + 0.5 * L0[:, None] * q1 + L0[:, None] * ((da / 6.0)[:, None] * t + (0.15 * dp)[:, None] * nrm)
+        if moment_only and not model.rods_loaded:
+            self.p1 = self.p2 = np.zeros(es.size)
+            self.Ms, self.Me = -qb[:, 0], qb[:, 1]
+        else:
+            self.n = nrm = np.column_stack([-t[:, 1], t[:, 0]])
+            q1 = model.elem_q1 if lam == 1.0 else lam * model.elem_q1
+            q2 = model.elem_q2 if lam == 1.0 else lam * model.elem_q2
+            self.q1, self.dq = q1, q2 - q1
+            p1 = np.einsum("ij,ij->i", q1, nrm)
+            p2 = np.einsum("ij,ij->i", q2, nrm)
+            a1 = np.einsum("ij,ij->i", q1, t)
+            dp, da = p2 - p1, np.einsum("ij,ij->i", q2, t) - a1
+            self.p1, self.p2 = p1, p2
+            # the consistent end moments and start force of the element's load (femslide.elements.loads)
+            LL = L0 * L0
+            self.Ms = -qb[:, 0] + (LL * p1 / 12.0 + LL * dp / 30.0)
+            self.Me = qb[:, 1] + (LL * p1 / 12.0 + LL * dp / 20.0)
+            self.G0 = Gmid + 0.5 * L0[:, None] * q1 + L0[:, None] * ((da / 6.0)[:, None] * t +
+                                                                    (0.15 * dp)[:, None] * nrm)
         if lin:
             self.t1 = self.t2 = np.zeros(es.size)
         else:
@@ -324,7 +332,7 @@ def largest_moment(model, y, alpha, cuts=None) -> float:
     if cuts is None:
         cuts = end_moments(model, y, resultant=True)
     if model.rods_loaded or not model.linear:   # interior peaks: the continuous solution's
-        ins = _Inside(model, y, alpha, cuts, 1.0)
+        ins = _Inside(model, y, alpha, cuts, 1.0, moment_only=True)
         val, _ = ins.moment_peak(np.arange(model.elements.size))
         return max(float(np.abs(val).max()), float(np.abs(cuts[0]).max())) * model.Fref * model.Lref
     return float(np.abs(cuts[0]).max()) * model.Fref * model.Lref
