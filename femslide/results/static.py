@@ -118,34 +118,41 @@ class _Inside:
         mq = L0 * L0 / 6.0 * (self.p1[e] * xi * (1 - xi) * (2 - xi) + self.p2[e] * xi * (1 - xi) * (1 + xi))
         return (1 - xi) * Ms + xi * Me - mq + self.Nm[e] * w
 
-    def moment_peak(self, e):
-        """(value, xi) of the largest |M| inside each element e, in closed form: M(xi) of
-        :meth:`moment` is a cubic in xi (linear end moments, the cubic m_q, N times the cubic
-        deflection), so its extrema on [0, 1] are the ends and the real roots of the quadratic
-        M'(xi) (the same values as :meth:`peak`'s search, to round-off, at a fraction of its cost)."""
-        Ms, Me, L0 = self.Ms[e], self.Me[e], self.L0[e]
+    def moment_peak(self, e=None):
+        """(value, xi) of the largest |M| inside each element e (None: every element), in closed
+        form: M(xi) of :meth:`moment` is a cubic in xi (linear end moments, the cubic m_q, N times
+        the cubic deflection), so its extrema on [0, 1] are the ends and the real roots of the
+        quadratic M'(xi) (the same values as :meth:`peak`'s search, to round-off, at a fraction of
+        its cost)."""
+        if e is None:
+            Ms, Me, L0, p1, p2 = self.Ms, self.Me, self.L0, self.p1, self.p2
+            W, t1, t2 = self.Nm * self.Ln, self.t1, self.t2
+        else:
+            Ms, Me, L0, p1, p2 = self.Ms[e], self.Me[e], self.L0[e], self.p1[e], self.p2[e]
+            W, t1, t2 = self.Nm[e] * self.Ln[e], self.t1[e], self.t2[e]
         c = L0 * L0 / 6.0
-        p1, p2 = self.p1[e], self.p2[e]
-        W = self.Nm[e] * self.Ln[e]
-        t1, t2 = self.t1[e], self.t2[e]
-        # M(xi) = a0 + a1 xi + a2 xi^2 + a3 xi^3
+        # M(xi) = Ms + a1 xi + a2 xi^2 + a3 xi^3
         a1 = (Me - Ms) - c * (2.0 * p1 + p2) + W * t1
         a2 = 3.0 * c * p1 - W * (2.0 * t1 + t2)
         a3 = W * (t1 + t2) - c * (p1 - p2)
-        A, B, C = 3.0 * a3, 2.0 * a2, a1          # M'(xi) = A xi^2 + B xi + C
-        with np.errstate(divide="ignore", invalid="ignore"):
-            disc = B * B - 4.0 * A * C
-            q = -0.5 * (B + np.copysign(np.sqrt(np.maximum(disc, 0.0)), B))
-            r1, r2 = q / A, C / q                 # the stable pair of roots (A or q zero: inf/nan)
-        ok = disc >= 0.0
-        r1 = np.where(ok & (r1 > 0.0) & (r1 < 1.0), r1, 0.0)
-        r2 = np.where(ok & (r2 > 0.0) & (r2 < 1.0), r2, 0.0)
-        ne = e.size
-        X = np.concatenate([np.zeros(ne), np.ones(ne), r1, r2])
-        vals = self.moment(np.tile(e, 4), X).reshape(4, ne)
-        k = np.argmax(np.abs(vals), axis=0)
+        A, B = 3.0 * a3, 2.0 * a2                  # M'(xi) = A xi^2 + B xi + a1
+        disc = B * B - 4.0 * A * a1
+        q = -0.5 * (B + np.copysign(np.sqrt(np.maximum(disc, 0.0)), B))
+        # the stable pair of roots q / A and a1 / q (a zero A or q: no root there)
+        r1 = np.divide(q, A, out=np.zeros_like(q), where=A != 0.0)
+        r2 = np.divide(a1, q, out=np.zeros_like(q), where=q != 0.0)
+        out = disc < 0.0
+        r1[out | (r1 <= 0.0) | (r1 >= 1.0)] = 0.0
+        r2[out | (r2 <= 0.0) | (r2 >= 1.0)] = 0.0
+        ne = Ms.size
+        X = np.empty((4, ne))
+        X[0], X[1], X[2], X[3] = 0.0, 1.0, r1, r2
+        V = np.empty((4, ne))
+        V[0], V[1] = Ms, Me                        # the ends exactly
+        V[2:] = Ms + X[2:] * (a1 + X[2:] * (a2 + X[2:] * a3))
+        k = np.argmax(np.abs(V), axis=0)
         idx = np.arange(ne)
-        return vals[k, idx], X.reshape(4, ne)[k, idx]
+        return V[k, idx], X[k, idx]
 
     def _frame(self, e, xi):
         phi = self.t1[e] * (1 - xi) * (1 - 3 * xi) - self.t2[e] * xi * (2 - 3 * xi)
@@ -333,7 +340,7 @@ def largest_moment(model, y, alpha, cuts=None) -> float:
         cuts = end_moments(model, y, resultant=True)
     if model.rods_loaded or not model.linear:   # interior peaks: the continuous solution's
         ins = _Inside(model, y, alpha, cuts, 1.0, moment_only=True)
-        val, _ = ins.moment_peak(np.arange(model.elements.size))
+        val, _ = ins.moment_peak()
         return max(float(np.abs(val).max()), float(np.abs(cuts[0]).max())) * model.Fref * model.Lref
     return float(np.abs(cuts[0]).max()) * model.Fref * model.Lref
 
