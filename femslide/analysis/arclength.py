@@ -28,7 +28,7 @@ refinement of femslide.analysis.limits).  Everything is in model units.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from femslide.records import dataclass, field
 
 import numpy as np
 

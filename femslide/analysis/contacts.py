@@ -12,7 +12,7 @@ path).  A structure that does not hold without its lifted contacts fails, naming
 """
 from __future__ import annotations
 
-from dataclasses import replace
+from femslide.records import replace
 
 from femslide.errors import SolverFailure
 

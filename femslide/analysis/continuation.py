@@ -17,7 +17,7 @@ undeformed state when the load factor that holds that state's rotation is far fr
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from femslide.records import dataclass
 
 import numpy as np
 

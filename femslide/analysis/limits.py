@@ -18,7 +18,7 @@ points of an arc-length solve.  Model units inside; load factors are dimensionle
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from femslide.records import dataclass
 
 import numpy as np
 

@@ -19,7 +19,7 @@ the residual history.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from femslide.records import dataclass, field
 
 import numpy as np
 

@@ -22,7 +22,7 @@ mesh along the chosen :class:`Path`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from femslide.records import dataclass
 
 import numpy as np
 

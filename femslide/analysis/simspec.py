@@ -9,7 +9,7 @@ femslide.analysis.simulate.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from femslide.records import dataclass
 
 from femslide.analysis.excitation import Ground
 from femslide.analysis.excitation import parse as parse_ground

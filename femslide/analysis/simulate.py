@@ -57,7 +57,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import replace
+from femslide.records import replace
 
 import numpy as np
 import scipy.sparse as sp

@@ -19,7 +19,7 @@ Units: the model's (lengths by Lref, forces by Fref); ``y`` laid out as the stru
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from femslide.records import replace
 
 import numpy as np
 

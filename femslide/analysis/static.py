@@ -38,7 +38,7 @@ Everything inside is nondimensional: lengths by ``Lref`` (the structure's extent
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from femslide.records import dataclass
 
 import numpy as np
 

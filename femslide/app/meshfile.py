@@ -25,7 +25,7 @@ not a general mesh-driven model builder.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
+from femslide.records import dataclass, field
 
 from femslide.errors import BadInput
 

@@ -19,7 +19,7 @@ when a mesh is read.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from femslide.records import dataclass
 
 from femslide.errors import BadInput
 from femslide.scenes.catalog import Scene

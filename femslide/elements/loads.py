@@ -9,7 +9,7 @@ Hessian (:class:`PointForce`).  Distributed loads on rods are turned into nodal 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from femslide.records import dataclass
 
 import numpy as np
 

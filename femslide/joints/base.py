@@ -26,7 +26,7 @@ of the joint on a is -G_a^T mu: a pin's force on a is -mu, a slider's transverse
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from femslide.records import dataclass
 
 import numpy as np
 

@@ -9,7 +9,7 @@ solver (its plan in model units) is cached in ``derived``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from femslide.records import dataclass, field, replace
 
 from femslide.errors import BadInput
 from femslide.joints.kinds import kind_of, listed

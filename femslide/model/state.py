@@ -11,7 +11,7 @@ with several sizes, a load step halved): each reads the same reference.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from femslide.records import dataclass
 
 import numpy as np
 

@@ -41,7 +41,7 @@ Parts and points:
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import fields, replace
+from femslide.records import fields, replace
 from typing import Any
 
 from femslide.errors import BadInput

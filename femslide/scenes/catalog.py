@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from femslide.records import dataclass
 
 from femslide.errors import BadInput, SolverFailure
 from femslide.results.outcome import Outcome
