@@ -16,6 +16,8 @@ compiled per class and the other methods are shared functions.
 """
 from __future__ import annotations
 
+from operator import attrgetter
+
 __all__ = ["dataclass", "field", "fields", "replace", "FrozenInstanceError", "MISSING"]
 
 
@@ -78,13 +80,21 @@ def _repr(self):
 
 def _eq(self, other):
     if other.__class__ is self.__class__:
-        names = self.__record_compare__
-        return tuple(getattr(self, n) for n in names) == tuple(getattr(other, n) for n in names)
+        key = self.__record_key__
+        return key(self) == key(other)
     return NotImplemented
 
 
 def _hash(self):
-    return hash(tuple(getattr(self, n) for n in self.__record_compare__))
+    return hash(self.__record_key__(self))
+
+
+def _key(names):
+    """The tuple of the compared fields' values of a record (a C-level attrgetter)."""
+    if len(names) == 1:
+        get = attrgetter(names[0])
+        return lambda obj: (get(obj),)
+    return attrgetter(*names) if names else (lambda obj: ())
 
 
 def _frozen_setattr(self, name, value):
@@ -143,7 +153,7 @@ def _process(cls, frozen: bool):
     init.__module__ = cls.__module__
     cls.__record_fields__ = tuple(flds)
     cls.__record_names__ = frozenset(f.name for f in flds)
-    cls.__record_compare__ = tuple(f.name for f in flds if f.compare)
+    cls.__record_key__ = staticmethod(_key(tuple(f.name for f in flds if f.compare)))
     own = {"__init__": init, "__repr__": _repr, "__eq__": _eq}
     if frozen:
         own.update(__setattr__=_frozen_setattr, __delattr__=_frozen_delattr)
