@@ -9,11 +9,11 @@ femslide.analysis.simulate.
 from __future__ import annotations
 
 import math
-from femslide.records import dataclass
 
 from femslide.analysis.excitation import Ground
 from femslide.analysis.excitation import parse as parse_ground
 from femslide.errors import BadInput
+from femslide.records import dataclass
 
 DEFAULT_ELEMENTS = 8
 SIM_KEYS = ("t_end", "tolerance", "damping", "ground", "initial", "elements", "error_estimate", "max_time")

@@ -38,7 +38,6 @@ Everything inside is nondimensional: lengths by ``Lref`` (the structure's extent
 from __future__ import annotations
 
 import math
-from femslide.records import dataclass
 
 import numpy as np
 
@@ -58,6 +57,7 @@ from femslide.analysis.refine import (
 from femslide.errors import BadInput, SolverFailure
 from femslide.model.discrete import Model, PatternCache
 from femslide.model.frozen import Frozen
+from femslide.records import dataclass
 from femslide.results.static import unflatten
 
 TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (10x below 1e-6)

@@ -10,6 +10,7 @@ discrete model, which are in the model's units (femslide.model.discrete).
 from __future__ import annotations
 
 from collections.abc import Callable
+
 from femslide.records import dataclass, field
 
 
