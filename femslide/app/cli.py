@@ -32,7 +32,7 @@ import sys
 from femslide.app.result import clean as _clean
 from femslide.app.result import fmt as _fmt
 from femslide.app.run import load_target as _target
-from femslide.app.run import run_case
+from femslide.app.run import run_case, start_up, started
 from femslide.errors import BadInput, SolverFailure
 from femslide.scenes.catalog import SCENES
 from femslide.scenes.params import parse_assignments
@@ -100,6 +100,7 @@ class _VersionAction(argparse.Action):
 
 
 COMMANDS = ("scenes", "solve", "simulate", "sweep", "modes", "buckling", "mesh", "show", "init")
+RUNS = ("solve", "simulate", "sweep", "modes", "buckling")   # the commands that run cases (run_case)
 
 
 def _build_parser(only: str | None = None) -> argparse.ArgumentParser:
@@ -498,6 +499,8 @@ def main(argv=None) -> int:
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     try:
         try:
+            if argv is None and len(sys.argv) > 1 and sys.argv[1] in RUNS:
+                start_up()   # a process of its own: no garbage collection during the imports
             argv = sys.argv[1:] if argv is None else list(argv)
             args = _build_parser(argv[0] if argv and argv[0] in COMMANDS else None).parse_args(argv)
         except SystemExit as exc:  # --help, --version: printed, exit status 0
@@ -540,6 +543,8 @@ def main(argv=None) -> int:
         print(f"femslide: internal error: {type(exc).__name__}: {exc} "
               f"(set FEMSLIDE_DEBUG=1 for the traceback)", file=sys.stderr)
         return 1
+    finally:
+        started()
 
 
 if __name__ == "__main__":
