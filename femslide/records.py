@@ -5,8 +5,10 @@ standard library's decorator does - an ``__init__`` taking the fields in order (
 default_factory=...)``, ``__post_init__``), ``__repr__``, ``__eq__`` over the compared fields; frozen
 records refuse assignment (:class:`FrozenInstanceError`) and hash their compared fields, other
 records are unhashable - and :func:`fields` and :func:`replace` work on them.  Methods the class
-defines itself are kept.  Not supported (femslide does not use them): inheritance between records,
-``ClassVar``/``InitVar`` fields, ``init=False`` fields, keyword-only fields, ordering, slots.
+defines itself are kept.  ``dataclasses.fields``, ``replace``, ``asdict`` and ``is_dataclass`` work
+on records too (their ``__dataclass_fields__`` are made when first asked for).  Not supported
+(femslide does not use them): inheritance between records, ``ClassVar``/``InitVar`` fields,
+``init=False`` fields, keyword-only fields, ordering, slots.
 
 Why: the standard decorator compiles five or six methods per class from generated source and
 inspects the class, about 0.5-1 ms a class, and importing :mod:`dataclasses` imports :mod:`inspect`;
@@ -71,6 +73,30 @@ def replace(obj, **changes):
         if f.name not in changes:
             changes[f.name] = getattr(obj, f.name)
     return obj.__class__(**changes)
+
+
+class _DataclassFields:
+    """A record's ``__dataclass_fields__``, made when first asked for (importing :mod:`dataclasses`
+    then, not before): ``dataclasses.fields``, ``replace``, ``asdict`` and ``is_dataclass`` work on
+    records as on the standard library's dataclasses."""
+
+    def __get__(self, obj, cls):
+        made = cls.__dict__.get("_record_dataclass_fields")
+        if made is None:
+            import dataclasses
+            made = {}
+            for f in cls.__record_fields__:
+                kw = {"repr": f.repr, "compare": f.compare}
+                if f.default_factory is not MISSING:
+                    kw["default_factory"] = f.default_factory
+                elif f.default is not MISSING:
+                    kw["default"] = f.default
+                df = dataclasses.field(**kw)
+                df.name, df.type = f.name, cls.__dict__.get("__annotations__", {}).get(f.name)
+                df._field_type = dataclasses._FIELD
+                made[f.name] = df
+            cls._record_dataclass_fields = made
+        return made
 
 
 def _repr(self):
@@ -154,6 +180,7 @@ def _process(cls, frozen: bool):
     cls.__record_fields__ = tuple(flds)
     cls.__record_names__ = frozenset(f.name for f in flds)
     cls.__record_key__ = staticmethod(_key(tuple(f.name for f in flds if f.compare)))
+    cls.__dataclass_fields__ = _DataclassFields()
     own = {"__init__": init, "__repr__": _repr, "__eq__": _eq}
     if frozen:
         own.update(__setattr__=_frozen_setattr, __delattr__=_frozen_delattr)

@@ -30,6 +30,7 @@ import pathlib
 import subprocess
 import sys
 import tempfile
+from dataclasses import replace
 
 import numpy as np
 
@@ -40,7 +41,6 @@ if str(ROOT) not in sys.path:
 
 import femslide  # noqa: E402
 from femslide.app.structfile import dumps  # noqa: E402
-from femslide.records import replace  # noqa: E402  (the records' dataclasses.replace)
 
 G = 9.81
 
