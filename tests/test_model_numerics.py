@@ -99,3 +99,26 @@ print("OK", info, np.allclose(x, 1.0), r["rods"]["c"]["M_max"])
     assert "LOADED []" in p.stdout, p.stdout
     ok = [ln for ln in p.stdout.splitlines() if ln.startswith("OK")][0].split()
     assert ok[1] == "0" and ok[2] == "True"
+
+
+@pytest.mark.parametrize("P,eps,Mt", [(2e4, 0.004, 2.0e4), (1e4, 0.002, 1.5e4), (3e4, 0.01, 3e4)])
+def test_closed_form_moment_peaks_match_the_search(P, eps, Mt):
+    """The moment inside an element is a cubic in xi: largest_moment's closed form (the roots of M')
+    and _Inside.moment_peak give the largest |M| and its position that the sampled golden-section
+    search (_Inside.peak) finds, to 1e-12, on a compressed column whose peak lies inside its first
+    element (interior excess over the nodes 2e-7 and 2e-6 in the first two cases)."""
+    from femslide.results.static import _Inside, largest_moment
+    s = Structure(gravity=(0.0, 0.0))
+    s.rod("c", (0.0, 0.0), (3.0, 0.0), EI=1e5, EA=1e11, elements=4)
+    s.weld("root", "c.start", "ground")
+    s.force("tip", "c.end", force=(-P, -eps * P), moment=Mt)
+    lv = femslide.solve(s).solution.level
+    m = lv.model
+    ins = _Inside(m, lv.y, lv.alpha, lv.cuts, 1.0)
+    e = np.arange(m.elements.size)
+    v_search, xi_search = ins.peak(ins.moment, e)
+    v_closed, xi_closed = ins.moment_peak(e)
+    assert np.allclose(v_closed, v_search, rtol=1e-12, atol=0.0)
+    assert np.allclose(xi_closed, xi_search, rtol=0.0, atol=1e-6)   # a flat peak: its position to sqrt(eps)
+    top = max(np.abs(v_search).max(), np.abs(lv.cuts[0]).max()) * m.Fref * m.Lref
+    assert abs(largest_moment(m, lv.y, lv.alpha, lv.cuts) / top - 1.0) <= 1e-12

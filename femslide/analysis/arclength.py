@@ -28,7 +28,6 @@ refinement of femslide.analysis.limits).  Everything is in model units.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -36,6 +35,7 @@ from femslide.analysis.newton import newton
 from femslide.errors import SolverFailure
 from femslide.joints.holds import DofHold
 from femslide.model.linalg import solve_linear
+from femslide.records import dataclass, field
 
 DENSE_LIMIT = 600      # unknowns: bordered systems assembled dense up to here, sparse above
 MAX_TRANSLATION = 0.25  # model lengths: largest predicted translation of a step

@@ -12,9 +12,9 @@ path).  A structure that does not hold without its lifted contacts fails, naming
 """
 from __future__ import annotations
 
-from dataclasses import replace
 
 from femslide.errors import SolverFailure
+from femslide.records import replace
 
 PULL_TOL = 1e-9    # a contact pulls when Q exceeds this fraction of the largest multiplier
 GAP_TOL = 1e-12    # a released contact sinks when its gap is below -GAP_TOL (model lengths)

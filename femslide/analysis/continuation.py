@@ -17,7 +17,6 @@ undeformed state when the load factor that holds that state's rotation is far fr
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -26,6 +25,7 @@ from femslide.joints.holds import DofHold
 from femslide.model.state import ElementState
 from femslide.errors import SolverFailure
 from femslide.model.linalg import solve_linear
+from femslide.records import dataclass
 
 
 @dataclass

@@ -18,7 +18,6 @@ points of an arc-length solve.  Model units inside; load factors are dimensionle
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -27,6 +26,7 @@ from femslide.analysis.paths import _mode_part
 from femslide.analysis.refine import prolong
 from femslide.errors import SolverFailure
 from femslide.model.state import ElementState
+from femslide.records import dataclass
 
 TARGET = 1e-8     # estimated relative error of a limit point's load factor that ends the refinement
 N_MAX = 1024      # elements per (shortest) rod: the finest mesh a limit point is followed onto

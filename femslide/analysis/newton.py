@@ -21,11 +21,11 @@ the residual history.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from femslide.model.linalg import norms, solve_linear
+from femslide.records import dataclass, field
 
 
 @dataclass

@@ -22,7 +22,6 @@ mesh along the chosen :class:`Path`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -31,6 +30,7 @@ from femslide.analysis.newton import newton
 from femslide.errors import SolverFailure
 from femslide.model.discrete import Model
 from femslide.model.linalg import solve_linear
+from femslide.records import dataclass
 
 N_START = 2       # elements per (shortest) rod on the coarsest adaptive level
 MAX_STEP_ROTATION = 0.8      # rad: largest predicted rotation increment of a load step

@@ -33,7 +33,7 @@ def _prolongation_plan(mc: Model, mf: Model):
         L = np.hypot(*(Xc[-1] - Xc[0]))
         sc = np.hypot(*(Xc - Xc[0]).T) / L
         sf = np.hypot(*(Xf - Xf[0]).T) / L
-        k = np.clip(np.searchsorted(sc, sf, side="right") - 1, 0, nc.size - 2)
+        k = np.minimum(np.maximum(np.searchsorted(sc, sf, side="right") - 1, 0), nc.size - 2)
         h = sc[k + 1] - sc[k]
         t = (sf - sc[k]) / h
         hL = (h * L)[:, None]
@@ -42,7 +42,7 @@ def _prolongation_plan(mc: Model, mf: Model):
         beta0 = np.arctan2(*(Xc[-1] - Xc[0])[::-1])
         ef = np.nonzero(mf.elem_rod == r)[0]
         ec = np.nonzero(mc.elem_rod == r)[0]
-        kmid = np.clip(np.searchsorted(sc, 0.5 * (sf[1:] + sf[:-1]), side="right") - 1, 0, ec.size - 1)
+        kmid = np.minimum(np.maximum(np.searchsorted(sc, 0.5 * (sf[1:] + sf[:-1]), side="right") - 1, 0), ec.size - 1)
         out.append((nc, nf, Xc, Xf, k, t, H, beta0, ef, ec[kmid]))
     plans[key] = (mc.mesh, out)
     return out
@@ -106,6 +106,14 @@ class Level:
         if self._arrays is None:
             self._arrays = rod_arrays(self.model, self.y, self.alpha, self.cuts)
         return self._arrays
+
+    def watched(self, watch):
+        """(values, kinds) of ``watch(level, structure)`` on this level, computed once (the
+        refinement's and the runner's are the same)."""
+        if self._watched is None:
+            v, kinds = watch(self, self.model.structure)
+            self._watched = (np.asarray(v, float), list(kinds))
+        return self._watched
 
     def largest_moment(self) -> float:
         """Largest |bending moment| [N m] over all rods."""

@@ -9,11 +9,11 @@ femslide.analysis.simulate.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 from femslide.analysis.excitation import Ground
 from femslide.analysis.excitation import parse as parse_ground
 from femslide.errors import BadInput
+from femslide.records import dataclass
 
 DEFAULT_ELEMENTS = 8
 MAX_SAMPLES = 1e7   # rows of a sampled history at most (output_interval)

@@ -58,13 +58,13 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import replace
 
 import numpy as np
 import scipy.sparse as sp
 
 from femslide.errors import BadInput, SolverFailure
 from femslide.joints.kinds import kind_of
+from femslide.records import replace
 from femslide.results.outcome import Figure, Frames, Loop, ModeShapes, Outcome, Table
 from femslide.results.history import _peak
 from femslide.results.seismic import drift_columns, drifts, residuals, running_peaks, storey_pairs

@@ -19,13 +19,13 @@ Units: the model's (lengths by Lref, forces by Fref); ``y`` laid out as the stru
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 
 from femslide.errors import BadInput, SolverFailure
 from femslide.joints.holds import BodyHold, SlideHold
 from femslide.joints.kinds import kind_of, listed
+from femslide.records import replace
 
 GAP_TOL = 1e-9     # a gap or a pressure below -GAP_TOL (model units) is infeasible
 

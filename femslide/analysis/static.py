@@ -38,7 +38,6 @@ Everything inside is nondimensional: lengths by ``Lref`` (the structure's extent
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -58,6 +57,7 @@ from femslide.analysis.refine import (
 from femslide.errors import BadInput, SolverFailure
 from femslide.model.discrete import Model, PatternCache
 from femslide.model.frozen import Frozen
+from femslide.records import dataclass
 from femslide.results.static import unflatten
 
 TARGET = 1e-7     # estimated relative error the adaptive refinement aims for (10x below 1e-6)
@@ -339,10 +339,7 @@ def _solve(fs, meshes, watch, path, target, theory) -> Solution:
         return lv
 
     def values(lv):
-        if lv._watched is None:
-            v, kinds = watch(lv, fs)
-            lv._watched = (np.asarray(v, float), list(kinds))
-        return lv._watched
+        return lv.watched(watch)
 
     raw_values = False
     notes = []

@@ -32,13 +32,43 @@ import sys
 from femslide.app.result import clean as _clean
 from femslide.app.result import fmt as _fmt
 from femslide.app.run import load_target as _target
-from femslide.app.run import run_case
+from femslide.app.run import run_case, start_up, started
 from femslide.errors import BadInput, SolverFailure
 from femslide.scenes.catalog import SCENES
 from femslide.scenes.params import parse_assignments
 
 
+def _columns() -> int:
+    """The terminal's width as shutil.get_terminal_size finds it (COLUMNS, then the terminal of
+    stdout, else 80), once per process: argparse asks for it at every argument it adds, importing
+    shutil (and with it zlib, bz2, lzma) for it."""
+    if not _WIDTH:
+        try:
+            cols = int(os.environ["COLUMNS"])
+        except (KeyError, ValueError):
+            cols = 0
+        if cols <= 0:
+            try:
+                cols = os.get_terminal_size(sys.__stdout__.fileno()).columns
+            except (AttributeError, ValueError, OSError):
+                cols = 0
+        _WIDTH.append(cols if cols > 0 else 80)
+    return _WIDTH[0]
+
+
+_WIDTH: list = []
+
+
+class _Formatter(argparse.HelpFormatter):
+    def __init__(self, prog, indent_increment=2, max_help_position=24, width=None):
+        super().__init__(prog, indent_increment, max_help_position, _columns() - 2 if width is None else width)
+
+
 class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", _Formatter)
+        super().__init__(*args, **kwargs)
+
     def error(self, message):  # argparse exits 2 too, but without a traceback and with our prefix
         self.print_usage(sys.stderr)
         raise BadInput(message)
@@ -69,7 +99,17 @@ class _VersionAction(argparse.Action):
         parser.exit()
 
 
-def _build_parser() -> argparse.ArgumentParser:
+COMMANDS = ("scenes", "solve", "simulate", "sweep", "modes", "buckling", "mesh", "show", "init")
+RUNS = ("solve", "simulate", "sweep", "modes", "buckling")   # the commands that run cases (run_case)
+
+
+def _build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The command line's parser; ``only``: just that command's subparser (a run of one command
+    needs no other; ``femslide --help`` builds them all)."""
+
+    def want(name):
+        return only is None or only == name
+
     p = _Parser(prog="femslide", description="Planar structures on flexible rods with sliding joints: "
                 "exact spring-hinge models, corotational beam FE statics and dry-friction dynamics. "
                 "SI units throughout.", epilog=EPILOG)
@@ -77,10 +117,30 @@ def _build_parser() -> argparse.ArgumentParser:
                    help="print the femslide version and which assembly runs (compiled kernel or numpy), and exit")
     sub = p.add_subparsers(dest="cmd", required=True, parser_class=_Parser, metavar="COMMAND",
                            help="one of the commands below; `femslide COMMAND --help` describes it")
+    if want("scenes"):
+        _scenes_parser(sub)
+    _solve_parsers(sub, want)
+    if want("modes"):
+        _modes_parser(sub)
+    if want("buckling"):
+        _buckling_parser(sub)
+    if want("mesh"):
+        _mesh_parser(sub)
+    if want("show"):
+        _show_parser(sub)
+    if want("init"):
+        _init_parser(sub)
+    return p
+
+
+def _scenes_parser(sub):
     sc = sub.add_parser("scenes", help="list the built-in scenes, their parameters and defaults",
                         description="List the built-in scenes: their command (solve or simulate), model, "
                         "and every parameter with its default, unit and allowed range.")
     sc.add_argument("--json", action="store_true", help="print the list as JSON")
+
+
+def _solve_parsers(sub, want):
     about = {
         "solve": ("static equilibrium of a scene or structure",
                   "Static equilibrium on the principal branch (all loads ramped from zero), with the mesh "
@@ -97,6 +157,8 @@ def _build_parser() -> argparse.ArgumentParser:
                   "A failed case is reported in its row and the sweep goes on."),
     }
     for name, (short, long) in about.items():
+        if not want(name):
+            continue
         s = sub.add_parser(name, help=short, description=long, epilog=EPILOG)
         s.add_argument("scene", metavar="SCENE", help=SCENE_HELP)
         s.add_argument("--set", action="append", default=[], metavar="NAME=VALUE", help=SET_HELP)
@@ -137,6 +199,9 @@ def _build_parser() -> argparse.ArgumentParser:
                            help="skip the cases already in DIR/sweep.jsonl (rerunning with the same --out does too)")
             s.add_argument("--plot", metavar="FILE",
                            help="draw M_max against the varied parameter into FILE (.png, .pdf, .svg; matplotlib)")
+
+
+def _modes_parser(sub):
     mo = sub.add_parser("modes", help="natural frequencies and mode shapes of a structure file",
                         description="Natural frequencies [Hz] and mode shapes (VTU with --out) of a structure "
                         "file: the lowest eigenvalues of the linearised frictionless structure about its static "
@@ -149,6 +214,9 @@ def _build_parser() -> argparse.ArgumentParser:
     mo.add_argument("--json", action="store_true", help="print the result as one JSON object")
     mo.add_argument("--out", metavar="DIR", help="write one VTU per mode shape and result.json here")
     mo.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _buckling_parser(sub):
     bu = sub.add_parser("buckling", help="linear buckling load factors and mode shapes of a structure file",
                         description="The lowest load factors at which the structure under its loads loses "
                         "stability (linear buckling: the tangent's elastic and geometric parts about the "
@@ -167,6 +235,9 @@ def _build_parser() -> argparse.ArgumentParser:
     bu.add_argument("--json", action="store_true", help="print the result as one JSON object")
     bu.add_argument("--out", metavar="DIR", help="write the mode shapes (VTU, PVD) and result.json here")
     bu.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _mesh_parser(sub):
     m = sub.add_parser("mesh", help="write the reference mesh of an FE scene (meshio format by extension)",
                        description="Write the reference mesh of a built-in FE statics scene: the undeformed "
                        "rods as line cells in named groups (rod:NAME), supports, rigid rods and the body.")
@@ -174,6 +245,9 @@ def _build_parser() -> argparse.ArgumentParser:
     m.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="change a parameter (n_elements=N sets the elements per rod; default 64); repeatable")
     m.add_argument("--out", metavar="FILE", help="the mesh file, format by extension (default: SCENE.vtu)")
+
+
+def _show_parser(sub):
     sh = sub.add_parser("show", help="draw a result (.vtu, or a frame of a .pvd) with pyvista",
                         description="Draw a result file with pyvista: the deformed rods coloured by their "
                         "bending moment, the bodies and the undeformed configuration. Opens a window, or "
@@ -194,6 +268,9 @@ def _build_parser() -> argparse.ArgumentParser:
                     help="forces in N or kN, moments in N m or kN m (colour bar, labels, arrows; default N)")
     sh.add_argument("--no-loads", action="store_true",
                     help="leave out the load and reaction arrows (drawn with their values by default)")
+
+
+def _init_parser(sub):
     it = sub.add_parser("init", help="copy a scene's template file (and its mesh) to edit",
                         description="Copy the template of a built-in scene into DIR: its scene file NAME.toml "
                         "and the reference mesh it names, or with structures/NAME the scene declared as a "
@@ -202,7 +279,6 @@ def _build_parser() -> argparse.ArgumentParser:
                     help="a built-in scene name (beam-slider) or structures/NAME (the FE scene as a structure file)")
     it.add_argument("dir", metavar="DIR", nargs="?", default=".",
                     help="folder to copy into (created if missing; default: the current folder)")
-    return p
 
 
 def _print_scenes(as_json: bool):
@@ -423,7 +499,10 @@ def main(argv=None) -> int:
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     try:
         try:
-            args = _build_parser().parse_args(argv)
+            if argv is None and len(sys.argv) > 1 and sys.argv[1] in RUNS:
+                start_up()   # a process of its own: no garbage collection during the imports
+            argv = sys.argv[1:] if argv is None else list(argv)
+            args = _build_parser(argv[0] if argv and argv[0] in COMMANDS else None).parse_args(argv)
         except SystemExit as exc:  # --help, --version: printed, exit status 0
             return exc.code if isinstance(exc.code, int) else 0
         _check_outputs(args)
@@ -464,6 +543,8 @@ def main(argv=None) -> int:
         print(f"femslide: internal error: {type(exc).__name__}: {exc} "
               f"(set FEMSLIDE_DEBUG=1 for the traceback)", file=sys.stderr)
         return 1
+    finally:
+        started()
 
 
 if __name__ == "__main__":

@@ -25,9 +25,9 @@ not a general mesh-driven model builder.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
 
 from femslide.errors import BadInput
+from femslide.records import dataclass, field
 
 DEFAULT_N = 64  # elements per flexible rod that ``femslide mesh`` writes without --set n_elements
 GROUP_PREFIXES = ("rod:", "rigid:", "support:")

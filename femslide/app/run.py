@@ -9,10 +9,33 @@ name, for simulations the time history, and its files written on request (femsli
 """
 from __future__ import annotations
 
+import gc
 import time
 
 from femslide.app.result import Result
 from femslide.errors import SolverFailure
+
+_COLLECTOR_OFF: list = []   # the command line's start-up, until the first case's machinery is imported
+
+
+def start_up():
+    """The command line's start-up (femslide.app.cli.main, as a process of its own): the cyclic
+    garbage collector is off until the machinery of the first case is imported (:func:`started`).
+    The imports - femslide, numpy, the FE modules - make only objects that live as long as the
+    process, which the collector would scan again and again: 40 young and 4 older collections,
+    ~8 ms of a 9-case sweep's ~200 ms process, for nothing."""
+    gc.disable()
+    _COLLECTOR_OFF.append(True)
+
+
+def started():
+    """End of the start-up: what the imports made is frozen (``gc.freeze``: never scanned again)
+    and the collector is switched back on for the run itself (a no-op unless :func:`start_up`
+    switched it off)."""
+    if _COLLECTOR_OFF:
+        _COLLECTOR_OFF.clear()
+        gc.freeze()
+        gc.enable()
 
 
 
@@ -26,6 +49,7 @@ def run_case(scene, values, out=None, quiet=False) -> Result:
     prepare = getattr(scene, "prepare", None)
     if prepare is not None:
         prepare()
+    started()
     t0 = time.perf_counter()
     bar = None
     if getattr(scene, "kind", "") == "fe-dynamics":   # a bar over simulated time (a no-op unless a terminal)

@@ -19,9 +19,9 @@ when a mesh is read.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 
 from femslide.errors import BadInput
+from femslide.records import dataclass
 from femslide.scenes.catalog import Scene
 from femslide.scenes.catalog import get as get_scene
 

@@ -32,11 +32,11 @@ from __future__ import annotations
 import json
 import math
 import os
-from dataclasses import dataclass, field, fields
 
 from femslide.errors import BadInput
 from femslide.model.parts import MAX_ELEMENTS, SOLVER_FIELDS, Body, Joint, Load, Rod
 from femslide.model.structure import Structure
+from femslide.records import dataclass, field, fields
 
 try:
     import tomllib

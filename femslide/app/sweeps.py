@@ -442,6 +442,7 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, 
     todo = [i for i in range(n) if rows[i] is None]
 
     from femslide.app.progress import progress
+    from femslide.app.run import started
     bar = progress(len(todo), f"sweep {scene.name}", quiet, unit="case")
     try:
         if not as_json:
@@ -451,8 +452,10 @@ def run_sweep(target, name, items, base, *, as_json=False, out=None, jobs=None, 
         if not todo:
             runs = iter(())
         elif dask:
+            started()   # (the cases run in other processes: this one imports no machinery)
             runs = _run_dask(spec, cases, todo, out_dirs, dask, jobs)
         elif jobs is not None and jobs > 1 and len(todo) > 1:
+            started()
             runs = run_pool(spec, cases, todo, out_dirs, min(jobs, len(todo)))
         else:
             runs = run_serial(spec, cases, todo, out_dirs)

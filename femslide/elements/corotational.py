@@ -15,9 +15,9 @@ axial springs (EA/EI up to 1e12 m^-2) do not amplify round-off in the node coord
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
+
+from femslide.records import dataclass
 
 
 def _k_map():

@@ -9,9 +9,10 @@ Hessian (:class:`PointForce`).  Distributed loads on rods are turned into nodal 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
+
+from femslide.records import dataclass
 
 
 @dataclass

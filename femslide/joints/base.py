@@ -26,12 +26,12 @@ of the joint on a is -G_a^T mu: a pin's force on a is -mu, a slider's transverse
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from femslide.joints.kind import JointKind
 from femslide.joints.kinds import kind_of
+from femslide.records import dataclass
 
 
 @dataclass(frozen=True)

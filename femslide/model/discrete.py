@@ -37,6 +37,11 @@ DENSE_LIMIT = 100  # unknowns; above it a banded LU is faster when the band is n
 SPARSE_LIMIT = 600  # unknowns; above it a wide-band system goes to sparse LU
 
 
+def _tile(d, k):
+    """np.tile(d, k) of a 1-d array (one C call instead of numpy's Python-level tile)."""
+    return d[None, :].repeat(k, axis=0).ravel()
+
+
 class _Topology:
     """Dof layout of a finalized model and the scatter patterns of its Jacobian (static; shared by
     models of the same topology through a :class:`PatternCache`)."""
@@ -54,14 +59,14 @@ class _Topology:
             ed = np.concatenate([3 * c[:, :1] + np.arange(3), 3 * c[:, 1:] + np.arange(3)], axis=1)
             self.ebinT = ed.T.ravel()  # matches the (6, n_elements) layout of the element forces
             rows.append(np.repeat(ed, 6, axis=1).ravel())
-            cols.append(np.tile(ed, (1, 6)).ravel())
+            cols.append(ed[:, None, :].repeat(6, axis=1).ravel())      # (np.tile(ed, (1, 6)))
         for d in term_dofs:
             rows.append(np.repeat(d, d.size))
-            cols.append(np.tile(d, d.size))
+            cols.append(_tile(d, d.size))
         for i, d in enumerate(con_dofs):
             o, m = n_q + self.c_off[i], sizes[i]
-            rows += [np.repeat(d, d.size), np.repeat(np.arange(o, o + m), d.size), np.tile(d, m)]
-            cols += [np.tile(d, d.size), np.tile(d, m), np.repeat(np.arange(o, o + m), d.size)]
+            rows += [np.repeat(d, d.size), np.repeat(np.arange(o, o + m), d.size), _tile(d, m)]
+            cols += [_tile(d, d.size), _tile(d, m), np.repeat(np.arange(o, o + m), d.size)]
         self.rows = np.concatenate(rows).astype(np.intp)
         self.cols = np.concatenate(cols).astype(np.intp)
         self.con_mu = [slice(self.c_off[i], self.c_off[i + 1]) for i in range(len(sizes))]

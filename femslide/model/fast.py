@@ -123,24 +123,44 @@ class Pack:
         self.python = bool(self.py_terms or self.py_cons)
 
 
+def _geometry(es):
+    """The elements' dofs (n, 6) and their geometric columns of the kernel's data (D0x, D0y, L0,
+    beta0), built once per element geometry (kept on the geometry's arrays' owner: the models of one
+    mesh share ``conn``; the cases of a sweep over stiffnesses)."""
+    cached = _GEOMETRY.get(id(es.conn))
+    if cached is not None and cached[0] is es.conn:
+        return cached[1], cached[2]
+    c = es.conn
+    edof = np.empty((es.size, 6), np.int64)
+    edof[:, 0:3] = 3 * c[:, :1] + np.arange(3)
+    edof[:, 3:6] = 3 * c[:, 1:] + np.arange(3)
+    geo = np.column_stack([es.D0[:, 0], es.D0[:, 1], es.L0, es.beta0])
+    if len(_GEOMETRY) >= 64:
+        _GEOMETRY.clear()
+    _GEOMETRY[id(c)] = (c, edof, geo)
+    return edof, geo
+
+
+_GEOMETRY: dict = {}
+_KB = np.array([0, 4, 5, 7, 8])     # kb[0, 0], kb[1, 1], kb[1, 2], kb[2, 1], kb[2, 2] of the flat (n, 9)
+
+
 def assembler(model, pack: Pack):
     """The kernel's Assembler of a model: the shared pack and the model's own elements."""
     es = model.elements
     if es is not None:
-        edof = np.empty((es.size, 6), np.int64)
-        c = es.conn
-        edof[:, 0:3] = 3 * c[:, :1] + np.arange(3)
-        edof[:, 3:6] = 3 * c[:, 1:] + np.arange(3)
-        kb = es.kb
+        edof, geo = _geometry(es)
+        edat = np.zeros((es.size, 12))
+        edat[:, :4] = geo
+        edat[:, 4:9] = es.kb.reshape(-1, 9)[:, _KB]
         free = getattr(model, "free_T", None)
-        free = np.zeros((3, es.size)) if free is None else free
-        edat = np.column_stack([es.D0[:, 0], es.D0[:, 1], es.L0, es.beta0, kb[:, 0, 0], kb[:, 1, 1], kb[:, 1, 2],
-                                kb[:, 2, 1], kb[:, 2, 2], free[0], free[1], free[2]])
+        if free is not None:
+            edat[:, 9:] = free.T
         xmax = float(es.xmax)
     else:
         edof, edat, xmax = np.zeros((0, 6), np.int64), np.zeros((0, 12)), 1.0
-    return linalg._kernel.Assembler(model.n_q, xmax, edof, np.ascontiguousarray(edat), pack.lint, pack.ldbl, pack.tint,
-                               pack.tdbl, pack.lin_dofs, pack.lin_vals, pack.load_dofs)
+    return linalg._kernel.Assembler(model.n_q, xmax, edof, edat, pack.lint, pack.ldbl, pack.tint,
+                                    pack.tdbl, pack.lin_dofs, pack.lin_vals, pack.load_dofs)
 
 
 def system(model, kern, y, elements, lam, control, jacobian, dense, info, extra=None):

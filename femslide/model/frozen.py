@@ -9,7 +9,6 @@ solver (its plan in model units) is cached in ``derived``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
 
 from femslide.errors import BadInput
 from femslide.joints.kinds import kind_of, listed
@@ -30,6 +29,7 @@ from femslide.model.parts import (
     _vec,
     polygon_area_centroid_inertia,
 )
+from femslide.records import dataclass, field, replace
 
 
 @dataclass(frozen=True)

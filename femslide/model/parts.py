@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Union
 
 from femslide.errors import BadInput
+from femslide.records import dataclass, fields
 
 if TYPE_CHECKING:
     import numpy as np

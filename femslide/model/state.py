@@ -11,9 +11,9 @@ with several sizes, a load step halved): each reads the same reference.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
+
+from femslide.records import dataclass
 
 
 class ElementState:

@@ -41,12 +41,12 @@ Parts and points:
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import fields, replace
 from typing import Any
 
 from femslide.errors import BadInput
 from femslide.model.frozen import Frozen
 from femslide.model.parts import _JOINT_FIELDS, DEAD, GROUND, Body, Combination, Field, Joint, Load, Rod, Vec
+from femslide.records import fields, replace
 
 
 class Structure:

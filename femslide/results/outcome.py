@@ -10,7 +10,8 @@ discrete model, which are in the model's units (femslide.model.discrete).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+
+from femslide.records import dataclass, field
 
 
 def dotted(obj: dict, prefix: str = "") -> dict:

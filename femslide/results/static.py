@@ -60,10 +60,13 @@ class _Inside:
     - N(xi) = G(xi) . t(xi), V(xi) = -G(xi) . n(xi).
 
     Peaks of |M|, |N|, |V| inside an element (a column's moment a few millimetres from its root
-    inside a long first element) are found by sampling and a golden-section search, so ``M_max`` and
-    its position ``s_M_max`` are those of the continuous solution, not of the nodes."""
+    inside a long first element) are found in closed form for M (a cubic in xi: the roots of M') and
+    by sampling and a golden-section search for N and V, so ``M_max`` and its position ``s_M_max``
+    are those of the continuous solution, not of the nodes."""
 
-    def __init__(self, model, y, alpha, cuts, lam):
+    def __init__(self, model, y, alpha, cuts, lam, moment_only=False):
+        """``moment_only``: only what :meth:`moment` and :meth:`moment_peak` need (not the cut
+        force G, nor N and V), which without distributed loads is the end moments and the chords."""
         es = model.elements
         q = y[:model.n_q]
         U = model.nodal(q)
@@ -73,21 +76,26 @@ class _Inside:
         D = Xe[es.conn[:, 1]] - Xe[es.conn[:, 0]]
         Ln = np.hypot(D[:, 0], D[:, 1])
         self.t = t = D / Ln[:, None]
-        self.n = nrm = np.column_stack([-t[:, 1], t[:, 0]])
         L0 = self.L0 = es.L0
-        q1 = model.elem_q1 if lam == 1.0 else lam * model.elem_q1
-        q2 = model.elem_q2 if lam == 1.0 else lam * model.elem_q2
-        self.q1, self.dq = q1, q2 - q1
-        p1 = np.einsum("ij,ij->i", q1, nrm)
-        p2 = np.einsum("ij,ij->i", q2, nrm)
-        a1 = np.einsum("ij,ij->i", q1, t)
-        dp, da = p2 - p1, np.einsum("ij,ij->i", q2, t) - a1
-        self.p1, self.p2 = p1, p2
-        # the consistent end moments and start force of the element's load (femslide.elements.loads)
-        LL = L0 * L0
-        self.Ms = -qb[:, 0] + (LL * p1 / 12.0 + LL * dp / 30.0)
-        self.Me = qb[:, 1] + (LL * p1 / 12.0 + LL * dp / 20.0)
-        self.G0 = Gmid + 0.5 * L0[:, None] * q1 + L0[:, None] * ((da / 6.0)[:, None] * t + (0.15 * dp)[:, None] * nrm)
+        if moment_only and not model.rods_loaded:
+            self.p1 = self.p2 = np.zeros(es.size)
+            self.Ms, self.Me = -qb[:, 0], qb[:, 1]
+        else:
+            self.n = nrm = np.column_stack([-t[:, 1], t[:, 0]])
+            q1 = model.elem_q1 if lam == 1.0 else lam * model.elem_q1
+            q2 = model.elem_q2 if lam == 1.0 else lam * model.elem_q2
+            self.q1, self.dq = q1, q2 - q1
+            p1 = np.einsum("ij,ij->i", q1, nrm)
+            p2 = np.einsum("ij,ij->i", q2, nrm)
+            a1 = np.einsum("ij,ij->i", q1, t)
+            dp, da = p2 - p1, np.einsum("ij,ij->i", q2, t) - a1
+            self.p1, self.p2 = p1, p2
+            # the consistent end moments and start force of the element's load (femslide.elements.loads)
+            LL = L0 * L0
+            self.Ms = -qb[:, 0] + (LL * p1 / 12.0 + LL * dp / 30.0)
+            self.Me = qb[:, 1] + (LL * p1 / 12.0 + LL * dp / 20.0)
+            self.G0 = Gmid + 0.5 * L0[:, None] * q1 + L0[:, None] * ((da / 6.0)[:, None] * t +
+                                                                    (0.15 * dp)[:, None] * nrm)
         if lin:
             self.t1 = self.t2 = np.zeros(es.size)
         else:
@@ -109,6 +117,42 @@ class _Inside:
         w = self.Ln[e] * (self.t1[e] * xi * (1 - xi) ** 2 - self.t2[e] * xi * xi * (1 - xi))
         mq = L0 * L0 / 6.0 * (self.p1[e] * xi * (1 - xi) * (2 - xi) + self.p2[e] * xi * (1 - xi) * (1 + xi))
         return (1 - xi) * Ms + xi * Me - mq + self.Nm[e] * w
+
+    def moment_peak(self, e=None):
+        """(value, xi) of the largest |M| inside each element e (None: every element), in closed
+        form: M(xi) of :meth:`moment` is a cubic in xi (linear end moments, the cubic m_q, N times
+        the cubic deflection), so its extrema on [0, 1] are the ends and the real roots of the
+        quadratic M'(xi) (the same values as :meth:`peak`'s search, to round-off, at a fraction of
+        its cost)."""
+        if e is None:
+            Ms, Me, L0, p1, p2 = self.Ms, self.Me, self.L0, self.p1, self.p2
+            W, t1, t2 = self.Nm * self.Ln, self.t1, self.t2
+        else:
+            Ms, Me, L0, p1, p2 = self.Ms[e], self.Me[e], self.L0[e], self.p1[e], self.p2[e]
+            W, t1, t2 = self.Nm[e] * self.Ln[e], self.t1[e], self.t2[e]
+        c = L0 * L0 / 6.0
+        # M(xi) = Ms + a1 xi + a2 xi^2 + a3 xi^3
+        a1 = (Me - Ms) - c * (2.0 * p1 + p2) + W * t1
+        a2 = 3.0 * c * p1 - W * (2.0 * t1 + t2)
+        a3 = W * (t1 + t2) - c * (p1 - p2)
+        A, B = 3.0 * a3, 2.0 * a2                  # M'(xi) = A xi^2 + B xi + a1
+        disc = B * B - 4.0 * A * a1
+        q = -0.5 * (B + np.copysign(np.sqrt(np.maximum(disc, 0.0)), B))
+        # the stable pair of roots q / A and a1 / q (a zero A or q: no root there)
+        r1 = np.divide(q, A, out=np.zeros_like(q), where=A != 0.0)
+        r2 = np.divide(a1, q, out=np.zeros_like(q), where=q != 0.0)
+        out = disc < 0.0
+        r1[out | (r1 <= 0.0) | (r1 >= 1.0)] = 0.0
+        r2[out | (r2 <= 0.0) | (r2 >= 1.0)] = 0.0
+        ne = Ms.size
+        X = np.empty((4, ne))
+        X[0], X[1], X[2], X[3] = 0.0, 1.0, r1, r2
+        V = np.empty((4, ne))
+        V[0], V[1] = Ms, Me                        # the ends exactly
+        V[2:] = Ms + X[2:] * (a1 + X[2:] * (a2 + X[2:] * a3))
+        k = np.argmax(np.abs(V), axis=0)
+        idx = np.arange(ne)
+        return V[k, idx], X[k, idx]
 
     def _frame(self, e, xi):
         phi = self.t1[e] * (1 - xi) * (1 - 3 * xi) - self.t2[e] * xi * (2 - 3 * xi)
@@ -196,8 +240,8 @@ def rod_arrays(model, y, alpha, cuts=None, lam=1.0):
         row = {"s": s * L, "x": X[nodes, 0] * L, "y": X[nodes, 1] * L,
                "u": U[nodes, 0] * L, "v": U[nodes, 1] * L, "theta": U[nodes, 2].copy(),
                "N": N * F, "V": V * F, "M": M * F * L}
-        for key, fun, unit, nodal in (("M", ins.moment, F * L, M), ("N", ins.axial, F, N), ("V", ins.shear, F, V)):
-            val, xi = ins.peak(fun, el)
+        for key, fun, unit, nodal in (("M", None, F * L, M), ("N", ins.axial, F, N), ("V", ins.shear, F, V)):
+            val, xi = ins.moment_peak(el) if fun is None else ins.peak(fun, el)
             cand = np.abs(np.concatenate([nodal, val]))
             pos = np.concatenate([s, s[:-1] + xi * L0[el]])
             top = float(cand.max())
@@ -294,11 +338,47 @@ def largest_moment(model, y, alpha, cuts=None) -> float:
         return 0.0
     if cuts is None:
         cuts = end_moments(model, y, resultant=True)
-    if model.rods_loaded or not model.linear:   # interior peaks: the continuous solution's
-        ins = _Inside(model, y, alpha, cuts, 1.0)
-        val, _ = ins.peak(ins.moment, np.arange(model.elements.size))
+    if model.rods_loaded:   # interior peaks: the continuous solution's
+        ins = _Inside(model, y, alpha, cuts, 1.0, moment_only=True)
+        val, _ = ins.moment_peak()
         return max(float(np.abs(val).max()), float(np.abs(cuts[0]).max())) * model.Fref * model.Lref
-    return float(np.abs(cuts[0]).max()) * model.Fref * model.Lref
+    top = float(np.abs(cuts[0]).max())
+    if not model.linear:
+        top = max(top, _largest_inside(model, y, alpha, cuts))
+    return top * model.Fref * model.Lref
+
+
+def _largest_inside(model, y, alpha, cuts) -> float:
+    """max |M| [model units] at the interior extrema of the elements' moments without distributed
+    loads: M(xi) = (1 - xi) Ms + xi Me + N w(xi) (:class:`_Inside`), a cubic whose derivative
+    a1 + 2 a2 xi + 3 a3 xi^2 has a1 = Me - Ms + W t1, a2 = -W (2 t1 + t2), a3 = W (t1 + t2) with
+    W = N l; the ends are the end moments themselves.  (The closed form of
+    :meth:`_Inside.moment_peak` with fewer array operations: it runs on every refinement level.)"""
+    es = model.elements
+    U = model.nodal(y[:model.n_q])
+    X = model.X0 + U[:, :2]
+    i, j = es.i, es.j
+    Dx = X[j, 0] - X[i, 0]
+    Dy = X[j, 1] - X[i, 1]
+    qb, Gmid = cuts
+    ref = es.beta0 if alpha is None else es.beta0 + alpha
+    cr, sr = np.cos(ref), np.sin(ref)
+    chord = ref + np.arctan2(cr * Dy - sr * Dx, cr * Dx + sr * Dy) - es.beta0
+    t1 = U[i, 2] - chord
+    t2 = U[j, 2] - chord
+    W = Gmid[:, 0] * Dx + Gmid[:, 1] * Dy        # N l (N = G . t)
+    Ms = -qb[:, 0]
+    a1 = (qb[:, 1] - Ms) + W * t1
+    a2 = -W * (2.0 * t1 + t2)
+    a3 = W * (t1 + t2)
+    A, B = 3.0 * a3, 2.0 * a2                      # M'(xi) = A xi^2 + B xi + a1
+    disc = B * B - 4.0 * A * a1
+    q = -0.5 * (B + np.copysign(np.sqrt(np.maximum(disc, 0.0)), B))
+    r = np.zeros((2, Ms.size))                     # the stable pair of roots q / A, a1 / q
+    np.divide(q, A, out=r[0], where=A != 0.0)
+    np.divide(a1, q, out=r[1], where=q != 0.0)
+    r[(r <= 0.0) | (r >= 1.0) | (disc < 0.0)] = 0.0   # (xi = 0: the start, Ms)
+    return float(np.abs(Ms + r * (a1 + r * (a2 + r * a3))).max())
 
 
 def joint_forces(model, y, name, lam=1.0):

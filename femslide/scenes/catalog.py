@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 
 from femslide.errors import BadInput, SolverFailure
+from femslide.records import dataclass
 from femslide.results.outcome import Outcome
 from femslide.scenes.params import ParamSet, rule_l1_le_l, rule_l1_lt_l, rule_mu0_ge_mu
 

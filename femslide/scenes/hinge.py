@@ -16,10 +16,10 @@ Pure Python (``math`` only): a spring-hinge solve as a whole process takes well 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 from femslide.analysis.events import NoRoot, first_crossing
 from femslide.errors import BadInput, SolverFailure
+from femslide.records import dataclass
 
 
 class NoEquilibrium(SolverFailure):

@@ -198,4 +198,4 @@ def run(scene: str, v: dict) -> Outcome:
            "error_estimate": sol.error_estimate}
     lv = sol.level
     return Outcome(out, scene, solution=sol,
-                   static_values=contract(scene, watch(scene)(lv, lv.model.structure)[0]))
+                   static_values=contract(scene, lv.watched(watch(scene))[0]))

@@ -10,9 +10,9 @@ Nothing here imports numpy: the command-line core must start fast.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
 
 from femslide.errors import BadInput  # noqa: F401  (re-exported: parameters are where bad input is found)
+from femslide.records import dataclass, field, replace
 
 
 @dataclass(frozen=True)

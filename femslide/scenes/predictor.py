@@ -33,15 +33,19 @@ def _chord(L, t_top):
     return L * (1.0 - t_top * t_top / 10.0)
 
 
+# points and vectors are (x, y) tuples of floats: a handful of them, where numpy's per-call cost would
+# dominate (the predictor runs once per solve)
+
 def _line_top(point, e, base, chord):
     """The point of the line through ``point`` along ``e`` at distance ``chord`` from ``base``, on the
     +e side; None if the line is out of reach."""
-    c0 = point - base
-    ce = c0 @ e
-    disc = ce * ce - c0 @ c0 + chord * chord
+    cx, cy = point[0] - base[0], point[1] - base[1]
+    ce = cx * e[0] + cy * e[1]
+    disc = ce * ce - (cx * cx + cy * cy) + chord * chord
     if disc < 0.0:
         return None
-    return base + c0 + (-ce + math.sqrt(disc)) * e
+    f = -ce + math.sqrt(disc)
+    return (base[0] + cx + f * e[0], base[1] + cy + f * e[1])
 
 
 def _bent_top(weld_point, line_point, e, base, L, beta0, th):
@@ -70,12 +74,21 @@ def mechanism_state(model, theta):
     fs = model.structure
     th = float(theta)
     ct, st = math.cos(th), math.sin(th)
-    R = np.array([[ct, -st], [st, ct]])
-    nrm = np.array([ct, st])    # deck's (1, 0): normal of the guide
-    e = np.array([-st, ct])     # deck's (0, 1): guide direction
+
+    def rot(v):   # R(th) v
+        return (ct * v[0] - st * v[1], st * v[0] + ct * v[1])
+
+    def add(*vs):
+        return (sum(v[0] for v in vs), sum(v[1] for v in vs))
+
+    def sub(a, b):
+        return (a[0] - b[0], a[1] - b[1])
+
+    nrm = (ct, st)      # deck's (1, 0): normal of the guide
+    e = (-st, ct)       # deck's (0, 1): guide direction
     L = model.Lref
-    pt = {j.name: np.asarray(j.at) / L for j in fs.joints}
-    Xd = model.body_X0[model.body_index["deck"]]
+    pt = {j.name: (j.at[0] / L, j.at[1] / L) for j in fs.joints}
+    Xd = tuple(float(x) for x in model.body_X0[model.body_index["deck"]])
     A1, B0, B1 = pt["A1"], pt["clamp"], pt["B1"]
     A0 = pt["A"] if "A" in pt else A1  # the weld point of a flexible left rod
     left_rod = "left" in model.rod_index
@@ -83,23 +96,29 @@ def mechanism_state(model, theta):
 
     def deck_at(A_new):
         """Deck centroid displacement with the weld point A at A_new."""
-        return A_new + R @ (Xd - A0) - Xd
+        return sub(add(A_new, rot(sub(Xd, A0))), Xd)
+
+    def node(rod, i):
+        X = model.X0[model.node(rod, i)]
+        return (float(X[0]), float(X[1]))
 
     if not left_rod:           # a rigid left rod is part of the deck, pinned at A1
-        Ud = A1 + R @ (Xd - A1) - Xd
+        Ud = sub(add(A1, rot(sub(Xd, A1))), Xd)
     else:
-        base = model.X0[model.node("left", 0)]
-        Lw = float(np.hypot(*(A0 - base)))
+        base = node("left", 0)
+        Lw = math.hypot(A0[0] - base[0], A0[1] - base[1])
 
         def weld_top(psi):  # psi: clockwise chord angle of the left rod from the vertical
-            return base + _chord(Lw, th + psi) * np.array([math.sin(psi), math.cos(psi)])
+            c = _chord(Lw, th + psi)
+            return (base[0] + c * math.sin(psi), base[1] + c * math.cos(psi))
 
         if not right_rod:
             # the guide point B stays on the line through B1 along e:
             # chord sin(psi + Theta) + (base - B1) . n + (B - A)_x = 0
             psi = -th
             for _ in range(50):  # a contraction: the chord depends on psi only through t^2 / 10
-                rhs = -((base - B1) @ nrm + (B0 - A0)[0]) / _chord(Lw, th + psi)
+                rhs = -((base[0] - B1[0]) * nrm[0] + (base[1] - B1[1]) * nrm[1] + (B0[0] - A0[0])) \
+                    / _chord(Lw, th + psi)
                 if abs(rhs) > 1.0:
                     return None
                 psi, old = math.asin(rhs) - th, psi
@@ -107,12 +126,13 @@ def mechanism_state(model, theta):
                     break
             Ud = deck_at(weld_top(psi))
         else:
-            base_j = model.X0[model.node("right", 0)]
-            L_j = float(np.hypot(*(model.X0[model.node("right", -1)] - base_j)))
+            base_j = node("right", 0)
+            top_j = node("right", -1)
+            L_j = math.hypot(top_j[0] - base_j[0], top_j[1] - base_j[1])
 
             def mismatch(psi):  # sum of the top angles (tangent against chord) of the two rods
                 A_new = weld_top(psi)
-                B_new = A_new + R @ (B0 - A0)
+                B_new = add(A_new, rot(sub(B0, A0)))
                 bent = _bent_top(None, B_new, e, base_j, L_j, math.pi / 2, th)
                 return math.nan if bent is None else bent[2] + (th + psi)
 
@@ -131,15 +151,15 @@ def mechanism_state(model, theta):
     y, elements = model.zero_state()
     alpha = elements.committed
     Uq = model.nodal(y[:model.n_q])
-    A_new = Xd + Ud + R @ (A0 - Xd)
-    B_new = Xd + Ud + R @ (B0 - Xd)
+    A_new = add(Xd, Ud, rot(sub(A0, Xd)))
+    B_new = add(Xd, Ud, rot(sub(B0, Xd)))
     for k, name in enumerate(r.name for r in fs.rods):
         nodes = model.rod_nodes[k]
         X = model.X0[nodes]
-        base = X[0]
-        Lr = float(np.hypot(*(X[-1] - X[0])))
-        xi = np.hypot(*(X - base).T) / Lr
-        beta0 = math.atan2(X[-1, 1] - X[0, 1], X[-1, 0] - X[0, 0])
+        base = (float(X[0, 0]), float(X[0, 1]))
+        Lr = math.hypot(X[-1, 0] - base[0], X[-1, 1] - base[1])
+        xi = np.hypot(X[:, 0] - base[0], X[:, 1] - base[1]) / Lr
+        beta0 = math.atan2(X[-1, 1] - base[1], X[-1, 0] - base[0])
         bent = _bent_top(A_new if name == "left" else None, B_new, e, base, Lr, beta0, th)
         if bent is None:
             return None
@@ -148,19 +168,24 @@ def mechanism_state(model, theta):
         t_el = 0.5 * t_top * (xa * xa + xa * xb + xb * xb - 1.0)
         gam = beta + t_el
         seg = np.diff(xi) * Lr
-        P = np.vstack([base, base + np.cumsum(seg[:, None] * np.column_stack([np.cos(gam), np.sin(gam)]), axis=0)])
+        P = np.empty_like(X)
+        P[0] = base
+        P[1:, 0] = base[0] + np.cumsum(seg * np.cos(gam))
+        P[1:, 1] = base[1] + np.cumsum(seg * np.sin(gam))
         Uq[nodes, :2] = P - X
         Uq[nodes, 2] = (beta - beta0) + 0.5 * t_top * (3.0 * xi * xi - 1.0)
         alpha[model.elem_rod == k] = gam - model.elements.beta0[model.elem_rod == k]
     for b in fs.bodies:
         d = model.body_dof(b.name)
-        Xb = model.body_X0[model.body_index[b.name]]
+        Xb = tuple(float(x) for x in model.body_X0[model.body_index[b.name]])
         if b.name == "deck":
             U = Ud
         elif b.name == "right":     # the rigid right rod turns with the deck about its ground pin
-            U = B1 + R @ (Xb - B1) - Xb
+            U = sub(add(B1, rot(sub(Xb, B1))), Xb)
         else:                                 # the piece, welded to the right rod's top node
             top = model.node("right", -1)
-            U = model.X0[top] + Uq[top, :2] + R @ (Xb - model.X0[top]) - Xb
+            Xt = (float(model.X0[top, 0] + Uq[top, 0]), float(model.X0[top, 1] + Uq[top, 1]))
+            X0t = (float(model.X0[top, 0]), float(model.X0[top, 1]))
+            U = sub(add(Xt, rot(sub(Xb, X0t))), Xb)
         y[d:d + 2], y[d + 2] = U, th
     return y, elements
