@@ -177,6 +177,8 @@ def _process(cls, frozen: bool):
     init = loc["__init__"]
     init.__qualname__ = f"{cls.__qualname__}.__init__"
     init.__module__ = cls.__module__
+    ann = ns.get("__annotations__", {})
+    init.__annotations__ = {**{f.name: ann[f.name] for f in flds}, "return": "None"}   # (as dataclasses' __init__)
     cls.__record_fields__ = tuple(flds)
     cls.__record_names__ = frozenset(f.name for f in flds)
     cls.__record_key__ = staticmethod(_key(tuple(f.name for f in flds if f.compare)))
