@@ -290,26 +290,33 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     sets = None
     if any(_has_friction(j) for j in fs.joints):   # both sets, stuck and free (SPEC 9.4)
         from femslide.analysis.friction_modes import frequency_sets
-        sets = frequency_sets(model, y_s, e_s, [j for j in fs.joints if _has_friction(j)], counts, MODES,
-                              mechanism=frequencies_of != "frictionless structure")[0]
+        sets, shapes, _, stuck_shapes = frequency_sets(
+            model, y_s, e_s, [j for j in fs.joints if _has_friction(j)], counts, MODES,
+            mechanism=frequencies_of != "frictionless structure")
         freq = np.array(sets["free"])
     elif frequencies_of == "frictionless structure":
         try:
-            freq, _ = modes(model, y_s, e_s, masses, MODES)
+            freq, shapes = modes(model, y_s, e_s, masses, MODES)
         except SolverFailure as exc:
             # while its contacts hold, a structure may have no motion at all (a bar on a pin and a
             # contact): it moves only lifted off
             if not any(j.unilateral for j in fs.joints) or "no motion" not in str(exc):
                 raise
-            freq = np.zeros(0)
+            freq, shapes = np.zeros(0), np.zeros((0, model.n_q))
     else:   # frictionless sliders held for the start only: their free directions are zero frequencies
-        freq, _ = modes(model, y_s, e_s, masses, MODES, zero_ok=True,
-                         max_free=sum(j.mu is not None for j in fs.joints))
+        freq, shapes = modes(model, y_s, e_s, masses, MODES, zero_ok=True,
+                              max_free=sum(j.mu is not None for j in fs.joints))
+    modal = (2.0 * math.pi * np.asarray(freq, float), shapes)   # (the modes that keep vibrations resolved)
     # the frequencies that set the steps: the free structure's positive ones (a free direction's zero
     # sets none); the stuck ones for a structure without an equilibrium of its own (it starts stuck)
     f_pos = [float(f) for f in freq if f > 0]
     if sets and (frequencies_of != "frictionless structure" or not f_pos):
         f_pos = sets["stuck"] or f_pos
+        if sets["stuck"]:
+            modal = (2.0 * math.pi * np.asarray(sets["stuck"], float), stuck_shapes)
+    # their damping ratios under the Rayleigh damping, alpha / (2 omega) + beta omega / 2 (for the steps)
+    om_ = np.where(modal[0] > 0, modal[0], 1.0)
+    modal = modal + (np.where(modal[0] > 0, spec.alpha / (2.0 * om_) + spec.beta * om_ / 2.0, 0.0),)
     C = None
     if spec.alpha or spec.beta:
         from femslide.analysis.modes import tangent
@@ -452,7 +459,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             run = integrate(model, masses, y0, e0, spec.t_end, tol, C=C, ground=spec.ground,
                             observe=obs, h0=0.02 / f_ref[0] * spec.tolerance ** 0.25, h_max=hm,
                             max_steps=max_steps, wall_limit=left, progress=progress, q_ref=y_s, friction=fr,
-                            period=1.0 / f_ref[0], watch=watch, sample=spec.output_interval)
+                            period=1.0 / f_ref[0], watch=watch, sample=spec.output_interval, modal=modal)
         except SolverFailure as err:
             exc = err
             if deadline is not None and time.perf_counter() >= deadline:
