@@ -396,11 +396,14 @@ def base_isolated_frame(file="base-isolated-frame.toml", h=2e-3, **overrides):
     return ref
 
 
-def base_isolated_frame_nonlinear(file="base-isolated-frame.toml", rtol=1e-12, **overrides):
+def base_isolated_frame_nonlinear(file="base-isolated-frame.toml", rtol=1e-12, atol=1e-14, method="DOP853",
+                                  log=None, peaks=True, **overrides):
     """The same structure solved without linearisation (validation/nonlinear_frames.py: the bodies'
     exact kinematics, corotational columns of the file's mesh, the normal force from the columns'
-    forces on the base).  Returns (Frames, Run, Reference): histories of the slide, the deck's x and
-    the columns' largest |M| over their element ends, the event list, peaks on a 1 ms grid refined."""
+    forces on the base).  Returns a :class:`Reference`: histories of the slide, the deck's x and the
+    columns' largest |M| over their element ends, the event list, peaks on a 1 ms grid refined
+    (``peaks``), ``extra``: frames, run, residual_slide.  ``rtol``, ``atol``, ``method``: the
+    integration's (nonlinear_frames.Frames.run); ``overrides``: mu, mu0, scale, t_end."""
     from nonlinear_frames import Body, Column, Frames
     path, d = read(file)
     g = -float(d["gravity"][1])
@@ -417,8 +420,26 @@ def base_isolated_frame_nonlinear(file="base-isolated-frame.toml", rtol=1e-12, *
     fr = Frames(bodies, cols, g=g, slider="base", mu=float(o.get("mu", iso["mu"])),
                 mu0=float(o.get("mu0", iso.get("mu0", iso["mu"]))), ground=ground)
     t_end = float(o.get("t_end", d["simulate"]["t_end"]))
-    run = fr.run(t_end, rtol=rtol)
-    ib, idk = 3 * fr.bi["base"], 3 * fr.bi["deck"]
+    run = fr.run(t_end, rtol=rtol, atol=atol, method=method, log=log)
+    hist = nonlinear_histories(fr, run)
+    pk = {}
+    if peaks:
+        grid = np.unique(np.concatenate([np.arange(0.0, t_end, 1e-3), [t_end], [t for t, _ in run.events]]))
+        pk = {k: peak_abs(f, 0.0, t_end, 0, samples=(grid, f(grid))) for k, f in hist.items()}
+    ref = Reference("base-isolated-frame (nonlinear)", path, t_end, hist, pk, np.array([]), float("nan"),
+                    {"bodies.deck.x": float(d["body"][[b["name"] for b in d["body"]].index("deck")]["centroid"][0])},
+                    events=run.events,
+                    extra={"residual_slide": float(hist["joints.iso.slide"]([t_end])[0]), "frames": fr,
+                           "run": run})
+    return ref
+
+
+def nonlinear_histories(fr, run, slider="base", deck="deck", joint="iso"):
+    """{femslide history column: function of time (vectorised)} of a nonlinear_frames run: the slide
+    (the slider body's x from its static place) [m], the deck's x displacement [m] (femslide reports
+    the position: add the centroid's x, ``Reference.offsets``), each column's largest |M| over its
+    element ends [N m]."""
+    ib, idk = 3 * fr.bi[slider], 3 * fr.bi[deck]
     q_s = fr.q_static
 
     def slide(t):
@@ -429,19 +450,9 @@ def base_isolated_frame_nonlinear(file="base-isolated-frame.toml", rtol=1e-12, *
 
     def mmax(name):
         def f(t):
-            Q = run.state(t)[0]
-            out = np.empty(Q.shape[1])
-            for k in range(Q.shape[1]):
-                basic = fr._column(next(c for c in fr.columns if c.name == name), Q[:, k])[1]
-                out[k] = max(max(abs(M1), abs(M2)) for _, M1, M2 in basic)
-            return out
+            return fr.moments_max(run.state(t)[0].T)[name]
         return f
-    hist = {"joints.iso.slide": slide, "bodies.deck.x": deck_x}
+    hist = {f"joints.{joint}.slide": slide, f"bodies.{deck}.x": deck_x}
     for c in fr.columns:
         hist[f"rods.{c.name}.M_max"] = mmax(c.name)
-    grid = np.unique(np.concatenate([np.arange(0.0, t_end, 1e-3), [t_end], [t for t, _ in run.events]]))
-    peaks = {k: peak_abs(f, 0.0, t_end, 0, samples=(grid, f(grid))) for k, f in hist.items()}
-    ref = Reference("base-isolated-frame (nonlinear)", path, t_end, hist, peaks, np.array([]), float("nan"),
-                    {"bodies.deck.x": 0.0}, events=run.events,
-                    extra={"residual_slide": float(slide([t_end])[0]), "frames": fr, "run": run})
-    return ref
+    return hist
