@@ -92,7 +92,9 @@ def test_the_reference_tends_to_the_linear_reference_at_small_amplitude():
         "(108.7 and 188.0 Hz: nanometres, but up to 37 N of the normal force) that the friction events "
         "excite; its friction force mu N is then off by up to 4 N (12 s of the record): histories 4.6e-6..5.3e-6 "
         "(> 3e-6), event times 4e-6 s (> 2.5e-6 s).  With the step capped at 0.25 ms femslide at 1e-6 "
-        "agrees with the reference to 4.9e-10 over 20 s (validation/bench_nonlinear_frame.py --h-cap)."))),
+        "agrees with the reference to 4.9e-10 over 20 s (validation/bench_nonlinear_frame.py --h-cap).  The "
+        "steps' check of vibrating modes (transient._mode_steps) weighs a mode by its displacement: nanometres "
+        "do not count."))),
 ])
 def test_histories_and_events_against_the_nonlinear_reference(reference, linear, tol):
     """femslide at ``tol`` over the window against the reference (module docstring): the same
