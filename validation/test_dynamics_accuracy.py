@@ -118,16 +118,16 @@ def test_mast_histories(beta, tol):
     discretisation (dynamic_cases.cantilever_tip_mass; with damping C = beta K0, each mode's damped
     response in closed form, linear_dynamics.modal_harmonic_damped).
     With damping (2 % in the first mode, more in the higher ones) every history - tip displacement and
-    rotation, root shear and moment - is within 3 tolerance of its largest value (measured 0.10-0.13
-    tol at 1e-4, 1.1-1.4 tol at 1e-6) and, at 1e-4, the error estimate is honest (0.11 tol).
-    Undamped, the tip displacement and rotation are within 3 tolerance (0.03 and 0.71 tol at 1e-4,
-    0.06 and 0.77 at 1e-6: the second mode, 36 Hz, which the start excites and which carries 9e-4 of
+    rotation, root shear and moment - is within 3 tolerance of its largest value (measured 0.03-0.04
+    tol at 1e-4, 1.1-1.4 tol at 1e-6) and, at 1e-4, the error estimate is honest (0.04 tol).
+    Undamped, the tip displacement and rotation are within 3 tolerance (0.00 and 0.10 tol at 1e-4,
+    0.04 and 0.16 at 1e-6: the second mode, 36 Hz, which the start excites and which carries 9e-4 of
     the rotation, is resolved by the steps - transient._mode_steps; without that the rotation was 9.5
     and 20 tol off).  The root forces are not compared undamped: the reference rings for ever in every
     mode of the mesh (up to 60 kHz) that the start from rest excites, and the forces weigh them by
-    their stiffness (measured: shear 9 and 114 tol, moment 1.9 and 11 tol).  Before Newton's residual
-    was measured against the motion's forces (not only against 1 + the internal forces, in model
-    units), the tip was 7.9 tol off at 1e-6."""
+    their stiffness (measured: shear 3.3 and 59 tol, moment 0.49 and 4.9 tol).  Before Newton's
+    residual was measured against the motion's forces (not only against 1 + the internal forces, in
+    model units), the tip was 7.9 tol off at 1e-6."""
     ref = dynamic_cases.cantilever_tip_mass(damping=(0.0, beta), peaks=False)
     res = femslide.simulate(ref.path, **{"simulate.tolerance": tol,
                                          "simulate.damping": {"alpha": 0.0, "beta": beta}})

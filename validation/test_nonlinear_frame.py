@@ -85,26 +85,21 @@ def test_the_reference_tends_to_the_linear_reference_at_small_amplitude():
         assert diff[c, 0.01] <= 3e-6 and 8 <= diff[c, 0.01] / diff[c, 0.001] <= 12, diff
 
 
-@pytest.mark.parametrize("tol", [
-    1e-4,
-    pytest.param(1e-6, marks=pytest.mark.xfail(strict=True, reason=(
-        "femslide's Radau IIA steps (3 ms) do not resolve the deck's vertical and rocking vibration "
-        "(108.7 and 188.0 Hz: nanometres, but up to 37 N of the normal force) that the friction events "
-        "excite; its friction force mu N is then off by up to 4 N (12 s of the record): histories 4.6e-6..5.3e-6 "
-        "(> 3e-6), event times 4e-6 s (> 2.5e-6 s).  With the step capped at 0.25 ms femslide at 1e-6 "
-        "agrees with the reference to 4.9e-10 over 20 s (validation/bench_nonlinear_frame.py --h-cap).  The "
-        "steps' check of vibrating modes (transient._mode_steps) weighs a mode by its displacement: nanometres "
-        "do not count."))),
-])
+@pytest.mark.parametrize("tol", [1e-4, 1e-6])
 def test_histories_and_events_against_the_nonlinear_reference(reference, linear, tol):
     """femslide at ``tol`` over the window against the reference (module docstring): the same
     friction events, their times within 10 tol T1 (T1 = 0.2527 s, the stuck frame's sway period),
     the histories of the slide, the deck's x and both columns' M_max within 3 tol, and the error
     estimate honest: the actual error of the histories it covers (the slide and the deck's x; a
     rod's M_max is judged by its peak there) within 3 times the estimate.
-    Measured: 1e-4: 24 events, times within 3.5e-6 s; histories 8.9e-6 (slide), 1.0e-5 (deck x),
-    4.7e-6 (M_max); estimate 1.0e-4.  1e-6: times 4.0e-6 s; histories 4.6e-6, 5.3e-6, 4.2e-6 (the
-    xfail above); estimate 3.4e-5."""
+    Measured: 1e-4: 24 events, times within 3.7e-6 s; histories 7.1e-6 (slide), 8.4e-6 (deck x),
+    4.6e-6 (M_max); estimate 7.6e-6.  1e-6: times within 2.1e-8 s; histories 8.4e-9, 8.7e-9, 1.7e-8;
+    estimate 1.3e-5 (the check run at 1e-5 does not resolve the deck's vibration).  Before the steps
+    resolved the modes that vibrate above the tolerance (transient._mode_steps) femslide's steps
+    (3 ms) damped the deck's vertical and rocking vibration (108.7 and 188.0 Hz: nanometres, but up
+    to 37 N of the normal force) that the friction events excite: at 1e-6 histories 4.6e-6..5.3e-6
+    and event times 4e-6 s off.
+    """
     res = femslide.simulate(reference.path, **{"simulate.tolerance": tol, "simulate.t_end": T_WINDOW})
     row = bench.compare(res, reference)
     assert row["events_agree"], (row["events"], row["ref_events"])

@@ -59,6 +59,8 @@ from femslide.errors import BadInput, SolverFailure
 CHECK_FACTOR = 10.0    # the check run of an error estimate is at this multiple of the tolerance ...
 ORDER_GLOBAL = 5.0     # ... and the global error ~ steps^-ORDER_GLOBAL (Radau IIA: order 5)
 EVENT_STEPS = 50      # the step allowance of a run grows by this for each event
+MODE_LIVE = 0.3       # a mode vibrating above this share of the error budget is resolved ...
+MODE_SHARE = 0.1      # ... its numerical damping over the run kept within this share
 F_MOTION_MIN = 1e-9  # floor of the motion's force scale (model units) that Newton's residual is measured against
 MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/analysis/simulate.py comes first)
 
@@ -123,11 +125,11 @@ def _mode_steps(vib, omega, decay, budget, t_end):
     imaginary axis, to 2 % for omega h <= 1), so over T / h steps a mode of amplitude A loses
     A T omega^6 h^5 / 7200, kept below SAFETY budget; T is the run's t_end, or the mode's own decay
     time 1 / (zeta omega) when its damping makes it shorter; inf when no mode vibrates so."""
-    live = vib > budget
+    live = vib > MODE_LIVE * budget
     if not live.any():
         return math.inf
     T = np.minimum(t_end, 1.0 / np.maximum(decay[live], 1e-300))
-    return float(((7200.0 * SAFETY * budget / (T * vib[live] * omega[live] ** 6)) ** 0.2).min())
+    return float(((7200.0 * MODE_SHARE * budget / (T * vib[live] * omega[live] ** 6)) ** 0.2).min())
 
 
 def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=None, observe=None,
