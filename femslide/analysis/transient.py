@@ -19,8 +19,12 @@ RADAU5's local error estimate of the positions (the embedded order-3 solution fi
 SAFETY = 0.5 times ``tolerance`` times the amplitude of the recent motion (the largest displacement
 from the static state, remembered over about one period of the lowest mode; floor 1e-6 Lref): a
 step with a larger error is repeated with a smaller h, the next step is h (0.9 / err)^(1/4)
-(between 0.2 h and 2 h).  Under a recorded ground motion the steps end on the record's sample
-times, so that the input is smooth within every step.
+(between 0.2 h and 2 h).  The estimate does not see a mode that the steps have damped (the integrator
+is L-stable), so the vibration of the lowest modes is watched too: while one vibrates above 0.3 times
+that budget, the steps keep its numerical damping over the run within 0.1 times it
+(:func:`_mode_steps`).  Newton's residual is measured against the motion's forces as well as the
+static ones.  Under a recorded ground motion the steps end on the record's sample times, so that the
+input is smooth within every step.
 
 Damping: Rayleigh, C = alpha M0 + beta K0 with M0 and K0 the mass matrix and the tangent at the
 static state (constant; plus any rotational dashpots on bodies, simulate.py).  Energy balance:
@@ -120,11 +124,12 @@ def _mode_guard(modal, masses, q_static, heavy):
 
 
 def _mode_steps(vib, omega, decay, budget, t_end):
-    """The largest step [s] that resolves every mode vibrating above ``budget`` (model units): Radau
-    IIA damps a mode by (omega h)^6 / 7200 of its amplitude per step (its stability function on the
-    imaginary axis, to 2 % for omega h <= 1), so over T / h steps a mode of amplitude A loses
-    A T omega^6 h^5 / 7200, kept below SAFETY budget; T is the run's t_end, or the mode's own decay
-    time 1 / (zeta omega) when its damping makes it shorter; inf when no mode vibrates so."""
+    """The largest step [s] that resolves every mode vibrating above MODE_LIVE ``budget`` (model
+    units; a mode below may be damped away: it costs less than that): Radau IIA damps a mode by
+    (omega h)^6 / 7200 of its amplitude per step (its stability function on the imaginary axis, to
+    2 % for omega h <= 1), so over T / h steps a mode of amplitude A loses A T omega^6 h^5 / 7200,
+    kept below MODE_SHARE budget; T is the run's t_end, or the mode's own decay time
+    1 / (zeta omega) when its damping makes it shorter; inf when no mode vibrates so."""
     live = vib > MODE_LIVE * budget
     if not live.any():
         return math.inf
