@@ -560,6 +560,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
                                  (lambda t: progress(share * spec.t_end + (1.0 - share) * t)) if progress else None))
         except SolverFailure as exc:   # only the user's time limit ends the check run so (module docstring)
             raise stopped(exc, {**res, "t_reached": spec.t_end}, H) from None
+    else:   # (skipped: the key is there, null)
+        res["error_estimate"] = None
     if spec.turning:   # the located zeros of the bodies' rotation rates (rows of the history)
         T = H[:, 0]
         res["turning_points"] = {
