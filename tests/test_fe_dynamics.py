@@ -537,12 +537,9 @@ def test_block_without_spring_on_a_shaken_frictional_ground():
     breaks away when 3 sin(2 pi t0) = mu0 g (t0 = 0.152320 s, to 1e-9 s), slides back with
     w'' = -a_g + mu g and sticks when w' = 0 again; closed form (w' and w integrated exactly):
     t1 = 0.5311778 s, w = -4.028833 cm, within 1e-6 s and 1e-6 m at tolerance 1e-8."""
-    from scipy.optimize import brentq
+    from validation.sdof_reference import harmonic_breakaway
     g, mu, mu0, A, W = 9.81, 0.2, 0.25, 3.0, 2 * math.pi
-    t0 = math.asin(mu0 * g / A) / W
-    t1 = brentq(lambda t: A / W * (math.cos(W * t) - math.cos(W * t0)) + mu * g * (t - t0), t0 + 1e-3, t0 + 0.9)
-    w1 = A / W * ((math.sin(W * t1) - math.sin(W * t0)) / W - (t1 - t0) * math.cos(W * t0)) \
-        + 0.5 * mu * g * (t1 - t0) ** 2
+    t0, t1, w1 = harmonic_breakaway(g, mu, mu0, A, W)
     s = femslide.Structure(gravity=(0.0, -g))
     s.body("block", mass=2.0, centroid=(0.0, 0.1), inertia=0.01)
     s.slider("belt", "block", "ground", axis=(1.0, 0.0), at=(0.0, 0.1), mu=mu, mu0=mu0)

@@ -266,3 +266,16 @@ def paper_recurrence(m, k, c, mu, mu0, g, w0, A=0.0, theta=0.0, t_end=5.0, tau=1
         sgn = math.copysign(1.0, vi) if vi != 0 else sgn
         a = ai
     return t, w, v
+
+
+def harmonic_breakaway(g, mu, mu0, A, W):
+    """A block at rest on a ground belt with Coulomb friction (static mu0, kinetic mu) under the base
+    acceleration A sin(W t) [m/s^2, rad/s]: (t0, t1, w1) - it breaks away when A sin(W t0) = mu0 g,
+    slides back with w'' = -a_g + mu g (w' and w integrated in closed form) and sticks at t1 when w' = 0
+    again, its slide w1 [m] there (negative: against the base's first push)."""
+    from scipy.optimize import brentq
+    t0 = math.asin(mu0 * g / A) / W
+    t1 = brentq(lambda t: A / W * (math.cos(W * t) - math.cos(W * t0)) + mu * g * (t - t0), t0 + 1e-3, t0 + 0.9)
+    w1 = A / W * ((math.sin(W * t1) - math.sin(W * t0)) / W - (t1 - t0) * math.cos(W * t0)) \
+        + 0.5 * mu * g * (t1 - t0) ** 2
+    return t0, t1, w1

@@ -130,14 +130,11 @@ def test_block_on_two_friction_contacts_slides_as_one():
     two locks hold one freedom twice (the split of the friction force is undetermined: one carries
     it, the pair holds within mu0 (N1 + N2) = mu0 m g); it breaks away when 3 sin(2 pi t0) = mu0 g,
     slides back with w'' = -a_g + mu g and sticks when w' = 0: the closed form of
-    tests/test_fe_dynamics.py (t0 = 0.152320 s, t1 = 0.5311778 s, w1 = -4.028833 cm), both corners
+    validation/sdof_reference.py harmonic_breakaway (t0 = 0.152320 s, t1 = 0.5311778 s, w1 = -4.028833 cm), both corners
     together, within 1e-6 s and 1e-6 m at tolerance 1e-8."""
-    from scipy.optimize import brentq
+    from sdof_reference import harmonic_breakaway
     g, mu, mu0, A, W = 9.81, 0.2, 0.25, 3.0, 2 * math.pi
-    t0 = math.asin(mu0 * g / A) / W
-    t1 = brentq(lambda t: A / W * (math.cos(W * t) - math.cos(W * t0)) + mu * g * (t - t0), t0 + 1e-3, t0 + 0.9)
-    w1 = A / W * ((math.sin(W * t1) - math.sin(W * t0)) / W - (t1 - t0) * math.cos(W * t0)) \
-        + 0.5 * mu * g * (t1 - t0) ** 2
+    t0, t1, w1 = harmonic_breakaway(g, mu, mu0, A, W)
     s = femslide.Structure(gravity=(0.0, -g))
     s.body("block", mass=100.0, centroid=(0.0, 0.25), inertia=100.0 * 4.25 / 12.0,
            outline=[(-1.0, 0.0), (1.0, 0.0), (1.0, 0.5), (-1.0, 0.5)])

@@ -52,6 +52,7 @@ from femslide.analysis.radau import (
     SAFETY,
     START_STEP,
     RadauSystem,
+    _coo_mv,
     consistent_start,
     start_multipliers,
 )
@@ -118,7 +119,7 @@ def _mode_guard(modal, masses, q_static, heavy):
     keep = om > 0.0
     om, Phi, zeta = om[keep], Phi[keep], zeta[keep]
     r, c, v = masses.matrix(q_static)
-    MPhi = np.array([np.bincount(r, weights=v * phi[c], minlength=q_static.size) for phi in Phi])
+    MPhi = np.array([_coo_mv(r, c, v, phi, q_static.size) for phi in Phi])
     mm = np.einsum("kn,kn->k", MPhi, Phi)
     return om, MPhi / mm[:, None], np.abs(Phi[:, heavy]).max(axis=1), zeta * om
 
