@@ -68,20 +68,6 @@ def _without_zero_duration_pairs(events):
     return out
 
 
-def _without_touches(events, dt):
-    """femslide's event list without the slips that stick again within ``dt`` [s] of their start (a
-    stuck joint whose friction force touches its bound mu0 N and falls back: a graze that moves
-    nothing)."""
-    out = []
-    for t, k in events:
-        if (k == "stick" and len(out) >= 2 and out[-1][1].startswith("slip") and out[-2][1] == "stick"
-                and t - out[-1][0] <= dt):
-            out.pop()
-            continue
-        out.append((t, k))
-    return out
-
-
 @pytest.mark.parametrize("scale, tol", [(1.0, 1e-4), (2.0, 1e-4), (0.25, 1e-4), (0.25, 1e-6)])
 def test_base_isolated_frame_events(scale, tol):
     """meshes/structures/base-isolated-frame.toml (a deck on two welded columns on a base sliding on a
@@ -93,15 +79,12 @@ def test_base_isolated_frame_events(scale, tol):
     not compared: femslide's (exact, corotational) frame and the linearised reference differ by up to
     1.4e-4 s in event times, whatever the tolerance (the same differences at 1e-4, 1e-6 and 1e-8).
     Measured: scale 1: 127 events, times within 9.2e-5 s (allowed 2.5e-4 s); scale 2: 118, 9.1e-5 s;
-    scale 0.25: 33, 1.6e-4 s (1e-4) and 33 at 1e-6.  A touch of the breakaway bound that femslide resolves
-    as a slip and a stick within twice the resolution of its event times (0.1 tolerance T1) is not compared
-    (scale 0.25 at 1e-6: a slip- at 4.267068 s that sticks 2.5e-8 s later, 2 ms before the breakaway at
-    4.269114 s; the reference, linearised, stays below the bound there; at 1e-7 no touch)."""
+    scale 0.25: 33, 1.6e-4 s (1e-4) and 33 at 1e-6 (before the steps resolved the deck's vibration,
+    femslide found there a touch of the breakaway bound at 4.267068 s, a slip that stuck 2.5e-8 s later)."""
     ref = dynamic_cases.base_isolated_frame(scale=scale)
     res = femslide.simulate(ref.path, **{"simulate.tolerance": tol, "simulate.error_estimate": False,
                                          "simulate.ground.scale": scale})
-    got = _without_touches([(e["t"], e["kind"]) for evs in res["events"].values() for e in evs],
-                           0.2 * tol * ref.T1)
+    got = [(e["t"], e["kind"]) for evs in res["events"].values() for e in evs]
     want = _without_zero_duration_pairs(ref.events)
     assert [k for _, k in got] == [k for _, k in want]
     if tol >= 1e-4:
