@@ -306,17 +306,19 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     else:   # frictionless sliders held for the start only: their free directions are zero frequencies
         freq, shapes = modes(model, y_s, e_s, masses, MODES, zero_ok=True,
                               max_free=sum(j.mu is not None for j in fs.joints))
-    modal = (2.0 * math.pi * np.asarray(freq, float), shapes)   # (the modes that keep vibrations resolved)
+    modal = (2.0 * math.pi * np.asarray(freq, float), shapes, False)   # (the modes that keep vibrations resolved;
+    # False: of the structure as declared, True: with its friction joints stuck)
     # the frequencies that set the steps: the free structure's positive ones (a free direction's zero
     # sets none); the stuck ones for a structure without an equilibrium of its own (it starts stuck)
     f_pos = [float(f) for f in freq if f > 0]
     if sets and (frequencies_of != "frictionless structure" or not f_pos):
         f_pos = sets["stuck"] or f_pos
         if sets["stuck"]:
-            modal = (2.0 * math.pi * np.asarray(sets["stuck"], float), stuck_shapes)
+            modal = (2.0 * math.pi * np.asarray(sets["stuck"], float), stuck_shapes, True)
     # their damping ratios under the Rayleigh damping, alpha / (2 omega) + beta omega / 2 (for the steps)
     om_ = np.where(modal[0] > 0, modal[0], 1.0)
-    modal = modal + (np.where(modal[0] > 0, spec.alpha / (2.0 * om_) + spec.beta * om_ / 2.0, 0.0),)
+    modal = (modal[0], modal[1], np.where(modal[0] > 0, spec.alpha / (2.0 * om_) + spec.beta * om_ / 2.0, 0.0),
+             modal[2])
     C = None
     if spec.alpha or spec.beta:
         from femslide.analysis.modes import tangent
