@@ -253,6 +253,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     hysteresis."""
     from femslide.analysis import static
     from femslide.analysis.modes import modes
+    from femslide.analysis.refine import moment_watch
     from femslide.analysis.transient import integrate
     from femslide.model.mass import Masses
     from femslide.results.static import joint_forces
@@ -262,7 +263,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     frequencies_of = "frictionless structure"
     lifted_static = ()
     try:
-        sol = static.solve(fs)
+        # (only the state is used: the static error estimate watches the largest moment alone)
+        sol = static.solve(fs, watch=moment_watch)
         model, y_s, e_s = sol.level.model, sol.level.y, sol.level.elements
         if sol.lifted:   # contacts the statics released: the dynamics' model has every joint (it releases them)
             from femslide.analysis.start import carry
@@ -583,12 +585,13 @@ def _modes_on(fs, n, count):
     state with the friction joints stuck."""
     from femslide.analysis import static
     from femslide.analysis.modes import modes
+    from femslide.analysis.refine import moment_watch
     from femslide.model.mass import Masses
     fs = _fixed_mesh(fs, n)
     fric = [j for j in fs.joints if _has_friction(j)]
     mechanism = False
     try:
-        sol = static.solve(fs)
+        sol = static.solve(fs, watch=moment_watch)   # (only the state is used)
         model, y, elements = sol.level.model, sol.level.y, sol.level.elements
     except SolverFailure as exc:
         if not fric:
