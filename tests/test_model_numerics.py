@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -122,3 +123,36 @@ def test_closed_form_moment_peaks_match_the_search(P, eps, Mt):
     assert np.allclose(xi_closed, xi_search, rtol=0.0, atol=1e-6)   # a flat peak: its position to sqrt(eps)
     top = max(np.abs(v_search).max(), np.abs(lv.cuts[0]).max()) * m.Fref * m.Lref
     assert abs(largest_moment(m, lv.y, lv.alpha, lv.cuts) / top - 1.0) <= 1e-12
+
+
+def test_batched_peaks_equal_the_fit_of_each_candidate():
+    """results.history._peaks (every column's peak candidates fitted in one batched solve) gives
+    what fitting each candidate's window with numpy.polyfit one by one gives (_refine, the loop
+    written out here), to 1e-12 relative, on random sampled histories with uneven steps, repeated
+    sample times (an event's two rows) and breaks."""
+    from femslide.results.history import _peaks, _refine
+    rng = np.random.default_rng(5)
+    for trial in range(40):
+        n = int(rng.integers(3, 200))
+        t = np.cumsum(rng.uniform(1e-3, 0.05, n))
+        if trial % 3 == 0:   # an event's two rows at one time
+            k = int(rng.integers(1, n - 1))
+            t[k:] -= t[k] - t[k - 1]
+        X = np.column_stack([np.abs(np.sin(2 * np.pi * rng.uniform(0.3, 9.0) * t + rng.uniform(0, 6)))
+                             for _ in range(int(rng.integers(1, 6)))])
+        brk = [float(t[int(rng.integers(0, n))])] if trial % 4 == 0 else []
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")   # (polyfit's RankWarning on a window with repeated times)
+            got = _peaks(t, X, breaks=brk)
+        for j in range(X.shape[1]):
+            x = X[:, j]
+            best = float(x.max())
+            inner = np.nonzero((x[1:-1] > x[:-2]) & (x[1:-1] >= x[2:]))[0] + 1
+            for i in inner[np.argsort(-x[inner])][:16]:
+                lo, hi = t[max(0, i - 2)], t[min(n - 1, i + 2)]
+                if any(lo <= b <= hi for b in brk):
+                    continue
+                with np.errstate(all="ignore"), warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    best = max(best, _refine(t, x, int(i)))
+            assert got[j] == pytest.approx(best, rel=1e-12)

@@ -28,8 +28,8 @@ same load of the (shared, 2-core) machine; the absolute times drift with that lo
    against OpenSees Newmark (validation/opensees_models.py) at dt = 1e-3: femslide's integration time
    per step against OpenSees' analyze loop per step.  Equal accuracy: section 5.2's peak |F2| against
    the reduced model's 88.92548492 N (validation/dynamic_references.py): femslide at the loosest of
-   the tolerances 1e-6, 1e-7, 1e-8 that brings it within 1e-6 (whole simulate call) against OpenSees
-   Newmark at dt = 4e-3 (its coarsest step within 1e-6, refined peak; the analyze loop).
+   the tolerances 1e-5, 1e-6, 1e-7, 1e-8 that brings it within 1e-6 (whole simulate call; 1e-5 gives
+   9.9e-7) against OpenSees Newmark at dt = 4e-3 (its coarsest step within 1e-6, refined peak; the analyze loop).
 5. Scaling: one Newton iteration (assembly of residual and tangent + linear solve) of a cantilever of
    N = 256 ... 65536 elements at its deformed equilibrium, per element, against OpenSees' Newton
    iteration (small load, time / iterations) at the same N.
@@ -269,8 +269,8 @@ def dynamics(repeats, ops, quick=False):
     if not ops:
         return
     print("   equal accuracy, section 5.2 peak |F2| within 1e-6 of the reduced model:")
-    # the loosest tolerance of 1e-6, 1e-7, 1e-8 whose peak is within 1e-6 (the last one tried otherwise)
-    for tol in ((1e-6,) if quick else (1e-6, 1e-7, 1e-8)):
+    # the loosest tolerance of 1e-5, 1e-6, 1e-7, 1e-8 whose peak is within 1e-6 (the last one tried otherwise)
+    for tol in ((1e-5, 1e-6) if quick else (1e-5, 1e-6, 1e-7, 1e-8)):
         r = femslide.simulate(cases[0][1], tolerance=tol)
         if abs(r["peaks"]["reactions"]["B1"]["Fx"] / OSCILLATION_F2 - 1.0) <= 1e-6:
             break

@@ -32,7 +32,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from femslide.errors import SolverFailure
-from femslide.model.linalg import BandMatrix
+from femslide.model.linalg import BandMatrix, one_blas_thread
 
 DENSE_LIMIT = 600
 
@@ -61,6 +61,15 @@ def tangent(model, y, elements):
 
 
 def modes(model, y, elements, masses, count=6, zero_ok=False, max_free=None):
+    """(frequencies_hz (k,), shapes (k, n_q)): :func:`_modes`, with OpenBLAS on one thread
+    (femslide.model.linalg.one_blas_thread: its dense problems are small)."""
+    if model.n_q <= DENSE_LIMIT:
+        import scipy.linalg  # noqa: F401  (loaded first: its OpenBLAS is set too)
+    with one_blas_thread():
+        return _modes(model, y, elements, masses, count, zero_ok, max_free)
+
+
+def _modes(model, y, elements, masses, count=6, zero_ok=False, max_free=None):
     """(frequencies_hz (k,), shapes (k, n_q)): the ``count`` lowest natural frequencies of the
     structure about the static state (y, elements).  Raises SolverFailure when the state is unstable
     (the reduced stiffness is not positive definite; with ``zero_ok`` only when it is indefinite: a

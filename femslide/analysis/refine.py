@@ -131,6 +131,13 @@ def default_watch(level, structure):
     return flatten(level.res, structure)
 
 
+def moment_watch(level, structure):
+    """The largest |bending moment| alone is watched (values, kinds): what a fixed mesh's error
+    estimate is about (:func:`femslide.analysis.static.solve`), without extracting every named
+    result on each level (a run that needs only the equilibrium state: the dynamics' static start)."""
+    return [level.largest_moment()], ["moment"]
+
+
 GROUPS = (("moment",), ("length", "angle"), ("force",))
 
 

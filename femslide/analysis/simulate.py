@@ -66,7 +66,7 @@ from femslide.errors import BadInput, SolverFailure
 from femslide.joints.kinds import kind_of
 from femslide.records import replace
 from femslide.results.outcome import Figure, Frames, Loop, ModeShapes, Outcome, Table
-from femslide.results.history import _peak
+from femslide.results.history import _peaks
 from femslide.results.seismic import drift_columns, drifts, residuals, running_peaks, storey_pairs
 from femslide.analysis.workload import (  # noqa: F401  (check_work and steps_per_period: also imported from here)
     ABSURD_WORK_S, MAX_PERIODS, check_release, check_work, steps_per_period)
@@ -253,6 +253,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     hysteresis."""
     from femslide.analysis import static
     from femslide.analysis.modes import modes
+    from femslide.analysis.refine import moment_watch
     from femslide.analysis.transient import integrate
     from femslide.model.mass import Masses
     from femslide.results.static import joint_forces
@@ -262,7 +263,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     frequencies_of = "frictionless structure"
     lifted_static = ()
     try:
-        sol = static.solve(fs)
+        # (only the state is used: the static error estimate watches the largest moment alone)
+        sol = static.solve(fs, watch=moment_watch)
         model, y_s, e_s = sol.level.model, sol.level.y, sol.level.elements
         if sol.lifted:   # contacts the statics released: the dynamics' model has every joint (it releases them)
             from femslide.analysis.start import carry
@@ -488,24 +490,28 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     def peaks_of(H, fr):
         T = H[:, 0]
         brk = [e["t"] for evs in (fr.events.values() if fr is not None else ()) for e in evs if e["t"] > 0.0]
-
-        def peak(x):
-            return _peak(T, x, breaks=brk)
-        peaks = {"reactions": {}, "rods": {}, "joints": {}, "bodies": {}, "drifts": {}}
+        # (group, name, key, sign, series): every peak's series, refined together (_peaks)
+        want = []
         for n in reac:
-            peaks["reactions"][n] = {k: peak(np.abs(H[:, col[f"reactions.{n}.{k}"]])) for k in ("Fx", "Fy", "M")}
+            want += [("reactions", n, k, 1.0, np.abs(H[:, col[f"reactions.{n}.{k}"]])) for k in ("Fx", "Fy", "M")]
         for n in rods:
-            peaks["rods"][n] = {"M_max": peak(H[:, col[f"rods.{n}.M_max"]])}
+            want.append(("rods", n, "M_max", 1.0, H[:, col[f"rods.{n}.M_max"]]))
         for n in slides:
             s = H[:, col[f"joints.{n}.slide"]]
-            peaks["joints"][n] = {"slide_min": -peak(-s), "slide_max": peak(s)}
+            want += [("joints", n, "slide_min", -1.0, -s), ("joints", n, "slide_max", 1.0, s)]
         for n in contacts:   # the largest lift-off
-            peaks["joints"][n]["gap_max"] = peak(H[:, col[f"joints.{n}.gap"]])
+            want.append(("joints", n, "gap_max", 1.0, H[:, col[f"joints.{n}.gap"]]))
         for n in bodies:   # absolute velocities and accelerations of the centroids
-            peaks["bodies"][n] = {k: peak(np.abs(H[:, col[f"bodies.{n}.{k}"]])) for k in ("vx", "vy", "ax", "ay")}
+            want += [("bodies", n, k, 1.0, np.abs(H[:, col[f"bodies.{n}.{k}"]])) for k in ("vx", "vy", "ax", "ay")]
         for up, low in pairs:
             pair = f"{up}-{low}"
-            peaks["drifts"][pair] = {k: peak(np.abs(H[:, col[f"drifts.{pair}.{k}"]])) for k in ("dx", "dy")}
+            want += [("drifts", pair, k, 1.0, np.abs(H[:, col[f"drifts.{pair}.{k}"]])) for k in ("dx", "dy")]
+        peaks = {"reactions": {}, "rods": {}, "joints": {}, "bodies": {}, "drifts": {}}
+        if not want:
+            return peaks
+        vals = _peaks(T, np.column_stack([w[4] for w in want]), breaks=brk)
+        for (group, n, k, sign, _), v in zip(want, vals):
+            peaks[group].setdefault(n, {})[k] = sign * float(v)
         return peaks
 
     def outcome(res, H):
@@ -585,12 +591,13 @@ def _modes_on(fs, n, count):
     state with the friction joints stuck."""
     from femslide.analysis import static
     from femslide.analysis.modes import modes
+    from femslide.analysis.refine import moment_watch
     from femslide.model.mass import Masses
     fs = _fixed_mesh(fs, n)
     fric = [j for j in fs.joints if _has_friction(j)]
     mechanism = False
     try:
-        sol = static.solve(fs)
+        sol = static.solve(fs, watch=moment_watch)   # (only the state is used)
         model, y, elements = sol.level.model, sol.level.y, sol.level.elements
     except SolverFailure as exc:
         if not fric:

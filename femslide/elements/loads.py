@@ -38,6 +38,15 @@ class PointForce:
         H[2, 2] = lam * (Fx * Rx + Fy * Ry)
         return lam * E, lam * g0, H, g0
 
+    def energy(self, z, lam=1.0):
+        """:meth:`eval`'s energy alone (the same arithmetic)."""
+        t = float(z[2])
+        c, s = math.cos(t), math.sin(t)
+        rx, ry = self.r
+        Rx, Ry = c * rx - s * ry, s * rx + c * ry
+        Fx, Fy = self.F
+        return lam * -(Fx * (z[0] + Rx - rx) + Fy * (z[1] + Ry - ry) + self.M * t)
+
     def assemble(self, z, lam, rv, jv, fv):
         """:meth:`eval` as Python floats for the model's assembly (``z`` a list): appends the
         generalised force to ``rv``, the Hessian (3 x 3) to ``jv`` (unless None) and d/d lam of the

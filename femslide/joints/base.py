@@ -267,6 +267,11 @@ class RotationalSpring:
         t, d = self.link.rotation(z)
         return 0.5 * self.c * t * t, self.c * t * d, self.c * np.outer(d, d), np.zeros(d.size)
 
+    def energy(self, z, lam=1.0):
+        """:meth:`eval`'s energy alone (the same arithmetic)."""
+        t, _ = self.link._rotation(z.tolist())
+        return 0.5 * self.c * t * t
+
     def assemble(self, z, lam, rv, jv, fv):
         """:meth:`eval` as Python floats for the model's assembly (``z`` a list): appends the
         generalised force to ``rv``, the Hessian (k x k) to ``jv`` (unless None) and d/d lam of the
@@ -304,6 +309,12 @@ class SlideSpring:
         f = self.k * s - lam * self.F0
         return (0.5 * self.k * s * s - lam * self.F0 * s, f * ds, self.k * np.outer(ds, ds) + f * Hs,
                 -self.F0 * ds)
+
+    def energy(self, z, lam=1.0):
+        """:meth:`eval`'s energy alone (the same arithmetic)."""
+        s, _, _ = self.link._slide(z.tolist())
+        s -= self.s0
+        return 0.5 * self.k * s * s - lam * self.F0 * s
 
     def assemble(self, z, lam, rv, jv, fv):
         """:meth:`eval` as Python floats for the model's assembly (see RotationalSpring.assemble)."""
@@ -359,6 +370,13 @@ class ElasticSupport:
         for _, k, gi, _ in self._terms(z.tolist())[0]:
             E += 0.5 * k * gi * gi
         return E, force, np.array(jv).reshape(n, n), np.zeros(n)
+
+    def energy(self, z, lam=1.0):
+        """:meth:`eval`'s energy alone (the same arithmetic)."""
+        E = 0.0
+        for _, k, gi, _ in self._terms(z.tolist())[0]:
+            E += 0.5 * k * gi * gi
+        return E
 
     def assemble(self, z, lam, rv, jv, fv):
         """:meth:`eval` as Python floats for the model's assembly (see RotationalSpring.assemble)."""

@@ -580,8 +580,8 @@ class Model:
             if self.elements is not None else 0.0
         V += float(np.dot(self.p_lin, q))
         for t, d in zip(self.terms, self._term_dofs):
-            if t is not skip:
-                V += float(t.eval(q[d], 1.0)[0])
+            if t is not skip:   # (a term's energy alone, where it has it: its eval forms the Hessian too)
+                V += float(t.energy(q[d], 1.0) if hasattr(t, "energy") else t.eval(q[d], 1.0)[0])
         return V
 
     def applied(self, y, lam=1.0):

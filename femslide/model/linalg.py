@@ -177,6 +177,53 @@ def _lapack(name):
     return getattr(_FLAPACK[0], name)
 
 
+_OPENBLAS: dict = {}   # {library path: (set_num_threads, get_num_threads) or None}
+
+
+def _openblas_controls():
+    """(set_num_threads, get_num_threads) of every OpenBLAS library loaded in the process (numpy's
+    and scipy's wheels each bring one), from /proc/self/maps; empty where that fails (not Linux,
+    another BLAS): then nothing is changed."""
+    try:
+        import ctypes
+        with open("/proc/self/maps") as f:
+            paths = sorted({ln.split()[-1] for ln in f if "openblas" in ln.lower() and ".so" in ln})
+        for path in paths:
+            if path in _OPENBLAS:
+                continue
+            _OPENBLAS[path] = None
+            lib = ctypes.CDLL(path)
+            for pre, suf in (("scipy_openblas", "64_"), ("scipy_openblas", ""), ("openblas", "64_"),
+                             ("openblas", "")):
+                set_ = getattr(lib, f"{pre}_set_num_threads{suf}", None)
+                get = getattr(lib, f"{pre}_get_num_threads{suf}", None)
+                if set_ is not None and get is not None:
+                    set_.argtypes, set_.restype, get.argtypes, get.restype = [ctypes.c_int], None, [], ctypes.c_int
+                    _OPENBLAS[path] = (set_, get)
+                    break
+        return [_OPENBLAS[p] for p in paths if _OPENBLAS[p] is not None]
+    except Exception:  # noqa: BLE001 - any surprise: the BLAS is left as it is
+        return []
+
+
+@contextlib.contextmanager
+def one_blas_thread():
+    """Run the block with OpenBLAS on one thread (restored after): the dense eigenproblems and
+    products of a few hundred unknowns (natural modes) take 1-2 ms single-threaded, but a threaded
+    BLAS whose threads wait for a busy core spends 10-100x that (a 32-element cantilever's modes:
+    ~200 ms on a loaded 2-core machine, 3 ms on one thread).  The libraries loaded when the block
+    starts are set (import scipy.linalg before it for scipy's)."""
+    ctl = _openblas_controls()
+    old = [get() for _, get in ctl]
+    for set_, _ in ctl:
+        set_(1)
+    try:
+        yield
+    finally:
+        for (set_, _), n in zip(ctl, old):
+            set_(n)
+
+
 def load_lapack():
     """Load the compiled LAPACK routines now (a few ms, the first time in a process) if the solves
     need them (not with the compiled kernel, whose LU is its own): the FE modules call it when

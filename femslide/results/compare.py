@@ -20,12 +20,11 @@ POINTS = 6   # samples per local interpolation (degree 5)
 
 
 def _lagrange(ts, t):
-    """Weights of the Lagrange interpolant through the times ``ts`` at t."""
-    w = np.ones(ts.size)
-    for j in range(ts.size):
-        d = ts[j] - np.delete(ts, j)
-        w[j] = np.prod((t - np.delete(ts, j)) / d)
-    return w
+    """Weights of the Lagrange interpolant through the times ``ts`` at t: w_j = prod over m != j of
+    (t - ts_m) / (ts_j - ts_m), all j in one array operation (the factor m = j set to 1)."""
+    R = np.divide(t - ts[None, :], ts[:, None] - ts[None, :], out=np.ones((ts.size, ts.size)),
+                  where=~np.eye(ts.size, dtype=bool))
+    return R.prod(axis=1)
 
 
 def interpolate(ta, Xa, tb, breaks=(), kinks=()):
