@@ -54,6 +54,7 @@ class Friction:
         self.size = 2 * len(self.joints)    # event slots: 2 i friction, 2 i + 1 contact
         self.v_landing = [0.0] * len(self.joints)   # the largest approach speed of each contact's landings
         self.tolerance = 0.0                # the run's tolerance: a rebound below it (relative) is plastic
+        self.resolution = 0.0               # [s] the resolution of event times (set by the integration)
         self.pooled = {}                    # {stuck joint whose lock is redundant: the joint carrying it}
         self._systems = {}
 
@@ -157,9 +158,17 @@ class Friction:
     def event(self, i, t, kind):
         """Record joint i's new mode at t; a repeat of the joint's last event is not recorded (the
         stick test may confirm a slip direction twice: at one instant, or a hair after a slip's start
-        whose velocity moved the wrong way by round-off)."""
+        whose velocity moved the wrong way by round-off).  A stuck joint that slips and sticks again
+        within the resolution of event times (``resolution`` [s]: the shortest step the event
+        locator takes) only touched its breakaway bound: neither is recorded (a margin mu0 N - |T|
+        that grazes zero, which an error below the tolerance decides; as a stop that breaks away at
+        once records neither)."""
         ev = self.events[self.joints[i].name]
         self.last[i] = (t, kind)   # (the joint's last switch, recorded or not: fresh)
+        if (kind == "stick" and len(ev) > 1 and ev[-1]["kind"].startswith("slip") and ev[-2]["kind"] == "stick"
+                and t - ev[-1]["t"] <= 1.5 * max(self.resolution, SAME_INSTANT * max(1.0, abs(t)))):
+            ev.pop()
+            return
         if not ev or ev[-1]["kind"] != kind:   # (a repeat: the joint re-tested into the mode it was in)
             ev.append({"t": t, "kind": kind})
 

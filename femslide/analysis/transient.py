@@ -22,9 +22,10 @@ step with a larger error is repeated with a smaller h, the next step is h (0.9 /
 (between 0.2 h and 2 h).  The estimate does not see a mode that the steps have damped (the integrator
 is L-stable), so the vibration of the lowest modes is watched too: while one vibrates above 0.3 times
 that budget, the steps keep its numerical damping over the run within 0.1 times it
-(:func:`_mode_steps`).  Newton's residual is measured against the motion's forces as well as the
-static ones.  Under a recorded ground motion the steps end on the record's sample times, so that the
-input is smooth within every step.
+(:func:`_mode_steps`), and so is each mode's share of the friction joints' forces (a vibration of
+the normal force changes mu N; :func:`_mode_grip`).  Newton's residual is measured against the
+motion's forces as well as the static ones.  Under a recorded ground motion the steps end on the
+record's sample times, so that the input is smooth within every step.
 
 Damping: Rayleigh, C = alpha M0 + beta K0 with M0 and K0 the mass matrix and the tangent at the
 static state (constant; plus any rotational dashpots on bodies, simulate.py).  Energy balance:
@@ -311,6 +312,8 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         relative to t, and 1/100 of the promised accuracy of event times, 10 tolerance times the
         lowest mode's period)."""
         return max(SAME_INSTANT * max(1.0, abs(t)), 0.1 * tolerance * (period or 0.0))
+    if fr is not None:
+        fr.resolution = 0.1 * tolerance * (period or 0.0)   # (t_same's: for the events' record)
     ph_of = None   # the state the event functions ph were evaluated at
     while s.t < t_end * (1 - 1e-14):
         # (each event - a friction switch, a lift, a landing - brings its own restart and located steps)
