@@ -792,11 +792,12 @@ def test_a_touch_of_the_breakaway_bound_is_no_event():
     from femslide.analysis.stickslip import Friction
     fr = object.__new__(Friction)
     fr.joints = [SimpleNamespace(name="iso")]
-    fr.events, fr.last, fr.resolution = {"iso": []}, [None], 2.5e-7
+    fr.events, fr.last, fr.resolution, fr.touches = {"iso": []}, [None], 2.5e-7, []
     for t, kind in [(0.0, "stick"), (1.0, "slip-"), (1.0 + 2.5e-7, "stick"), (2.0, "slip+"), (2.0 + 1e-6, "stick")]:
         fr.event(0, t, kind)
     assert [(e["t"], e["kind"]) for e in fr.events["iso"]] == [(0.0, "stick"), (2.0, "slip+"), (2.0 + 1e-6, "stick")]
     assert fr.last[0] == (2.0 + 1e-6, "stick")
+    assert fr.touches == [(0, 1.0, 1.0 + 2.5e-7)]   # (kept apart: counted as switches, not listed)
     fr.events, fr.last = {"iso": []}, [None]
     for t, kind in [(0.0, "slip+"), (1e-9, "stick")]:   # (no stick before the slip: kept)
         fr.event(0, t, kind)

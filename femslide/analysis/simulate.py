@@ -127,13 +127,15 @@ CHATTER_SHARE = 0.5    # a run with friction events on more than this share of i
 CHATTER_EVENTS = 100   # CHATTER_EVENTS events) fails: stick/slip chatter, not a motion
 
 
-def check_trust(res, tolerance, unit=0.0):
+def check_trust(res, tolerance, unit=0.0, touches=0):
     """SolverFailure (exit 1, the reason named) for a run that completed but cannot be trusted: an
     energy balance far beyond what the tolerance allows (Radau IIA keeps it near the tolerance: 1e-7
     at 1e-6 on section 5.2, 2e-6 at 1e-3 on the base-isolated frame; a run that chattered between
     stick and slip or took a wrong breakaway read 1e-2 .. 1), or friction events on most steps.
     ``unit`` [J]: the model's energy unit (its forces times its length); a run whose energies are all
-    below 1e-9 of it (t_end = 1e-6 s) has a balance of round-off and is not judged by it."""
+    below 1e-9 of it (t_end = 1e-6 s) has a balance of round-off and is not judged by it.
+    ``touches``: switches not listed as events (a stuck joint's slip and stick within the
+    resolution of event times, femslide.analysis.stickslip.Friction.event), counted as events."""
     E = res["energy_balance"]
     scale = max((abs(x) for x in res.get("energy", {}).values()), default=0.0)
     # (the balance is relative to the largest energy: it saturates near 1, whatever the tolerance)
@@ -145,6 +147,7 @@ def check_trust(res, tolerance, unit=0.0):
     # friction's stick/slip events (a contact's lifts and landings may pile up for real: a rocking
     # block's impacts accumulate in finite time)
     events = sum(max(sum(e["kind"] not in ("lift", "land") for e in v) - 1, 0) for v in res["events"].values())
+    events += touches
     if events > CHATTER_EVENTS and events > CHATTER_SHARE * res["steps"]:
         raise SolverFailure(f"simulate: {events} friction events in {res['steps']} steps: the stick/slip "
                             f"modes chatter; try a tighter tolerance")
@@ -490,6 +493,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     def peaks_of(H, fr):
         T = H[:, 0]
         brk = [e["t"] for evs in (fr.events.values() if fr is not None else ()) for e in evs if e["t"] > 0.0]
+        brk = sorted(brk + [t for _, t0, t1 in (fr.touches if fr is not None else ()) for t in (t0, t1)])   # (jumps)
         # (group, name, key, sign, series): every peak's series, refined together (_peaks)
         want = []
         for n in reac:
@@ -561,7 +565,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
            "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of,
            **({"frequency_sets": sets} if sets else {}), "peaks": peaks,
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
-    check_trust(res, spec.tolerance, model.Fref * model.Lref)
+    check_trust(res, spec.tolerance, model.Fref * model.Lref, 2 * len(fr.touches) if fr is not None else 0)
     if spec.estimate:
         try:
             res.update(_accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, 1.0 / f_ref[0], model.Lref,

@@ -55,6 +55,7 @@ class Friction:
         self.v_landing = [0.0] * len(self.joints)   # the largest approach speed of each contact's landings
         self.tolerance = 0.0                # the run's tolerance: a rebound below it (relative) is plastic
         self.resolution = 0.0               # [s] the resolution of event times (set by the integration)
+        self.touches = []                   # touches of the breakaway bound not listed as events (event)
         self.pooled = {}                    # {stuck joint whose lock is redundant: the joint carrying it}
         self._systems = {}
 
@@ -162,12 +163,13 @@ class Friction:
         within the resolution of event times (``resolution`` [s]: the shortest step the event
         locator takes) only touched its breakaway bound: neither is recorded (a margin mu0 N - |T|
         that grazes zero, which an error below the tolerance decides; as a stop that breaks away at
-        once records neither)."""
+        once records neither); they are kept in ``touches`` [(joint index, t of the slip, t of the
+        stick)] for what counts switches (the step allowance, the chatter guard, the peaks' breaks)."""
         ev = self.events[self.joints[i].name]
         self.last[i] = (t, kind)   # (the joint's last switch, recorded or not: fresh)
         if (kind == "stick" and len(ev) > 1 and ev[-1]["kind"].startswith("slip") and ev[-2]["kind"] == "stick"
                 and t - ev[-1]["t"] <= 1.5 * max(self.resolution, SAME_INSTANT * max(1.0, abs(t)))):
-            ev.pop()
+            self.touches.append((i, ev.pop()["t"], t))
             return
         if not ev or ev[-1]["kind"] != kind:   # (a repeat: the joint re-tested into the mode it was in)
             ev.append({"t": t, "kind": kind})

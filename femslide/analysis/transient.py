@@ -67,6 +67,7 @@ ORDER_GLOBAL = 5.0     # ... and the global error ~ steps^-ORDER_GLOBAL (Radau I
 EVENT_STEPS = 50      # the step allowance of a run grows by this for each event
 MODE_LIVE = 0.3       # a mode vibrating above this share of the error budget is resolved ...
 MODE_SHARE = 0.1      # ... its numerical damping over the run kept within this share
+N_FLOOR = 1e-6        # a friction joint's normal force below this share of the largest force scale carries nothing
 F_MOTION_MIN = 1e-9  # floor of the motion's force scale (model units) that Newton's residual is measured against
 MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/analysis/simulate.py comes first)
 
@@ -109,11 +110,11 @@ def _dip(f0, f_stages, f1, calm):
 
 
 def _mode_guard(modal, masses, q_static, heavy, fr=None, y_static=None, elements=None):
-    """(omega (k,), P (k, n_q), reach (k,), decay (k,), grip (k,)) for :func:`_mode_steps`: the modal
+    """(omega (k,), P (k, n_q), reach (k,), decay (k,), grip) for :func:`_mode_steps`: the modal
     coordinates of an acceleration are P @ acc (P = phi^T M / phi^T M phi: the modes are
     M-orthogonal), reach the largest entry of a shape on the dofs with mass, decay = zeta omega
-    [1/s], grip the friction forces a unit of each mode carries (:func:`_mode_grip`; zeros without
-    friction); None without modes.  ``modal``: (omega, shapes, zeta[, stuck]), stuck whether the
+    [1/s], grip the friction forces a unit of each mode carries (:func:`_mode_grip`: (joints, G) or
+    None); None without modes.  ``modal``: (omega, shapes, zeta[, stuck]), stuck whether the
     shapes are those of the structure with its friction joints stuck."""
     if modal is None:
         return None
@@ -132,13 +133,14 @@ def _mode_guard(modal, masses, q_static, heavy, fr=None, y_static=None, elements
 
 
 def _mode_grip(fr, stuck, y_static, elements, om, MPhi):
-    """(joints, G (j, k)): the friction joints that carry a normal force and the friction forces that
-    a unit of each mode's coordinate carries there (model units), the largest of |N_k| and, stuck,
-    of the lock's force |T_k|, weighed by (omega_1 / omega_k)^2; None without such joints or where
-    the tangent is singular (locks that pool: their split is undetermined).  A mode's constraint
-    forces lam_k are its multipliers, [[K, G^T], [G, 0]] [phi_k, lam_k] = [omega_k^2 M phi_k, 0]
-    (the tangent at the static state of the model whose modes they are: with the friction joints
-    stuck or not).  A vibration that the steps damp changes the friction force mu N, or the margin
+    """(joints, G (j, k)): the friction joints (mu0 > 0) and the friction forces that a unit of each
+    mode's coordinate carries there (model units), the largest of |N_k| and, stuck, of the lock's
+    force over mu0, |T_k| / mu0 (the margin mu0 N - |T|), weighed by (omega_1 / omega_k)^2; None
+    without such joints or where the tangent is singular (locks that pool: their split is
+    undetermined; the watch of these forces is then off).  A mode's constraint forces lam_k are its
+    multipliers, [[K, G^T], [G, 0]] [phi_k, lam_k] = [omega_k^2 M phi_k, 0] (the tangent at the
+    start's state ``y_static``, in the layout of the modes' model: with every friction joint stuck
+    or none).  A vibration that the steps damp changes the friction force mu N, or the margin
     of a stuck joint, by its share: the deck of a base-isolated frame rings at 109 and 188 Hz after
     each friction event by nanometres, beside a slide of centimetres, but by 1e-4 of the normal
     force.  The weight: a friction force that vibrates at omega_k moves the masses by its amplitude
@@ -150,8 +152,8 @@ def _mode_grip(fr, stuck, y_static, elements, om, MPhi):
 
     base = fr.base
     model = fr.stuck_model() if stuck else base
-    y = np.zeros(model.n)
-    y[:min(model.n, y_static.size)] = y_static[:model.n]   # (the start's multipliers: in the stuck layout, the locks')
+    every = tuple(i for i, fj in enumerate(fr.joints) if fj.friction)   # (stuck_model's locks, in order)
+    y = fr.convert(y_static, fr.stuck(), every) if stuck else y_static[:model.n].copy()
     *_, S = tangent(model, y, ElementState(elements.committed.copy()))
     n_q = base.n_q
     rhs = np.zeros((model.n, om.size))
@@ -160,15 +162,15 @@ def _mode_grip(fr, stuck, y_static, elements, om, MPhi):
         lam = spla.splu(S.tocsc()).solve(rhs)[n_q:]   # (k columns of constraint forces)
     except RuntimeError:
         return None
-    locks = tuple(i for i, fj in enumerate(fr.joints) if fj.friction) if stuck else ()   # (stuck_model's)
+    locks = every if stuck else ()
     joints, rows = [], []
     for i, fj in enumerate(fr.joints):
         if not fj.friction:
             continue
         _, dN = fj.normal(y_static)
         share = np.abs(dN @ lam[fj.mu_idx - n_q])
-        if i in locks:
-            share = np.maximum(share, np.abs(lam[base.n_c + locks.index(i)]))
+        if i in locks:   # (the margin mu0 N - |T|: the lock's force against mu0 N)
+            share = np.maximum(share, np.abs(lam[base.n_c + locks.index(i)]) / fj.mu0)
         joints.append(fj)
         rows.append(share * (om.min() / om) ** 2)
     G = np.array(rows)
@@ -209,9 +211,10 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     ``sample`` [s]: record the rows at the multiples of this interval (inside a step from its
     collocation polynomial: positions and multipliers to the integrator's order, velocities and
     accelerations to lower orders), at t_end and at every event (the rows before and after it),
-    instead of at every step (None).  ``modal``: (omega [rad/s] (k,), shapes (k, n_q), zeta (k,)) of
-    the lowest natural modes about the static state and their damping ratios, or None: a mode that
-    vibrates above the tolerance keeps the steps short enough for it (:func:`_mode_steps`).
+    instead of at every step (None).  ``modal``: (omega [rad/s] (k,), shapes (k, n_q), zeta (k,)[, stuck]) of
+    the lowest natural modes about the static state and their damping ratios (stuck: the shapes are
+    those of the structure with its friction joints stuck), or None: a mode that vibrates above the
+    tolerance keeps the steps short enough for it (:func:`_mode_steps`, :func:`_mode_grip`).
     Raises SolverFailure when a step cannot be completed
     (Newton fails at the smallest step)
     or the step count (a runaway's safety net) or the wall-time limit runs out."""
@@ -285,6 +288,8 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     else:
         if not fr.tolerance:
             fr.tolerance = tolerance
+        if not fr.resolution:   # (t_same's, for the events' record; a check run keeps its run's)
+            fr.resolution = 0.1 * tolerance * (period or 0.0)
         s, sysm, released = start(fr, s, h_s)
         D += released
         J += released
@@ -312,12 +317,10 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         relative to t, and 1/100 of the promised accuracy of event times, 10 tolerance times the
         lowest mode's period)."""
         return max(SAME_INSTANT * max(1.0, abs(t)), 0.1 * tolerance * (period or 0.0))
-    if fr is not None:
-        fr.resolution = 0.1 * tolerance * (period or 0.0)   # (t_same's: for the events' record)
     ph_of = None   # the state the event functions ph were evaluated at
     while s.t < t_end * (1 - 1e-14):
         # (each event - a friction switch, a lift, a landing - brings its own restart and located steps)
-        n_ev = sum(len(v) for v in fr.events.values()) if fr is not None else 0
+        n_ev = sum(len(v) for v in fr.events.values()) + 2 * len(fr.touches) if fr is not None else 0
         if out.steps + out.rejected >= max_steps + EVENT_STEPS * n_ev:
             raise SolverFailure(f"simulate: the step count limit {max_steps + EVENT_STEPS * n_ev} ({max_steps} and "
                                 f"{EVENT_STEPS} per event, {n_ev} events) was reached at t = {s.t:.6g} s "
@@ -577,7 +580,10 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             if grip is not None:
                 n_top = np.maximum(n_top, [abs(fj.normal(s.y)[0]) for fj in grip[0]])
                 vib_f = np.maximum(q_mode * grip[1], vib_f * fade)   # (joints, modes) [model units]
-                share = (vib_f * np.where(n_top > 0.0, 1.0 / np.maximum(n_top, 1e-300), 0.0)[:, None]).max(axis=0)
+                # (a joint whose normal force stays at round-off beside the others' and the motion's
+                # carries no friction worth resolving)
+                floor = N_FLOOR * max(float(n_top.max()), f_motion)
+                share = (vib_f * np.where(n_top > floor, 1.0 / np.maximum(n_top, 1e-300), 0.0)[:, None]).max(axis=0)
                 h_next = min(h_next, _mode_steps(share, om, decay, tolerance, t_end))
         h = h_next
     out.energy_balance = bal / Emax if Emax > 0 else 0.0

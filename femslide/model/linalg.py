@@ -186,13 +186,17 @@ def _openblas_controls():
     another BLAS): then nothing is changed."""
     try:
         import ctypes
-        with open("/proc/self/maps") as f:
-            paths = sorted({ln.split()[-1] for ln in f if "openblas" in ln.lower() and ".so" in ln})
+        with open("/proc/self/maps") as f:   # (the path: the sixth field, which may hold spaces)
+            paths = sorted({parts[5].strip() for parts in (ln.split(None, 5) for ln in f)
+                            if len(parts) == 6 and "openblas" in parts[5].lower() and ".so" in parts[5]})
         for path in paths:
             if path in _OPENBLAS:
                 continue
             _OPENBLAS[path] = None
-            lib = ctypes.CDLL(path)
+            try:
+                lib = ctypes.CDLL(path)
+            except OSError:   # (a library replaced on disk since: its entry reads "(deleted)")
+                continue
             for pre, suf in (("scipy_openblas", "64_"), ("scipy_openblas", ""), ("openblas", "64_"),
                              ("openblas", "")):
                 set_ = getattr(lib, f"{pre}_set_num_threads{suf}", None)
