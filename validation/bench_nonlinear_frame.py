@@ -23,10 +23,10 @@ DOP853's dense output; numpy and scipy only).
 Prints tables, writes validation/nonlinear_frame_accuracy.csv for ``femslide`` (the committed one: scales
 0.25, 1, 2, and two rows with --h-cap 2.5e-4, column h_cap_s).  Times are of one run
 on this (shared) machine.
-The committed csv predates the steps' watch of vibrating modes (transient._mode_steps).  Since then, at
-scale 1: 0.01, 0.15, 1.37, 0.15, 0.16 x the tolerance at 1e-3 .. 1e-7 (was 0.01, 0.15, 1.42, 13.8, 128),
-103 s at 1e-6; scale 0.25: 0.04, 0.30, 0.02 at 1e-4 .. 1e-6; scale 2: 0.26, 2.7, 27.7 at 1e-4 .. 1e-6 (the
-deck's vibration is not caught there: the watch weighs a mode by its displacement).
+The committed csv: scales 0.25, 1, 2 at 1e-3 .. 1e-7 with the steps' watch of vibrating modes, by their
+displacement (transient._mode_steps) and by their share of the friction forces (transient._mode_grip);
+before the watches (the two h_cap rows are from then) scale 1 was 13.8 and 128 x the tolerance off at
+1e-6 and 1e-7, scale 2 27.7 at 1e-6.
 Run:  python validation/bench_nonlinear_frame.py [femslide|reference|linear] [--t-end 20]
       [--scales 1,0.25,2] [--tols 1e-3,1e-4,1e-5,1e-6] [--ref-rtol 1e-10] [--no-estimate] [--cache DIR] [--h-cap S]
 """
