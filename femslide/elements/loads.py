@@ -26,11 +26,16 @@ class PointForce:
     M: float = 0.0
     name: str = "force"
 
-    def eval(self, z, lam=1.0):
+    def _arm(self, z):
+        """(t, Rx, Ry): the body's rotation at z and its arm r turned by it."""
         t = float(z[2])
         c, s = math.cos(t), math.sin(t)
         rx, ry = self.r
-        Rx, Ry = c * rx - s * ry, s * rx + c * ry
+        return t, c * rx - s * ry, s * rx + c * ry
+
+    def eval(self, z, lam=1.0):
+        t, Rx, Ry = self._arm(z)
+        rx, ry = self.r
         Fx, Fy = self.F
         E = -(Fx * (z[0] + Rx - rx) + Fy * (z[1] + Ry - ry) + self.M * t)
         g0 = np.array([-Fx, -Fy, -(Fx * -Ry + Fy * Rx) - self.M])
@@ -40,10 +45,8 @@ class PointForce:
 
     def energy(self, z, lam=1.0):
         """:meth:`eval`'s energy alone (the same arithmetic)."""
-        t = float(z[2])
-        c, s = math.cos(t), math.sin(t)
+        t, Rx, Ry = self._arm(z)
         rx, ry = self.r
-        Rx, Ry = c * rx - s * ry, s * rx + c * ry
         Fx, Fy = self.F
         return lam * -(Fx * (z[0] + Rx - rx) + Fy * (z[1] + Ry - ry) + self.M * t)
 
