@@ -194,8 +194,10 @@ def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1, size, prog
     tol_c = CHECK_FACTOR * spec.tolerance
     t0 = time.perf_counter()
     fr_c = new_friction()
-    if fr_c is not None:   # (its contacts come to rest and rebound as the run's: the same thresholds)
+    if fr_c is not None:   # (its contacts come to rest and rebound as the run's, and its touches of a
+        # breakaway bound are the run's: the same thresholds)
         fr_c.tolerance = spec.tolerance
+        fr_c.resolution = 0.1 * spec.tolerance * T1
     try:
         run_c, Hc = run_at(tol_c, fr_c, False, progress)
     except SolverFailure as exc:
