@@ -75,32 +75,9 @@ def reference(scale=1.0, t_end=20.0, rtol=1e-10):
     return ref, cpu
 
 
-def without_zero_duration_pairs(events):
-    """The event list without pairs (stick, slip) at one instant (within 1e-9 s): a grazing stop that
-    breaks away at once (an event-driven reference records both, femslide neither)."""
-    out = []
-    for t, k in events:
-        if out and k.startswith("slip") and out[-1][1] == "stick" and abs(out[-1][0] - t) <= 1e-9:
-            out.pop()
-            continue
-        out.append((t, k))
-    return out
-
-
-def history_errors(t, values, ref):
-    """{column: max |value - reference| over the times t / max |reference|} for ``values``
-    {column: array at t} (positions: the reference's offsets are added to it)."""
-    out = {}
-    for c, f in ref.histories.items():
-        if c in values:
-            xr = f(t) + ref.offsets.get(c, 0.0)
-            out[c] = float(np.abs(values[c] - xr).max() / np.abs(xr - ref.offsets.get(c, 0.0)).max())
-    return out
-
-
 def event_errors(got, ref):
     """(kinds equal, largest |time difference| [s] or None, counts (got, want))."""
-    want = without_zero_duration_pairs(ref.events)
+    want = dynamic_cases.without_zero_duration_pairs(ref.events)
     same = [k for _, k in got] == [k for _, k in want]
     dt = max(abs(a[0] - b[0]) for a, b in zip(got, want)) if same else None
     return same, dt, (len(got), len(want))
@@ -132,8 +109,7 @@ def femslide_run(ref, tol, scale, estimate=True):
 
 def compare(res, ref):
     """Row of the femslide table: history errors, events, estimate."""
-    t = res.history["t"]
-    err = history_errors(t, {c: res.history[c] for c in COLS}, ref)
+    err = dynamic_cases.history_errors(res.history, ref, COLS)
     got = [(e["t"], e["kind"]) for evs in res["events"].values() for e in evs]
     got.sort()
     same, dt, (ng, nw) = event_errors(got, ref)
@@ -207,7 +183,7 @@ def main_linear(a):
         for c in COLS:
             xl, xn = lin.histories[c](t), non.histories[c](t)
             d[c] = np.abs(xl - xn).max() / np.abs(xn).max() if np.abs(xn).max() > 0 else float("nan")
-        el, en = without_zero_duration_pairs(lin.events), non.events
+        el, en = dynamic_cases.without_zero_duration_pairs(lin.events), non.events
         same = [k for _, k in el] == [k for _, k in en]
         dt = f"{max(abs(x[0] - y[0]) for x, y in zip(el, en)):.1e}" if same and len(el) > 1 else "   -   "
         print(f"{scale:<5g}  {len(el):>4d} / {len(en):<4d}{'' if same else ' (differ)':9s}  {dt:>9s}  "

@@ -60,6 +60,33 @@ class Reference:
     extra: dict = field(default_factory=dict)
 
 
+def history_errors(history, ref, columns=None):
+    """{column: the largest |femslide - reference| at femslide's history times over the reference's
+    largest |value| there} of a femslide ``history`` (columns -> arrays, "t" the times [s]) against a
+    :class:`Reference`: the reference's ``offsets`` (a position's static place) taken off femslide's
+    value first; every column the reference has, or those of ``columns``."""
+    t = history["t"]
+    out = {}
+    for c, f in ref.histories.items():
+        if columns is None or c in columns:
+            xr = f(t)
+            out[c] = float(np.abs(history[c] - ref.offsets.get(c, 0.0) - xr).max() / np.abs(xr).max())
+    return out
+
+
+def without_zero_duration_pairs(events):
+    """An event list [(t, kind)] without the pairs (stick, slip) at one instant (within 1e-9 s): an
+    event-driven reference's own record of a grazing stop that breaks away at once (femslide lists
+    neither)."""
+    out = []
+    for t, k in events:
+        if out and k.startswith("slip") and out[-1][1] == "stick" and abs(out[-1][0] - t) <= 1e-9:
+            out.pop()
+            continue
+        out.append((t, k))
+    return out
+
+
 def read(name):
     path = os.path.join(STRUCTURES, name if name.endswith(".toml") else name + ".toml")
     with open(path, "rb") as f:

@@ -27,16 +27,6 @@ import femslide
 dynamic_cases = pytest.importorskip("dynamic_cases")
 
 
-def _errors(res, ref):
-    t = res.history["t"]
-    out = {}
-    for c, f in ref.histories.items():
-        x = res.history[c] - ref.offsets.get(c, 0.0)
-        xr = f(t)
-        out[c] = float(np.abs(x - xr).max() / np.abs(xr).max())
-    return out
-
-
 @pytest.fixture(scope="module")
 def two_mass():
     return dynamic_cases.two_mass_friction()
@@ -49,23 +39,10 @@ def test_two_mass_friction_events_histories_and_estimate(two_mass, tol):
     got = sorted((e["t"], e["kind"]) for evs in res["events"].values() for e in evs)
     assert [k for _, k in got] == [k for _, k in ref.events]
     assert max(abs(a[0] - b[0]) for a, b in zip(got, ref.events)) <= 10 * tol * ref.T1
-    err = _errors(res, ref)
+    err = dynamic_cases.history_errors(res.history, ref)
     assert max(err.values()) <= 3 * tol, err
     assert res["error_estimate"] is not None and max(err.values()) <= 3 * res["error_estimate"]
     assert res["accuracy"]["events_agree"] is True
-
-
-def _without_zero_duration_pairs(events):
-    """An event list without the pairs (stick, slip) that stick and slip again at one instant (within
-    1e-9 s): the event-driven reference's own record of a grazing breakaway, where the joint never
-    stops."""
-    out = []
-    for t, k in events:
-        if len(out) >= 1 and k.startswith("slip") and out[-1][1] == "stick" and abs(out[-1][0] - t) <= 1e-9:
-            out.pop()
-            continue
-        out.append((t, k))
-    return out
 
 
 @pytest.mark.parametrize("scale, tol", [(1.0, 1e-4), (2.0, 1e-4), (0.25, 1e-4), (0.25, 1e-6)])
@@ -85,7 +62,7 @@ def test_base_isolated_frame_events(scale, tol):
     res = femslide.simulate(ref.path, **{"simulate.tolerance": tol, "simulate.error_estimate": False,
                                          "simulate.ground.scale": scale})
     got = [(e["t"], e["kind"]) for evs in res["events"].values() for e in evs]
-    want = _without_zero_duration_pairs(ref.events)
+    want = dynamic_cases.without_zero_duration_pairs(ref.events)
     assert [k for _, k in got] == [k for _, k in want]
     if tol >= 1e-4:
         assert max(abs(a[0] - b[0]) for a, b in zip(got, want)) <= 10 * tol * ref.T1
@@ -114,7 +91,7 @@ def test_mast_histories(beta, tol):
     ref = dynamic_cases.cantilever_tip_mass(damping=(0.0, beta), peaks=False)
     res = femslide.simulate(ref.path, **{"simulate.tolerance": tol,
                                          "simulate.damping": {"alpha": 0.0, "beta": beta}})
-    err = _errors(res, ref)
+    err = dynamic_cases.history_errors(res.history, ref)
     checked = list(err) if beta else ["bodies.tip.x", "bodies.tip.rotation"]
     assert {c: err[c] for c in checked if err[c] > 3 * tol} == {}
     if beta and tol >= 1e-4:
@@ -136,7 +113,7 @@ def test_sampled_history_of_the_mast():
     res = femslide.simulate(ref.path, **kw, **{"simulate.output_interval": 1e-3})
     t = res.history["t"]
     assert t.size == 2001 and np.abs(t - 1e-3 * np.arange(2001)).max() < 1e-12
-    err = _errors(res, ref)
+    err = dynamic_cases.history_errors(res.history, ref)
     assert max(err.values()) <= 3e-4, err
     c = "bodies.tip.x"
     fine = np.linspace(0.0, 2.0, 40001)
@@ -176,7 +153,7 @@ def test_output_interval_bad_input(two_mass, value, message):
 def test_two_storey_frame_floor_displacements(tol):
     ref = dynamic_cases.two_storey_frame()
     res = femslide.simulate(ref.path, **{"simulate.tolerance": tol})
-    err = {c: e for c, e in _errors(res, ref).items() if c.startswith("bodies.")}
+    err = {c: e for c, e in dynamic_cases.history_errors(res.history, ref).items() if c.startswith("bodies.")}
     assert err and max(err.values()) <= 3 * tol, err
     assert max(err.values()) <= 3 * res["error_estimate"], (err, res["error_estimate"])
 
