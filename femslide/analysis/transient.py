@@ -296,12 +296,14 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     f_motion = max(motion_force(s.t, s.acc), F_MOTION_MIN)
     k_sample = 1   # the next sample is at k_sample * sample
     guard = _mode_guard(modal, masses, q_static, heavy, fr, s.y, s.elements)   # (s: the start's multipliers)
-    vib = None if guard is None else np.zeros(guard[0].size)   # the modes' vibration amplitudes [model units]
-    if guard is not None and guard[4] is not None:
-        # ... and the friction forces they carry (joints, modes), against the normal forces' largest
-        # |value| so far (a history's error is relative to its largest value)
-        vib_f = np.zeros(guard[4][1].shape)
-        n_top = np.array([abs(fj.normal(s.y)[0]) for fj in guard[4][0]])
+    if guard is not None:
+        om, Pm, reach, decay, grip = guard   # (Pm @ acc: the modal accelerations)
+        vib = np.zeros(om.size)   # the modes' vibration amplitudes [model units]
+        if grip is not None:
+            # ... and the friction forces they carry (joints, modes), against the normal forces' largest
+            # |value| so far (a history's error is relative to its largest value)
+            vib_f = np.zeros(grip[1].shape)
+            n_top = np.array([abs(fj.normal(s.y)[0]) for fj in grip[0]])
     if observe:
         out.rows.append(observe(0.0, s.y, s.alpha, s.v, s.acc))
     watch = list(watch)
@@ -569,15 +571,14 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             # keep its numerical damping over the run below the error budget
             # (the amplitude from the modal acceleration over omega^2: a forced, quasi-static response
             # at a frequency W counts only (W / omega)^2 of its size, a free vibration in full)
-            om, P, reach, decay, grip = guard
-            q_mode = np.abs(P @ s.acc) / (om * om)
+            q_mode = np.abs(Pm @ s.acc) / (om * om)
             fade = math.exp(-h / period) if period else 1.0
             vib = np.maximum(q_mode * reach, vib * fade)
-            # ... and by the share of the friction forces it carries (_mode_grip): a slide follows
-            # mu N, a breakaway mu0 N; the deck's vibration is nanometres beside a slide that grows
-            # with the record, but its share of N does not shrink
             h_next = min(h_next, _mode_steps(vib, om, decay, tolerance * max(amp, disp, 1e-3 * amp_all), t_end))
             if grip is not None:
+                # ... and by the share of the friction forces it carries (_mode_grip): a slide follows
+                # mu N, a breakaway mu0 N; the deck's vibration is nanometres beside a slide that grows
+                # with the record, but its share of N does not shrink
                 n_top = np.maximum(n_top, [abs(fj.normal(s.y)[0]) for fj in grip[0]])
                 vib_f = np.maximum(q_mode * grip[1], vib_f * fade)   # (joints, modes) [model units]
                 # (a joint whose normal force stays at round-off beside the others' and the motion's
