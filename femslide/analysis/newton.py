@@ -13,7 +13,11 @@ interest are smaller than that (a time step: the motion's forces, not the static
 scale ``fscale``, and the force residual is measured against the smaller of the two.  A stiff model
 (EA/P up to 1e15) cannot reach ``tol``: its force residual is then accepted below the estimated
 round-off bound of the element forces, but only when it is there both before and after a Newton step (so a residual
-that merely dips under a loose bound is not taken for convergence), or after 4 steps there.  Steps
+that merely dips under a loose bound is not taken for convergence), or after 4 steps there.  A
+caller may ask (``settle``) for a state to be accepted without another evaluation where the residual
+is contracting fast: the last step cut it by ``settle`` or more (not the first step, which may only
+project onto the constraints and a stiff rod's length), and the next step, continuing that
+contraction (a bound of quadratic convergence), brings it below tol or the round-off floor.  Steps
 that would turn a rotation by more than ``max_rot`` are scaled down (a trust region for the exact but
 strongly nonlinear corotational kinematics).  Never raises: the caller reads ``info.converged`` and
 the residual history.
@@ -36,13 +40,18 @@ class NewtonInfo:
     reason: str = ""
 
 
-def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_rot=0.5, fscale=None):
+def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_rot=0.5, fscale=None,
+           settle=None):
     """Newton iterations from y (modified copy returned).  Never raises: check ``info.converged``.
 
     Steps whose largest rotation increment exceeds ``max_rot`` [rad] are scaled down (a trust
     region for the corotational kinematics, which are exact but strongly nonlinear).  ``fscale``
     (model units, or None): the force residual is relative to min(1 + largest internal force,
-    fscale).
+    fscale).  ``settle`` (a factor < 1, or None): accept the state after a step that follows a
+    contraction of the residual by this factor or more, from the third evaluation on, where the
+    contraction continued predicts convergence (the returned state is then not evaluated: its
+    elements' trial rotations are those of the state before that step - they only unwrap angles -
+    and ``info.history`` ends with the predicted residual; the reason says "predicted").
     """
     y = y.copy()
     n_q = model.n_q
@@ -95,6 +104,13 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
             step *= max_rot / big
             sq *= max_rot / big
         y -= step
+        if settle is not None and it >= 3 and res <= settle * prev and big <= max_rot:
+            # the contraction of the last step, continued: an upper bound of the next residual where
+            # Newton converges quadratically
+            rate = res / prev
+            if res_g * rate <= tol and res_f * rate <= max(tol, _floor(finfo, fscale)):
+                hist.append(res * rate)
+                return y, NewtonInfo(True, it, hist, "predicted")
         floor_step = at_floor
         if floor_its >= 4:
             r, _, info = model.system(y, elements, lam, control, jacobian=False)
