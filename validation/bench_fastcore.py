@@ -298,7 +298,8 @@ def dynamics(repeats, ops, quick=False):
     err_o = abs(o["F2_peak"] / OSCILLATION_F2 - 1.0)
     ratio, ratio_n = best_f / best_o, best_n / best_o
     print(f"      femslide tolerance {tol:g}: error {err_f:.1e}, {best_f:.3f} s (whole simulate: static start, modes, "
-          f"integration {res['integration_time_s']:.3f} s, error estimate {res['error_estimate']:.1e} from a check run); "
+          f"integration {res['integration_time_s']:.3f} s, error estimate {res['error_estimate']:.1e} from a check "
+          f"run); "
           f"without the error estimate {best_n:.3f} s (error {err_n:.1e}); OpenSees dt = 4e-3: error {err_o:.1e} "
           f"(refined peak), {best_o:.3f} s (analyze loop): ratio {ratio:.2f}, without the estimate {ratio_n:.2f}")
     row("4 equal accuracy", "section 5.2 peak |F2| within 1e-6", best_f, best_o, ratio, 1.0,

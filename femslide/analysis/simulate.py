@@ -388,6 +388,13 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     cols += drift_columns(pairs)   # (computed from the bodies' centroids after the run)
     n_raw = len(cols) - 2 * len(pairs)
     centroid_r = {n: np.asarray(fs.body(n).centroid, float) / L - model.body_X0[model.body_index[n]] for n in bodies}
+    # each body's dof, frame origin X [m] and centroid relative to it [m], as floats (Model.body_point's
+    # formula, without its per-call lookups)
+    body_at = []
+    for n in bodies:
+        X = model.body_X0[model.body_index[n]] * L
+        c = np.asarray(fs.body(n).centroid, float) - X
+        body_at.append((model.body_dof(n), float(X[0]), float(X[1]), float(c[0]), float(c[1])))
     bearing = {j.name: (kind_of(j.type), j.bearing / L if j.bearing else None) for j in fs.joints}
     frames, frames_rows = [], []   # (t, row index, y, alpha) every t_end / FRAMES
     next_frame = [0.0]
@@ -411,10 +418,11 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             row.append((float(link.slide(q[link.dofs])[0]) - model.slide0[n]) * L)
             kind, h = bearing[n]
             row.append(kind.normal_force(model.multipliers(y, link).tolist(), h)[0] * F)
-        for n in bodies:
-            x, yy = model.body_point(n, q, fs.body(n).centroid)
-            d = model.body_dof(n) + 2
-            row += [float(x), float(yy), float(q[d]), float(v[d]), float(acc[d])]
+        for d, X0, X1, r0, r1 in body_at:
+            th = float(q[d + 2])
+            c, s_ = math.cos(th), math.sin(th)
+            row += [X0 + float(q[d]) * L + c * r0 - s_ * r1, X1 + float(q[d + 1]) * L + s_ * r0 + c * r1, th,
+                    float(v[d + 2]), float(acc[d + 2])]
         for n in sorted(fric_names):   # friction force on a along +axis [N]
             row.append(-fr.coefficient(n, y) * F)
         for n in contacts:

@@ -122,6 +122,25 @@ def _kinematics(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray):
     return Z, d, D, Ln, u_bar, alpha, Z[4:6] - alpha
 
 
+def _basic(es: ElementSet, u_bar, t, free):
+    """The basic forces (N, M1, M2) (3, n) from the stretch and the end rotations relative to the chord:
+    N = k00 u_bar, (M1, M2) = kb t, minus the free forces ``free`` (3, n) of a thermal load (or None)."""
+    NM = np.empty((3, u_bar.size))
+    np.multiply(es.k00, u_bar, out=NM[0])
+    np.add(es.kA * t[0], es.kB * t[1], out=NM[1:])
+    if free is not None:
+        NM -= free
+    return NM
+
+
+def basic_forces(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, free=None):
+    """The basic forces (N, M1, M2) (3, n) and the chord rotations alpha (n,) of every element: what
+    :func:`element_terms` gives as NM, without the nodal forces and tangents (a history's rows);
+    ``x`` and ``free`` as there."""
+    _, _, _, _, u_bar, alpha, t = _kinematics(es, x, alpha_ref)
+    return _basic(es, u_bar, t, free), alpha
+
+
 def basic_deformations(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray):
     """Displacement differences dU (n, 2), chord length Ln, stretch u_bar [m], chord rotation alpha and
     the end rotations relative to the chord t1, t2 [rad] of every element."""
@@ -211,12 +230,8 @@ def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent:
     """
     Z, d, D, Ln, u_bar, alpha, t = _kinematics(es, x, alpha_ref)
     n = u_bar.size
-    NM = np.empty((3, n))
-    N = np.multiply(es.k00, u_bar, out=NM[0])
-    M = NM[1:]
-    np.add(es.kA * t[0], es.kB * t[1], out=M)
-    if free is not None:
-        NM -= free
+    NM = _basic(es, u_bar, t, free)
+    N, M = NM[0], NM[1:]
     inv = 1.0 / Ln
     p = D * inv                # (c, s): cos and sin of the chord angle beta = beta0 + alpha
     # With p = (c, s), w = (s, -c): d Ln/d d = r = (-p, 0, p, 0), d beta/d d = (w, 0, -w, 0)/Ln.

@@ -567,9 +567,8 @@ class Model:
         """Basic forces (N, M1, M2) of every element and the chord rotations alpha."""
         if self.elements is None:
             return np.zeros((0, 3)), np.zeros(0)
-        _, _, qb, alpha = corotational.evaluate(self.elements, self.nodal(q), alpha_ref, tangent=False,
-                                                free=self.free_T)
-        return qb, alpha
+        NM, alpha = corotational.basic_forces(self.elements, self.nodal(q).reshape(-1), alpha_ref, self.free_T)
+        return NM.T, alpha
 
     def potential(self, y, alpha_ref, skip=None):
         """Potential energy at y (model units): the rods' strain energy, the springs' energy and the

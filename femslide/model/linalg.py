@@ -468,16 +468,17 @@ class Factorized:
 class Assembler:
     """A static sparsity pattern (rows, cols; duplicates summed) of a size x size matrix, stored as the
     model's Jacobians are: dense for small systems, as a band after reverse Cuthill-McKee renumbering
-    when the band is narrow, else dense up to ``sparse_limit`` unknowns and sparse above;
+    when the band is narrow (its width kl + ku below ``band_share`` of the size), else dense up to
+    ``sparse_limit`` unknowns and sparse above;
     ``assemble(values)`` gives the matrix (values in the pattern's order), which
     :class:`Factorized` factorises."""
 
-    def __init__(self, rows, cols, size, dense_limit=100, sparse_limit=600):
+    def __init__(self, rows, cols, size, dense_limit=100, sparse_limit=600, band_share=0.25):
         self.rows, self.cols, self.size = rows, cols, size
         self.band, self.sparse = None, False
         if size > dense_limit:
             self.band = Banded(rows, cols, size)
-            if self.band.kl + self.band.ku >= size // 4:
+            if self.band.kl + self.band.ku >= int(size * band_share):
                 self.band, self.sparse = None, size > sparse_limit
         self.flat = rows * size + cols if self.band is None and not self.sparse else None
 
