@@ -69,7 +69,7 @@ MODE_LIVE = 0.3       # a mode vibrating above this share of the error budget is
 MODE_SHARE = 0.1      # ... its numerical damping over the run kept within this share
 N_FLOOR = 1e-6        # a friction joint's normal force below this share of the largest force scale carries nothing
 F_MOTION_MIN = 1e-9  # floor of the motion's force scale (model units) that Newton's residual is measured against
-SETTLE = 1e-2        # a step's Newton residual at its round-off floor is converged after a step that cut it 100x
+SETTLE = 1e-2        # a step's Newton stops where a 100x contraction, continued, predicts convergence (newton settle)
 MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/analysis/simulate.py comes first)
 
 
