@@ -526,3 +526,33 @@ def test_progress_covers_the_run_and_its_check_run():
     g = []
     simulate(s.freeze(), parse_spec({"t_end": 0.3, "error_estimate": False}), progress=g.append)
     assert np.all(np.diff(g) >= 0) and g[-1] == pytest.approx(0.3)
+
+
+def test_a_mode_watch_that_cannot_run_says_so():
+    """A rigid deck on two friction rollers holds its horizontal freedom twice when both stick (their
+    locks share one load: the stuck tangent is singular), so the steps cannot watch the friction
+    forces of the vibrating modes (the mast's modes on the deck): the result's ``notes`` say that
+    the steps follow the modes' displacements only.  The same deck on flexible columns, each on its
+    own roller, has no such note (each lock holds its own column's foot)."""
+    from femslide.analysis.simulate import parse_spec, simulate
+    spec = {"t_end": 0.2, "tolerance": 1e-5, "error_estimate": False,
+            "ground": {"direction": [1.0, 0.0], "amplitude": 3.0, "frequency": 1.0}}
+    s = femslide.Structure(gravity=(0.0, -9.81))
+    s.body("deck", mass=1000.0, centroid=(0.0, 0.25), inertia=1000.0 * 4.25 / 12.0,
+           outline=[(-1.0, 0.0), (1.0, 0.0), (1.0, 0.5), (-1.0, 0.5)])
+    for n, x in (("left", -1.0), ("right", 1.0)):
+        s.roller(n, "deck", "ground", axis=(1.0, 0.0), at=(x, 0.0), mu=0.2, mu0=0.25)
+    s.rod("mast", (0.0, 0.5), (0.0, 3.0), EI=1e6, EA=1e9, elements=4)
+    s.weld("foot", "mast.start", "deck")
+    s.body("top", mass=200.0, centroid=(0.0, 3.0), inertia=10.0)
+    s.weld("head", "top", "mast.end")
+    notes = simulate(s.freeze(), parse_spec(spec)).values.get("notes", [])
+    assert any("do not watch the friction forces" in n and "stuck is singular" in n for n in notes), notes
+    s = femslide.Structure(gravity=(0.0, -9.81))
+    s.body("deck", mass=1000.0, centroid=(2.0, 3.0), inertia=1000.0 * 16.0 / 12.0,
+           outline=[(0.0, 2.9), (4.0, 2.9), (4.0, 3.1), (0.0, 3.1)])
+    for k, x in (("1", 0.0), ("2", 4.0)):
+        s.rod("c" + k, (x, 0.0), (x, 2.9), EI=1e6, EA=1e9, rhoA=10.0, elements=4)
+        s.weld("w" + k, "c" + k + ".end", "deck")
+        s.roller("r" + k, "c" + k + ".start", "ground", axis=(1.0, 0.0), mu=0.2, mu0=0.25)
+    assert "notes" not in simulate(s.freeze(), parse_spec(spec)).values

@@ -575,6 +575,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
            "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of,
            **({"frequency_sets": sets} if sets else {}), "peaks": peaks,
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
+    if run.notes:
+        res["notes"] = list(run.notes)
     check_trust(res, spec.tolerance, model.Fref * model.Lref, 2 * len(fr.touches) if fr is not None else 0)
     if spec.estimate:
         try:

@@ -85,6 +85,7 @@ class Integration:
     energy_balance: float = 0.0
     energy: dict = field(default_factory=dict)
     crossings: list = field(default_factory=list)   # (index of the watched function, t) at its zeros
+    notes: list = field(default_factory=list)       # what the run could not do as it usually does (result "notes")
 
 
 def _dip(f0, f_stages, f1, calm):
@@ -111,11 +112,12 @@ def _dip(f0, f_stages, f1, calm):
 
 
 def _mode_guard(modal, masses, q_static, heavy, fr=None, y_static=None, elements=None):
-    """(omega (k,), P (k, n_q), reach (k,), decay (k,), grip) for :func:`_mode_steps`: the modal
+    """(omega (k,), P (k, n_q), reach (k,), decay (k,), grip, note) for :func:`_mode_steps`: the modal
     coordinates of an acceleration are P @ acc (P = phi^T M / phi^T M phi: the modes are
     M-orthogonal), reach the largest entry of a shape on the dofs with mass, decay = zeta omega
     [1/s], grip the friction forces a unit of each mode carries (:func:`_mode_grip`: (joints, G) or
-    None); None without modes.  ``modal``: (omega, shapes, zeta[, stuck]), stuck whether the
+    None), note why that watch is off where the structure has friction joints (or None); None
+    without modes.  ``modal``: (omega, shapes, zeta[, stuck]), stuck whether the
     shapes are those of the structure with its friction joints stuck."""
     if modal is None:
         return None
@@ -127,27 +129,29 @@ def _mode_guard(modal, masses, q_static, heavy, fr=None, y_static=None, elements
     r, c, v = masses.matrix(q_static)
     MPhi = np.array([_coo_mv(r, c, v, phi, q_static.size) for phi in Phi])
     mm = np.einsum("kn,kn->k", MPhi, Phi)
-    grip = None
+    grip = note = None
     if fr is not None and y_static is not None:
         grip = _mode_grip(fr, bool(modal[3]) if len(modal) > 3 else False, y_static, elements, om, MPhi)
-    return om, MPhi / mm[:, None], np.abs(Phi[:, heavy]).max(axis=1), zeta * om, grip
+        if isinstance(grip, str):
+            grip, note = None, grip
+    return om, MPhi / mm[:, None], np.abs(Phi[:, heavy]).max(axis=1), zeta * om, grip, note
 
 
 def _mode_grip(fr, stuck, y_static, elements, om, MPhi):
-    """(joints, G (j, k)): the friction joints (mu0 > 0) and the friction forces that a unit of each
-    mode's coordinate carries there (model units), the largest of |N_k| and, stuck, of the lock's
-    force over mu0, |T_k| / mu0 (the margin mu0 N - |T|), weighed by (omega_1 / omega_k)^2; None
-    without such joints or where the tangent is singular (locks that pool: their split is
-    undetermined; the watch of these forces is then off).  A mode's constraint forces lam_k are its
-    multipliers, [[K, G^T], [G, 0]] [phi_k, lam_k] = [omega_k^2 M phi_k, 0] (the tangent at the
-    start's state ``y_static``, in the layout of the modes' model: with every friction joint stuck
-    or none).  A vibration that the steps damp changes the friction force mu N, or the margin
-    of a stuck joint, by its share: the deck of a base-isolated frame rings at 109 and 188 Hz after
-    each friction event by nanometres, beside a slide of centimetres, but by 1e-4 of the normal
-    force.  The weight: a friction force that vibrates at omega_k moves the masses by its amplitude
-    over m omega_k^2, (omega_1 / omega_k)^2 of what the same force does at the lowest frequency (a
-    stiff rod's axial mode at 395 kHz under a clamp carries 1e-4 of its normal force, and moves
-    nothing)."""
+    """(joints, G (j, k)): the friction joints (mu0 > 0) and the friction forces that a unit of each mode's
+    coordinate carries there (model units), the largest of |N_k| and, stuck, of the lock's force
+    over mu0, |T_k| / mu0 (the margin mu0 N - |T|), weighed by (omega_1 / omega_k)^2; None without
+    such joints; where the tangent is singular (locks that pool: their split is undetermined) the
+    watch of these forces is off, and a sentence says so (the run's note).  A mode's constraint
+    forces lam_k are its multipliers, [[K, G^T], [G, 0]] [phi_k, lam_k] = [omega_k^2 M phi_k, 0]
+    (the tangent at the start's state ``y_static``, in the layout of the modes' model: with every
+    friction joint stuck or none).  A vibration that the steps damp changes the friction force mu N,
+    or the margin of a stuck joint, by its share: the deck of a base-isolated frame rings at 109 and
+    188 Hz after each friction event by nanometres, beside a slide of centimetres, but by 1e-4 of
+    the normal force.  The weight: a friction force that vibrates at omega_k moves the masses by its
+    amplitude over m omega_k^2, (omega_1 / omega_k)^2 of what the same force does at the lowest
+    frequency (a stiff rod's axial mode at 395 kHz under a clamp carries 1e-4 of its normal force,
+    and moves nothing)."""
     import scipy.sparse.linalg as spla
     from femslide.analysis.modes import tangent
 
@@ -159,10 +163,13 @@ def _mode_grip(fr, stuck, y_static, elements, om, MPhi):
     n_q = base.n_q
     rhs = np.zeros((model.n, om.size))
     rhs[:n_q] = (MPhi * (om * om)[:, None]).T
+    off = ("the steps do not watch the friction forces of the vibrating modes: the tangent with the "
+           "friction joints " + ("stuck" if stuck else "free") + " is singular (locks that share one load); "
+           "they follow the modes' displacements only")
     try:
         lam = spla.splu(S.tocsc()).solve(rhs)[n_q:]   # (k columns of constraint forces)
     except RuntimeError:
-        return None
+        return off
     locks = every if stuck else ()
     joints, rows = [], []
     for i, fj in enumerate(fr.joints):
@@ -175,8 +182,10 @@ def _mode_grip(fr, stuck, y_static, elements, om, MPhi):
         joints.append(fj)
         rows.append(share * (om.min() / om) ** 2)
     G = np.array(rows)
-    if not joints or not np.isfinite(G).all():
+    if not joints:
         return None
+    if not np.isfinite(G).all():
+        return off
     return joints, G
 
 
@@ -298,7 +307,9 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     k_sample = 1   # the next sample is at k_sample * sample
     guard = _mode_guard(modal, masses, q_static, heavy, fr, s.y, s.elements)   # (s: the start's multipliers)
     if guard is not None:
-        om, Pm, reach, decay, grip = guard   # (Pm @ acc: the modal accelerations)
+        om, Pm, reach, decay, grip, note = guard   # (Pm @ acc: the modal accelerations)
+        if note:
+            out.notes.append(note)
         vib = np.zeros(om.size)   # the modes' vibration amplitudes [model units]
         if grip is not None:
             # ... and the friction forces they carry (joints, modes), against the normal forces' largest
