@@ -1785,7 +1785,180 @@ out:
     return res;
 }
 
+/* -- the elements' end moments from the equilibrium of rod pieces, and their interior extrema ----------
+ * (femslide.results.static.end_moments and _largest_inside, the same arithmetic in the same order:
+ * numpy's cumsum is the sequential sum) */
+
+/* cuts(X, g, first, ei, ej, M, G): M (n_el, 2) := the end moments, G (n_el, 2) := the middle forces of
+ * femslide.results.static.end_moments (``resultant``); X (n_nodes, 2) the current node positions, g
+ * (n_nodes, 3) the applied generalised forces, first (n_nodes) each node's rod start node */
+static PyObject *py_cuts(PyObject *mod, PyObject *args)
+{
+    PyObject *ox, *og, *of, *oi, *oj, *om, *oG;
+    if (!PyArg_ParseTuple(args, "OOOOOOO", &ox, &og, &of, &oi, &oj, &om, &oG))
+        return NULL;
+    Buf bx, bg, bf, bi, bj, bm, bG;
+    bx.held = bg.held = bf.held = bi.held = bj.held = bm.held = bG.held = 0;
+    PyObject *res = NULL;
+    double *S = NULL;
+    if (get_buf(ox, &bx, 0, "d", 8, "X") < 0 || get_buf(og, &bg, 0, "d", 8, "g") < 0 ||
+        get_buf(of, &bf, 0, "qlLn", 8, "first") < 0 || get_buf(oi, &bi, 0, "qlLn", 8, "ei") < 0 ||
+        get_buf(oj, &bj, 0, "qlLn", 8, "ej") < 0 || get_buf(om, &bm, 1, "d", 8, "M") < 0 ||
+        get_buf(oG, &bG, 1, "d", 8, "G") < 0)
+        goto out;
+    {
+        Py_ssize_t nn = LEN(bf), ne = LEN(bi);
+        if (LEN(bx) != 2 * nn || LEN(bg) < 3 * nn || LEN(bj) != ne || LEN(bm) != 2 * ne || LEN(bG) != 2 * ne) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: cuts: wrong sizes");
+            goto out;
+        }
+        const double *X = DBL(bx), *g = DBL(bg);
+        const long long *first = IDX(bf), *I = IDX(bi), *J = IDX(bj);
+        double *M = DBL(bm), *G = DBL(bG);
+        S = PyMem_Malloc(sizeof(double) * (6 * nn + 1));   /* cumulative sums, then the rows */
+        if (!S) {
+            PyErr_NoMemory();
+            goto out;
+        }
+        double *R = S + 3 * nn;
+        double c0 = 0.0, c1 = 0.0, c2 = 0.0;
+        for (Py_ssize_t k = 0; k < nn; k++) {
+            long long f = first[k];
+            if (f < 0 || f >= nn) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: cuts: node index out of range");
+                goto out;
+            }
+            double xr = X[2 * k] - X[2 * f], yr = X[2 * k + 1] - X[2 * f + 1];
+            R[3 * k] = g[3 * k];
+            R[3 * k + 1] = g[3 * k + 1];
+            R[3 * k + 2] = g[3 * k + 2] + (xr * g[3 * k + 1] - yr * g[3 * k]);
+            c0 += R[3 * k];
+            c1 += R[3 * k + 1];
+            c2 += R[3 * k + 2];
+            S[3 * k] = c0;
+            S[3 * k + 1] = c1;
+            S[3 * k + 2] = c2;
+        }
+        for (Py_ssize_t e = 0; e < ne; e++) {
+            long long i = I[e], j = J[e];
+            if (i < 0 || i >= nn || j < 0 || j >= nn) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: cuts: node index out of range");
+                goto out;
+            }
+            long long f = first[i];
+            double C0 = S[3 * i] - (S[3 * f] - R[3 * f]);
+            double C1 = S[3 * i + 1] - (S[3 * f + 1] - R[3 * f + 1]);
+            double C2 = S[3 * i + 2] - (S[3 * f + 2] - R[3 * f + 2]);
+            double xi = X[2 * i] - X[2 * f], yi = X[2 * i + 1] - X[2 * f + 1];
+            long long fj = first[j];
+            if (fj < 0 || fj >= nn) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: cuts: node index out of range");
+                goto out;
+            }
+            double xj = X[2 * j] - X[2 * fj], yj = X[2 * j + 1] - X[2 * fj + 1];
+            double dx = xi - xj, dy = yi - yj;
+            double m0 = xi * C1 - yi * C0 - C2;
+            M[2 * e] = m0;
+            M[2 * e + 1] = dx * C1 - dy * C0 - m0;
+            G[2 * e] = C0;
+            G[2 * e + 1] = C1;
+        }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    PyMem_Free(S);
+    release(&bx);
+    release(&bg);
+    release(&bf);
+    release(&bi);
+    release(&bj);
+    release(&bm);
+    release(&bG);
+    return res;
+}
+
+/* inside(X, U, ei, ej, beta0, alpha, M, G) -> max |M| at the ends and interior extrema of the elements'
+ * cubic moments (femslide.results.static._largest_inside; alpha None: zero); NaN if any is NaN */
+static PyObject *py_inside(PyObject *mod, PyObject *args)
+{
+    PyObject *ox, *ou, *oi, *oj, *ob, *oa, *om, *oG;
+    if (!PyArg_ParseTuple(args, "OOOOOOOO", &ox, &ou, &oi, &oj, &ob, &oa, &om, &oG))
+        return NULL;
+    Buf bx, bu, bi, bj, bb, ba, bm, bG;
+    bx.held = bu.held = bi.held = bj.held = bb.held = ba.held = bm.held = bG.held = 0;
+    PyObject *res = NULL;
+    if (get_buf(ox, &bx, 0, "d", 8, "X") < 0 || get_buf(ou, &bu, 0, "d", 8, "U") < 0 ||
+        get_buf(oi, &bi, 0, "qlLn", 8, "ei") < 0 || get_buf(oj, &bj, 0, "qlLn", 8, "ej") < 0 ||
+        get_buf(ob, &bb, 0, "d", 8, "beta0") < 0 || get_buf(oa, &ba, 0, "d", 8, "alpha") < 0 ||
+        get_buf(om, &bm, 0, "d", 8, "M") < 0 || get_buf(oG, &bG, 0, "d", 8, "G") < 0)
+        goto out;
+    {
+        Py_ssize_t nn = LEN(bx) / 2, ne = LEN(bi);
+        if (LEN(bu) < 3 * nn || LEN(bj) != ne || LEN(bb) != ne || (ba.held && LEN(ba) != ne) ||
+            LEN(bm) != 2 * ne || LEN(bG) != 2 * ne) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: inside: wrong sizes");
+            goto out;
+        }
+        const double *X = DBL(bx), *U = DBL(bu), *b0 = DBL(bb), *al = ba.held ? DBL(ba) : NULL;
+        const double *M = DBL(bm), *G = DBL(bG);
+        const long long *I = IDX(bi), *J = IDX(bj);
+        double top = 0.0;
+        int nan = 0;
+        for (Py_ssize_t e = 0; e < ne; e++) {
+            long long i = I[e], j = J[e];
+            if (i < 0 || i >= nn || j < 0 || j >= nn) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: inside: node index out of range");
+                goto out;
+            }
+            double Dx = X[2 * j] - X[2 * i], Dy = X[2 * j + 1] - X[2 * i + 1];
+            double ref = al ? b0[e] + al[e] : b0[e];
+            double cr = cos(ref), sr = sin(ref);
+            double chord = ref + atan2(cr * Dy - sr * Dx, cr * Dx + sr * Dy) - b0[e];
+            double t1 = U[3 * i + 2] - chord, t2 = U[3 * j + 2] - chord;
+            double W = G[2 * e] * Dx + G[2 * e + 1] * Dy;
+            double Ms = -M[2 * e];
+            double a1 = (M[2 * e + 1] - Ms) + W * t1;
+            double a2 = -W * (2.0 * t1 + t2);
+            double a3 = W * (t1 + t2);
+            double A = 3.0 * a3, B = 2.0 * a2;
+            double disc = B * B - 4.0 * A * a1;
+            double q = -0.5 * (B + copysign(sqrt(disc > 0.0 ? disc : 0.0), B));
+            double r[2];
+            r[0] = A != 0.0 ? q / A : 0.0;
+            r[1] = q != 0.0 ? a1 / q : 0.0;
+            for (int k = 0; k < 2; k++) {
+                double x = r[k];
+                if (x <= 0.0 || x >= 1.0 || disc < 0.0)
+                    x = 0.0;
+                double v = fabs(Ms + x * (a1 + x * (a2 + x * a3)));
+                if (v > top)
+                    top = v;
+                else if (v != v)
+                    nan = 1;
+            }
+        }
+        res = PyFloat_FromDouble(nan ? NAN : top);
+    }
+out:
+    release(&bx);
+    release(&bu);
+    release(&bi);
+    release(&bj);
+    release(&bb);
+    release(&ba);
+    release(&bm);
+    release(&bG);
+    return res;
+}
+
 static PyMethodDef module_methods[] = {
+    {"cuts", py_cuts, METH_VARARGS,
+     "cuts(X, g, first, ei, ej, M, G): M, G := the end moments and middle forces of the elements from the "
+     "equilibrium of the rod pieces (femslide.results.static.end_moments)"},
+    {"inside", py_inside, METH_VARARGS,
+     "inside(X, U, ei, ej, beta0, alpha, M, G) -> max |M| at the elements' ends and interior extrema "
+     "(femslide.results.static._largest_inside)"},
     {"coupled_rhs", py_coupled_rhs, METH_VARARGS,
      "coupled_rhs(r, wrq, h, cr, cc, cv, mr, mc, mv, nq, rhs): the right-hand side of a Radau step's coupled "
      "Newton system (femslide.analysis.radau.CoupledMatrix.solve)"},
