@@ -446,3 +446,25 @@ def test_rod_cuts_and_interior_moments_equal_the_numpy_path(lam):
         (M0, G0, a0, b0), (M1, G1, a1, b1) = out
         assert np.array_equal(M0, M1) and np.array_equal(G0, G1)
         assert a0 == a1 and b0 == b1 and a0 > 0.0
+
+
+@pytest.mark.parametrize("coarse", [{"left": 3, "right": 2}, {"left": 6, "right": 5}])
+def test_prolongation_equals_the_numpy_path(coarse):
+    """A coarse state interpolated onto the meshes with twice the elements (analysis.refine.prolong:
+    Hermite node positions, linear rotations, chord rotations continued): the kernel's ``prolong``
+    equals the numpy path bit for bit on the frame's two rods, bodies and multipliers carried over."""
+    from femslide.analysis.refine import prolong
+    fs = frame().freeze()
+    L, F = static.scales(fs)
+    cache = PatternCache()
+    mc = Model(fs, coarse, L, F, cache)
+    mf = Model(fs, {k: 2 * n for k, n in coarse.items()}, L, F, cache)
+    for _ in range(3):
+        y, es = _state(mc)
+        out = []
+        for on in (False, True):
+            with fast.forced(on):
+                out.append(prolong(mc, y, es, mf))
+        (y0, e0), (y1, e1) = out
+        assert np.array_equal(y0, y1) and np.array_equal(e0.committed, e1.committed)
+        assert np.abs(y1[:3 * mf.n_nodes]).max() > 0.0 and np.abs(e1.committed).max() > 0.0

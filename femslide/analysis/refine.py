@@ -15,7 +15,7 @@ import numpy as np
 from femslide.elements import corotational
 from femslide.model.discrete import Model
 from femslide.model.state import ElementState
-from femslide.model.linalg import solve_linear
+from femslide.model.linalg import kernel_function, solve_linear
 from femslide.results.static import end_moments, extract, flatten, largest_moment, rod_arrays
 
 
@@ -59,9 +59,46 @@ def prolong(mc: Model, y, elements, mf: Model):
     """
     alpha = elements.committed
     yf = np.zeros(mf.n)
+    af = np.zeros(mf.elements.size) if mf.elements is not None else np.zeros(0)
+    kern = kernel_function("prolong") if mc.elements is not None and mf.elements is not None else None
+    if kern is not None:   # the compiled kernel: the same arithmetic in one pass (the flattened plan)
+        a, b, nf, t, H, bet, ia, ib, ef, ec = _flat_plan(mc, mf)
+        kern(a, b, nf, t, H, bet, mc.X0, np.ascontiguousarray(y, float), mf.X0, yf, ia, ib, ef, ec,
+             mc.elements.beta0, np.ascontiguousarray(alpha, float), mf.elements.beta0, af)
+    else:
+        _prolong_numpy(mc, y, alpha, mf, yf, af)
+    yf[3 * mf.n_nodes:mf.n_q] = y[3 * mc.n_nodes:mc.n_q]
+    yf[mf.n_q:] = y[mc.n_q:]
+    return yf, ElementState(af)
+
+
+def _flat_plan(mc: Model, mf: Model):
+    """:func:`_prolongation_plan` over all rods at once, as the kernel's ``prolong`` takes it: per fine
+    node its coarse element's end nodes, its node, parameter, Hermite weights (4, n) and rod chord
+    angle; per fine element its two nodes and the coarse element at its middle (kept with the plan)."""
+    plans = mf.mesh.prolongations
+    key = ("flat", id(mc.mesh))
+    if key in plans and plans[key][0] is mc.mesh:
+        return plans[key][1]
+    parts = _prolongation_plan(mc, mf)
+    cat = np.concatenate
+    flat = (cat([nc[k] for nc, nf, Xc, Xf, k, t, H, beta0, ef, ecm in parts]).astype(np.int64),
+            cat([nc[k + 1] for nc, nf, Xc, Xf, k, t, H, beta0, ef, ecm in parts]).astype(np.int64),
+            cat([nf for nc, nf, *_ in parts]).astype(np.int64),
+            cat([p[5] for p in parts]).astype(float),
+            np.ascontiguousarray(np.stack([cat([np.broadcast_to(p[6][i].reshape(-1), p[5].shape) for p in parts])
+                                           for i in range(4)]), float),
+            cat([np.full(p[5].size, p[7]) for p in parts]).astype(float),
+            cat([p[1][:-1] for p in parts]).astype(np.int64), cat([p[1][1:] for p in parts]).astype(np.int64),
+            cat([p[8] for p in parts]).astype(np.int64), cat([p[9] for p in parts]).astype(np.int64))
+    plans[key] = (mc.mesh, flat)
+    return flat
+
+
+def _prolong_numpy(mc, y, alpha, mf, yf, af):
+    """The numpy path of :func:`prolong` (the kernel's oracle): yf's nodal part and af in place."""
     Uc = mc.nodal(y[:mc.n_q])
     Uf = mf.nodal(yf[:mf.n_q])
-    af = np.zeros(mf.elements.size) if mf.elements is not None else np.zeros(0)
     for nc, nf, Xc, Xf, k, t, H, beta0, ef, ecm in _prolongation_plan(mc, mf):
         P = Xc + Uc[nc, :2]
         ang = beta0 + Uc[nc, 2]
@@ -75,9 +112,6 @@ def prolong(mc: Model, y, elements, mf: Model):
         beta = ref + np.arctan2(cr * D[:, 1] - sr * D[:, 0], cr * D[:, 0] + sr * D[:, 1])
         af[ef] = beta - mf.elements.beta0[ef]
     yf[: 3 * mf.n_nodes] = Uf.ravel()
-    yf[3 * mf.n_nodes:mf.n_q] = y[3 * mc.n_nodes:mc.n_q]
-    yf[mf.n_q:] = y[mc.n_q:]
-    return yf, ElementState(af)
 
 
 class Level:

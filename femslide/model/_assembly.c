@@ -1952,7 +1952,87 @@ out:
     return res;
 }
 
+/* prolong(a, b, nf, t, H, bet, X0c, yc, X0f, yf, ia, ib, ef, ec, beta0c, alpha, beta0f, af): the
+ * interpolation of femslide.analysis.refine.prolong, the same arithmetic in the same order, over the
+ * fine nodes of all rods (flattened plan: coarse end nodes a, b of each fine node's coarse element, the
+ * fine node nf, its parameter t and Hermite weights H (4, n), the rod's chord angle bet) and the fine
+ * elements ef (their nodes ia, ib, the coarse element ec at their middle): yf[:3 n_fine_nodes] := the
+ * fine nodal dofs, af[ef] := the fine elements' chord rotations */
+static PyObject *py_prolong(PyObject *mod, PyObject *args)
+{
+    PyObject *o[18];
+    if (!PyArg_ParseTuple(args, "OOOOOOOOOOOOOOOOOO", &o[0], &o[1], &o[2], &o[3], &o[4], &o[5], &o[6], &o[7],
+                          &o[8], &o[9], &o[10], &o[11], &o[12], &o[13], &o[14], &o[15], &o[16], &o[17]))
+        return NULL;
+    static const char *what[18] = {"a", "b", "nf", "t", "H", "bet", "X0c", "yc", "X0f", "yf", "ia", "ib", "ef",
+                                   "ec", "beta0c", "alpha", "beta0f", "af"};
+    static const int isint[18] = {1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 0, 0, 0, 0};
+    Buf B[18];
+    PyObject *res = NULL;
+    int k;
+    for (k = 0; k < 18; k++)
+        B[k].held = 0;
+    for (k = 0; k < 18; k++)
+        if (get_buf(o[k], &B[k], k == 9 || k == 17, isint[k] ? "qlLn" : "d", 8, what[k]) < 0)
+            goto out;
+    {
+        const long long *A = IDX(B[0]), *Bn = IDX(B[1]), *NF = IDX(B[2]);
+        const double *t = DBL(B[3]), *H = DBL(B[4]), *bet = DBL(B[5]), *X0c = DBL(B[6]), *yc = DBL(B[7]);
+        const double *X0f = DBL(B[8]);
+        double *yf = DBL(B[9]);
+        const long long *IA = IDX(B[10]), *IB = IDX(B[11]), *EF = IDX(B[12]), *EC = IDX(B[13]);
+        const double *b0c = DBL(B[14]), *al = DBL(B[15]), *b0f = DBL(B[16]);
+        double *af = DBL(B[17]);
+        Py_ssize_t n = LEN(B[0]), ne = LEN(B[10]), ncn = LEN(B[6]) / 2, nfn = LEN(B[8]) / 2;
+        Py_ssize_t nec = LEN(B[14]), nef = LEN(B[16]);
+        if (LEN(B[1]) != n || LEN(B[2]) != n || LEN(B[3]) != n || LEN(B[4]) != 4 * n || LEN(B[5]) != n ||
+            LEN(B[7]) < 3 * ncn || LEN(B[9]) < 3 * nfn || LEN(B[11]) != ne || LEN(B[12]) != ne ||
+            LEN(B[13]) != ne || LEN(B[15]) != nec || LEN(B[17]) != nef) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: prolong: wrong sizes");
+            goto out;
+        }
+        const double *H0 = H, *H1 = H + n, *H2 = H + 2 * n, *H3 = H + 3 * n;
+        for (Py_ssize_t m = 0; m < n; m++) {
+            long long a = A[m], b = Bn[m], f = NF[m];
+            if (a < 0 || a >= ncn || b < 0 || b >= ncn || f < 0 || f >= nfn) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: prolong: node index out of range");
+                goto out;
+            }
+            double Pax = X0c[2 * a] + yc[3 * a], Pay = X0c[2 * a + 1] + yc[3 * a + 1];
+            double Pbx = X0c[2 * b] + yc[3 * b], Pby = X0c[2 * b + 1] + yc[3 * b + 1];
+            double ga = bet[m] + yc[3 * a + 2], gb = bet[m] + yc[3 * b + 2];
+            double Tax = cos(ga), Tay = sin(ga), Tbx = cos(gb), Tby = sin(gb);
+            double px = H0[m] * Pax + H1[m] * Tax + H2[m] * Pbx + H3[m] * Tbx;
+            double py = H0[m] * Pay + H1[m] * Tay + H2[m] * Pby + H3[m] * Tby;
+            yf[3 * f] = px - X0f[2 * f];
+            yf[3 * f + 1] = py - X0f[2 * f + 1];
+            yf[3 * f + 2] = (1 - t[m]) * yc[3 * a + 2] + t[m] * yc[3 * b + 2];
+        }
+        for (Py_ssize_t e = 0; e < ne; e++) {
+            long long i = IA[e], j = IB[e], ef = EF[e], ec = EC[e];
+            if (i < 0 || i >= nfn || j < 0 || j >= nfn || ef < 0 || ef >= nef || ec < 0 || ec >= nec) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: prolong: element index out of range");
+                goto out;
+            }
+            double Dx = (X0f[2 * j] + yf[3 * j]) - (X0f[2 * i] + yf[3 * i]);
+            double Dy = (X0f[2 * j + 1] + yf[3 * j + 1]) - (X0f[2 * i + 1] + yf[3 * i + 1]);
+            double ref = b0c[ec] + al[ec];
+            double cr = cos(ref), sr = sin(ref);
+            af[ef] = (ref + atan2(cr * Dy - sr * Dx, cr * Dx + sr * Dy)) - b0f[ef];
+        }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    for (k = 0; k < 18; k++)
+        release(&B[k]);
+    return res;
+}
+
 static PyMethodDef module_methods[] = {
+    {"prolong", py_prolong, METH_VARARGS,
+     "prolong(a, b, nf, t, H, bet, X0c, yc, X0f, yf, ia, ib, ef, ec, beta0c, alpha, beta0f, af): the nodal "
+     "dofs and chord rotations of femslide.analysis.refine.prolong (outputs yf, af written in place)"},
     {"cuts", py_cuts, METH_VARARGS,
      "cuts(X, g, first, ei, ej, M, G): M, G := the end moments and middle forces of the elements from the "
      "equilibrium of the rod pieces (femslide.results.static.end_moments)"},
