@@ -468,3 +468,18 @@ def test_prolongation_equals_the_numpy_path(coarse):
         (y0, e0), (y1, e1) = out
         assert np.array_equal(y0, y1) and np.array_equal(e0.committed, e1.committed)
         assert np.abs(y1[:3 * mf.n_nodes]).max() > 0.0 and np.abs(e1.committed).max() > 0.0
+
+
+def test_force_noise_of_a_level_equals_the_numpy_estimate():
+    """The refinement's round-off level of the element forces (analysis.refine._force_noise) taken from
+    the kernel's assembly equals the numpy estimate (elements.corotational.force_noise) bit for bit."""
+    from femslide.analysis import refine
+    from femslide.elements import corotational
+    m = _model(frame())
+    m.finalize()
+    assert m._pack is not None
+    for _ in range(3):
+        y, es = _state(m)
+        a = refine._force_noise(refine.Level(1, m, y, es))
+        b = 4.0 * float(corotational.force_noise(m.elements, m.nodal(y[:m.n_q]), es.committed).max())
+        assert a == b and a > 0.0
