@@ -483,3 +483,24 @@ def test_force_noise_of_a_level_equals_the_numpy_estimate():
         a = refine._force_noise(refine.Level(1, m, y, es))
         b = 4.0 * float(corotational.force_noise(m.elements, m.nodal(y[:m.n_q]), es.committed).max())
         assert a == b and a > 0.0
+
+
+@pytest.mark.parametrize("n", [1, 2, 7, 36])
+def test_determinant_sign_equals_numpys(n):
+    """model.linalg.det_sign (the stability test's sign of det A, by the kernel's dense LU) against
+    numpy's slogdet on random matrices with either sign, permuted ones and a singular one."""
+    from femslide.model.linalg import det_sign
+    seen = set()
+    for _ in range(20):
+        A = RNG.standard_normal((n, n))
+        ref = float(np.linalg.slogdet(A)[0])
+        assert det_sign(A) == ref
+        seen.add(ref)
+        P = A[RNG.permutation(n)]
+        assert det_sign(P) == float(np.linalg.slogdet(P)[0])
+    assert seen == ({1.0, -1.0} if n > 1 else seen)
+    S = RNG.standard_normal((n, n))
+    S[:, 0] = 0.0
+    assert det_sign(S) == 0.0
+    with fast.forced(False):
+        assert det_sign(A) == float(np.linalg.slogdet(A)[0])

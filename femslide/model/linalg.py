@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 import contextlib
+import math
 import os
 
 try:
@@ -325,6 +326,25 @@ def solve_linear(A, b):
         return x
     import scipy.sparse.linalg as spla
     return spla.splu(A, permc_spec="COLAMD").solve(b)
+
+
+def det_sign(A) -> float:
+    """The sign of det A (dense, C order): 1.0, -1.0, 0.0 (a zero pivot) or NaN (a non-finite
+    factor) - the stability test's (femslide.analysis.paths.check_stable).  The kernel's dense LU with
+    partial pivoting (numpy's slogdet without the kernel): the product of the pivots' signs and of
+    the row exchanges'."""
+    if not (_kernel is not None and isinstance(A, np.ndarray) and A.dtype == np.float64 and kernel_enabled()):
+        return float(np.linalg.slogdet(A)[0])
+    n = A.shape[0]
+    lu = np.array(A, float, order="C")
+    piv = np.empty(n, np.intp)
+    if _kernel.factor(lu, piv, n, -1, -1):
+        return 0.0
+    d = lu.ravel()[::n + 1]
+    if not np.isfinite(d).all():
+        return math.nan
+    odd = (int(np.count_nonzero(d < 0.0)) + int(np.count_nonzero(piv != np.arange(n)))) % 2
+    return -1.0 if odd else 1.0
 
 
 def lu_factor(A):
