@@ -440,6 +440,7 @@ def test_rod_cuts_and_interior_moments_equal_the_numpy_path(lam):
         for on in (False, True):
             with fast.forced(on):
                 m.finalize()
+                assert (m._pack is not None) == on
                 M, G = rs.end_moments(m, y, resultant=True, lam=lam)
                 out.append((M, G, rs._largest_inside(m, y, es.committed, (M, G)),
                             rs._largest_inside(m, y, None, (M, G))))
@@ -464,6 +465,9 @@ def test_prolongation_equals_the_numpy_path(coarse):
         out = []
         for on in (False, True):
             with fast.forced(on):
+                mc.finalize()
+                mf.finalize()
+                assert (mf._pack is not None) == on
                 out.append(prolong(mc, y, es, mf))
         (y0, e0), (y1, e1) = out
         assert np.array_equal(y0, y1) and np.array_equal(e0.committed, e1.committed)

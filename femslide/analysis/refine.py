@@ -15,7 +15,7 @@ import numpy as np
 from femslide.elements import corotational
 from femslide.model.discrete import Model
 from femslide.model.state import ElementState
-from femslide.model.linalg import kernel_function, solve_linear
+from femslide.model.linalg import model_kernel, solve_linear
 from femslide.results.static import end_moments, extract, flatten, largest_moment, rod_arrays
 
 
@@ -60,7 +60,7 @@ def prolong(mc: Model, y, elements, mf: Model):
     alpha = elements.committed
     yf = np.zeros(mf.n)
     af = np.zeros(mf.elements.size) if mf.elements is not None else np.zeros(0)
-    kern = kernel_function("prolong") if mc.elements is not None and mf.elements is not None else None
+    kern = model_kernel(mf, "prolong") if mc.elements is not None and mf.elements is not None else None
     if kern is not None:   # the compiled kernel: the same arithmetic in one pass (the flattened plan)
         a, b, nf, t, H, bet, ia, ib, ef, ec = _flat_plan(mc, mf)
         kern(a, b, nf, t, H, bet, mc.X0, np.ascontiguousarray(y, float), mf.X0, yf, ia, ib, ef, ec,

@@ -45,6 +45,13 @@ def kernel_enabled() -> bool:
     return env is None or env.lower() != "numpy"
 
 
+def model_kernel(model, name):
+    """The compiled kernel's function ``name`` for work on ``model`` when the model was finalized with
+    the kernel (its ``_pack``; a model keeps the assembly it was finalized with), else None: the
+    caller's numpy path.  (No look-up of the environment: it runs at every refinement level.)"""
+    return getattr(_kernel, name, None) if getattr(model, "_pack", None) is not None else None
+
+
 def kernel_function(name):
     """The compiled kernel's function ``name`` when the kernel is used now (:func:`kernel_enabled`) and
     has it (a kernel built from an older source may not), else None: the caller's numpy path."""

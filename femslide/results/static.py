@@ -35,7 +35,7 @@ import math
 import numpy as np
 
 from femslide.joints.base import at_joint_point
-from femslide.model.linalg import kernel_function
+from femslide.model.linalg import model_kernel
 
 
 _GOLD = 0.5 * (math.sqrt(5.0) - 1.0)
@@ -299,7 +299,7 @@ def end_moments(model, y, X=None, resultant=False, lam=1.0):
     g = model.applied(y, lam)[:3 * model.n_nodes].reshape(-1, 3)
     first = model.node_first
     es = model.elements
-    kern = kernel_function("cuts")
+    kern = model_kernel(model, "cuts")
     if kern is not None:   # the compiled kernel: the same arithmetic in one call
         M, G = np.empty((es.size, 2)), np.empty((es.size, 2))
         kern(np.ascontiguousarray(X, float), np.ascontiguousarray(g), first, es.i, es.j, M, G)
@@ -364,7 +364,7 @@ def _largest_inside(model, y, alpha, cuts) -> float:
     U = model.nodal(y[:model.n_q])
     X = model.X0 + U[:, :2]
     qb, Gmid = cuts
-    kern = kernel_function("inside")
+    kern = model_kernel(model, "inside")
     if kern is not None:   # the compiled kernel: the same arithmetic in one pass over the elements
         return kern(X, np.ascontiguousarray(U), es.i, es.j, es.beta0, alpha, np.ascontiguousarray(qb),
                     np.ascontiguousarray(Gmid))
