@@ -232,8 +232,11 @@ def _scatter(lv: Level) -> float:
         return 0.0
     y = lv.y.copy()
     q = y[:m.n_q]
-    sign = np.where(np.arange(m.n_q) % 2 == 0, 1.0, -1.0)
-    q += 1e-13 * sign * np.maximum(np.abs(q), 1e-6 * np.abs(q).max())
+    a = np.abs(q)
+    p = np.maximum(a, 1e-6 * a.max())
+    p *= 1e-13
+    p[1::2] *= -1.0     # (alternating signs: the same numbers as 1e-13 * (+-1) * p)
+    q += p
     es = lv.elements.copy()
     try:
         for _ in range(2):

@@ -281,13 +281,14 @@ class _Plan:
                     tuple((r, e, tuple(v.tolist())) for r, e, v in self.node_loads), tuple(self.point_forces),
                     tuple((j.name, j.kind, j.ra, j.rb, j.at, j.axis, j.k, j.preload, j.c, j.springs, j.motion,
                            j.lifted) for j in self.joints))
-        self._ids = None
+        self._ids = self._base = None   # (the plan this one was restiffened from: same geometry and key)
 
     def restiffened(self, fs: Frozen, L: float, F: float) -> "_Plan":
         """This plan for ``fs``, a structure that differs from this plan's only in the rods' EI and EA
         (Frozen.with_stiffness): a copy with the rods' stiffness in model units replaced (the key,
         which leaves the stiffness out, stays)."""
         new = copy.copy(self)
+        new._base = self._base or self
         new.rods = []
         for rp, rod in zip(self.rods, fs.rods):
             rq = _RodPlan()
@@ -301,7 +302,9 @@ class _Plan:
         """(geometry, key) as ``cache``'s small integers (PatternCache.key_id), computed once per cache."""
         held = self._ids
         if held is None or held[0] is not cache:
-            held = self._ids = (cache, cache.key_id(("geometry", self.geometry)), cache.key_id(("plan", self.key)))
+            ids = self._base.ids(cache) if self._base is not None else \
+                (cache.key_id(("geometry", self.geometry)), cache.key_id(("plan", self.key)))
+            held = self._ids = (cache, *ids)
         return held[1], held[2]
 
 
