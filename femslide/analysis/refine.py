@@ -173,6 +173,7 @@ def moment_watch(level, structure):
 
 
 GROUPS = (("moment",), ("length", "angle"), ("force",))
+GROUP_OF = {"moment": 0, "length": 1, "angle": 1, "force": 2}   # each kind's index in GROUPS
 
 
 def _units(kinds, L, F):
@@ -184,7 +185,7 @@ def _scales(vals, kinds):
     """Per-output scales for relative errors: |value|, floored at 1e-3 of its group's largest and at
     1e-10 in model units: changes below that are round-off, not discretisation error.  (A handful of
     values: Python floats.)"""
-    group = [next(i for i, g in enumerate(GROUPS) if k in g) for k in kinds]
+    group = [GROUP_OF[k] for k in kinds]
     a = [abs(v) for v in vals.tolist()]
     top = [0.0] * len(GROUPS)
     for x, g in zip(a, group):
