@@ -337,6 +337,11 @@ def test_environment_switch_and_status(monkeypatch):
         assert fast.enabled()
         m.finalize()
         assert m._pack is not None
+    for value, on in (("NumPy", False), ("numpy", False), ("kernel", True), ("", True)):
+        monkeypatch.setenv("FEMSLIDE_KERNEL", value)
+        assert fast.enabled() is on, value
+    monkeypatch.delenv("FEMSLIDE_KERNEL")
+    assert fast.enabled()
 
 
 def test_without_the_extension_femslide_runs_on_numpy():

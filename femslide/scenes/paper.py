@@ -148,7 +148,8 @@ def watch(scene):
         m, y = lv.model, lv.y
         F = m.Fref
         clamp = m.joint["clamp"]
-        s = (float(clamp.slide(y[clamp.dofs])[0]) - m.slide0["clamp"]) * m.Lref
+        # the slide alone (Link._slide's s, as floats; not its gradient and Hessian as arrays)
+        s = (clamp._slide(y[clamp.dofs].tolist())[0] - m.slide0["clamp"]) * m.Lref
         A = joint_forces(m, y, "A1")
         B = joint_forces(m, y, "B1")
         return ([lv.largest_moment(), -float(y[m.body_dof("deck") + 2]), s,
