@@ -337,6 +337,11 @@ def test_environment_switch_and_status(monkeypatch):
         assert fast.enabled()
         m.finalize()
         assert m._pack is not None
+    for value, on in (("NumPy", False), ("numpy", False), ("kernel", True), ("", True)):
+        monkeypatch.setenv("FEMSLIDE_KERNEL", value)
+        assert fast.enabled() is on, value
+    monkeypatch.delenv("FEMSLIDE_KERNEL")
+    assert fast.enabled()
 
 
 def test_without_the_extension_femslide_runs_on_numpy():
@@ -423,3 +428,88 @@ def test_elastic_support_holding_some_equations(theory):
     r = femslide.solve(s, theory=theory)
     v = -(P * L**3 / (3 * EI) + P * L**2 / kr)
     assert abs(r["rods"]["c"]["end"]["v"] - v) <= (1e-9 if theory == "linear" else 1e-3) * abs(v)
+
+
+@pytest.mark.parametrize("lam", [0.37, 1.0])
+def test_rod_cuts_and_interior_moments_equal_the_numpy_path(lam):
+    """The elements' end moments and middle forces from the equilibrium of the rod pieces
+    (results.static.end_moments) and the largest moment at their interior extrema (_largest_inside):
+    the kernel's ``cuts`` and ``inside`` equal the numpy path bit for bit at random states of the frame
+    (two rods, each rod's cumulative sums restarted at its first node), with and without chord rotations."""
+    from femslide.results import static as rs
+    m = _model(frame())
+    m.finalize()
+    for _ in range(3):
+        y, es = _state(m)
+        out = []
+        for on in (False, True):
+            with fast.forced(on):
+                m.finalize()
+                assert (m._pack is not None) == on
+                M, G = rs.end_moments(m, y, resultant=True, lam=lam)
+                out.append((M, G, rs._largest_inside(m, y, es.committed, (M, G)),
+                            rs._largest_inside(m, y, None, (M, G))))
+        (M0, G0, a0, b0), (M1, G1, a1, b1) = out
+        assert np.array_equal(M0, M1) and np.array_equal(G0, G1)
+        assert a0 == a1 and b0 == b1 and a0 > 0.0
+
+
+@pytest.mark.parametrize("coarse", [{"left": 3, "right": 2}, {"left": 6, "right": 5}])
+def test_prolongation_equals_the_numpy_path(coarse):
+    """A coarse state interpolated onto the meshes with twice the elements (analysis.refine.prolong:
+    Hermite node positions, linear rotations, chord rotations continued): the kernel's ``prolong``
+    equals the numpy path bit for bit on the frame's two rods, bodies and multipliers carried over."""
+    from femslide.analysis.refine import prolong
+    fs = frame().freeze()
+    L, F = static.scales(fs)
+    cache = PatternCache()
+    mc = Model(fs, coarse, L, F, cache)
+    mf = Model(fs, {k: 2 * n for k, n in coarse.items()}, L, F, cache)
+    for _ in range(3):
+        y, es = _state(mc)
+        out = []
+        for on in (False, True):
+            with fast.forced(on):
+                mc.finalize()
+                mf.finalize()
+                assert (mf._pack is not None) == on
+                out.append(prolong(mc, y, es, mf))
+        (y0, e0), (y1, e1) = out
+        assert np.array_equal(y0, y1) and np.array_equal(e0.committed, e1.committed)
+        assert np.abs(y1[:3 * mf.n_nodes]).max() > 0.0 and np.abs(e1.committed).max() > 0.0
+
+
+def test_force_noise_of_a_level_equals_the_numpy_estimate():
+    """The refinement's round-off level of the element forces (analysis.refine._force_noise) taken from
+    the kernel's assembly equals the numpy estimate (elements.corotational.force_noise) bit for bit."""
+    from femslide.analysis import refine
+    from femslide.elements import corotational
+    m = _model(frame())
+    m.finalize()
+    assert m._pack is not None
+    for _ in range(3):
+        y, es = _state(m)
+        a = refine._force_noise(refine.Level(1, m, y, es))
+        b = 4.0 * float(corotational.force_noise(m.elements, m.nodal(y[:m.n_q]), es.committed).max())
+        assert a == b and a > 0.0
+
+
+@pytest.mark.parametrize("n", [1, 2, 7, 36])
+def test_determinant_sign_equals_numpys(n):
+    """model.linalg.det_sign (the stability test's sign of det A, by the kernel's dense LU) against
+    numpy's slogdet on random matrices with either sign, permuted ones and a singular one."""
+    from femslide.model.linalg import det_sign
+    seen = set()
+    for _ in range(20):
+        A = RNG.standard_normal((n, n))
+        ref = float(np.linalg.slogdet(A)[0])
+        assert det_sign(A) == ref
+        seen.add(ref)
+        P = A[RNG.permutation(n)]
+        assert det_sign(P) == float(np.linalg.slogdet(P)[0])
+    assert seen == ({1.0, -1.0} if n > 1 else seen)
+    S = RNG.standard_normal((n, n))
+    S[:, 0] = 0.0
+    assert det_sign(S) == 0.0
+    with fast.forced(False):
+        assert det_sign(A) == float(np.linalg.slogdet(A)[0])

@@ -297,3 +297,41 @@ def test_progress_helper(monkeypatch):
         bar.update(3)
     assert "0/3" in sys.stderr.getvalue()  # the bar was drawn (it clears itself when done)
     assert isinstance(pg.progress(3, "x", quiet=True), pg.NoBar)
+
+
+@pytest.mark.parametrize("scene", ["beam-slider", "beam-both"])
+def test_a_case_frozen_from_the_sweeps_structure_equals_freezing_it_anew(scene):
+    """A sweep freezes a paper structure once per set of values but EI and EA and derives each case's
+    through Frozen.with_stiffness: equal to freezing the case's declaration (every field), its plan in
+    model units that of a fresh freeze (the rods' EI and EA rescaled, the rest shared), the case's
+    solution the same; a stiffness out of range is BadInput naming the rod and the field."""
+    from femslide.errors import BadInput
+    from femslide.model.discrete import _plan
+    from femslide.model.patterns import PatternCache
+    from femslide.scenes import paper
+    from femslide.scenes.catalog import SCENES
+    cache = PatternCache()
+    base = SCENES[scene].resolve({"EI": 1e5})
+    paper.frozen(scene, base, cache)
+    v = SCENES[scene].resolve({"EI": 3e7})
+    fs, fresh = paper.frozen(scene, v, cache), paper.declare(scene, v).freeze()
+    assert fs == fresh and fs.derived["stiffness_of"] is not None
+    assert [r.EI for r in fs.rods] == [3e7] * len(fs.rods) and [r.EA for r in fs.rods] == [3e13] * len(fs.rods)
+    L, F = paper.units(scene, v)
+    a, b = _plan(fs, L, F), _plan(fresh, L, F)
+    assert a.key == b.key
+    for ra, rb in zip(a.rods, b.rods):
+        assert (ra.EI, ra.EA) == (rb.EI, rb.EA) and ra.EI == 3e7 / (F * L * L)
+    sa = paper.solve_scene(scene, v, cache)
+    sb = paper.solve_scene(scene, v)
+    assert list(sa.watched) == list(sb.watched) and sa.error_estimate == sb.error_estimate
+    with pytest.raises(BadInput, match="rod right: EI"):
+        fs.with_stiffness({"right": (-1.0, None)})
+    with pytest.raises(BadInput, match="rod nosuch"):
+        fs.with_stiffness({"nosuch": (1.0, None)})
+
+
+def test_refinement_groups_of_the_output_kinds():
+    """refine.GROUP_OF (the scales' group of each output kind) is GROUPS' index of the kind."""
+    from femslide.analysis.refine import GROUP_OF, GROUPS
+    assert GROUP_OF == {k: i for i, g in enumerate(GROUPS) for k in g}

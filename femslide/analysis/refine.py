@@ -15,7 +15,7 @@ import numpy as np
 from femslide.elements import corotational
 from femslide.model.discrete import Model
 from femslide.model.state import ElementState
-from femslide.model.linalg import solve_linear
+from femslide.model.linalg import model_kernel, solve_linear
 from femslide.results.static import end_moments, extract, flatten, largest_moment, rod_arrays
 
 
@@ -59,9 +59,46 @@ def prolong(mc: Model, y, elements, mf: Model):
     """
     alpha = elements.committed
     yf = np.zeros(mf.n)
+    af = np.zeros(mf.elements.size) if mf.elements is not None else np.zeros(0)
+    kern = model_kernel(mf, "prolong") if mc.elements is not None and mf.elements is not None else None
+    if kern is not None:   # the compiled kernel: the same arithmetic in one pass (the flattened plan)
+        a, b, nf, t, H, bet, ia, ib, ef, ec = _flat_plan(mc, mf)
+        kern(a, b, nf, t, H, bet, mc.X0, np.ascontiguousarray(y, float), mf.X0, yf, ia, ib, ef, ec,
+             mc.elements.beta0, np.ascontiguousarray(alpha, float), mf.elements.beta0, af)
+    else:
+        _prolong_numpy(mc, y, alpha, mf, yf, af)
+    yf[3 * mf.n_nodes:mf.n_q] = y[3 * mc.n_nodes:mc.n_q]
+    yf[mf.n_q:] = y[mc.n_q:]
+    return yf, ElementState(af)
+
+
+def _flat_plan(mc: Model, mf: Model):
+    """:func:`_prolongation_plan` over all rods at once, as the kernel's ``prolong`` takes it: per fine
+    node its coarse element's end nodes, its node, parameter, Hermite weights (4, n) and rod chord
+    angle; per fine element its two nodes and the coarse element at its middle (kept with the plan)."""
+    plans = mf.mesh.prolongations
+    key = ("flat", id(mc.mesh))
+    if key in plans and plans[key][0] is mc.mesh:
+        return plans[key][1]
+    parts = _prolongation_plan(mc, mf)
+    cat = np.concatenate
+    flat = (cat([nc[k] for nc, nf, Xc, Xf, k, t, H, beta0, ef, ecm in parts]).astype(np.int64),
+            cat([nc[k + 1] for nc, nf, Xc, Xf, k, t, H, beta0, ef, ecm in parts]).astype(np.int64),
+            cat([nf for nc, nf, *_ in parts]).astype(np.int64),
+            cat([p[5] for p in parts]).astype(float),
+            np.ascontiguousarray(np.stack([cat([np.broadcast_to(p[6][i].reshape(-1), p[5].shape) for p in parts])
+                                           for i in range(4)]), float),
+            cat([np.full(p[5].size, p[7]) for p in parts]).astype(float),
+            cat([p[1][:-1] for p in parts]).astype(np.int64), cat([p[1][1:] for p in parts]).astype(np.int64),
+            cat([p[8] for p in parts]).astype(np.int64), cat([p[9] for p in parts]).astype(np.int64))
+    plans[key] = (mc.mesh, flat)
+    return flat
+
+
+def _prolong_numpy(mc, y, alpha, mf, yf, af):
+    """The numpy path of :func:`prolong` (the kernel's oracle): yf's nodal part and af in place."""
     Uc = mc.nodal(y[:mc.n_q])
     Uf = mf.nodal(yf[:mf.n_q])
-    af = np.zeros(mf.elements.size) if mf.elements is not None else np.zeros(0)
     for nc, nf, Xc, Xf, k, t, H, beta0, ef, ecm in _prolongation_plan(mc, mf):
         P = Xc + Uc[nc, :2]
         ang = beta0 + Uc[nc, 2]
@@ -75,9 +112,6 @@ def prolong(mc: Model, y, elements, mf: Model):
         beta = ref + np.arctan2(cr * D[:, 1] - sr * D[:, 0], cr * D[:, 0] + sr * D[:, 1])
         af[ef] = beta - mf.elements.beta0[ef]
     yf[: 3 * mf.n_nodes] = Uf.ravel()
-    yf[3 * mf.n_nodes:mf.n_q] = y[3 * mc.n_nodes:mc.n_q]
-    yf[mf.n_q:] = y[mc.n_q:]
-    return yf, ElementState(af)
 
 
 class Level:
@@ -139,6 +173,7 @@ def moment_watch(level, structure):
 
 
 GROUPS = (("moment",), ("length", "angle"), ("force",))
+GROUP_OF = {"moment": 0, "length": 1, "angle": 1, "force": 2}   # each kind's index in GROUPS
 
 
 def _units(kinds, L, F):
@@ -150,7 +185,7 @@ def _scales(vals, kinds):
     """Per-output scales for relative errors: |value|, floored at 1e-3 of its group's largest and at
     1e-10 in model units: changes below that are round-off, not discretisation error.  (A handful of
     values: Python floats.)"""
-    group = [next(i for i, g in enumerate(GROUPS) if k in g) for k in kinds]
+    group = [GROUP_OF[k] for k in kinds]
     a = [abs(v) for v in vals.tolist()]
     top = [0.0] * len(GROUPS)
     for x, g in zip(a, group):
@@ -166,8 +201,13 @@ def _force_noise(lv: Level) -> float:
     """Round-off level of the element forces of a level (model units), from the model's estimate."""
     if lv._noise is None:
         m = lv.model
-        lv._noise = 4.0 * float(corotational.force_noise(m.elements, m.nodal(lv.y[:m.n_q]), lv.alpha).max()) \
-            if m.elements is not None else 0.0
+        if m.elements is None:
+            lv._noise = 0.0
+        elif not m.linear and getattr(m, "_pack", None) is not None:
+            # the compiled assembly estimates the same (bit for bit, tests/test_kernel.py) in one call
+            lv._noise = float(m.system(lv.y, lv.elements.copy(), 1.0)[2]["noise"])
+        else:
+            lv._noise = 4.0 * float(corotational.force_noise(m.elements, m.nodal(lv.y[:m.n_q]), lv.alpha).max())
     return lv._noise
 
 
@@ -193,8 +233,11 @@ def _scatter(lv: Level) -> float:
         return 0.0
     y = lv.y.copy()
     q = y[:m.n_q]
-    sign = np.where(np.arange(m.n_q) % 2 == 0, 1.0, -1.0)
-    q += 1e-13 * sign * np.maximum(np.abs(q), 1e-6 * np.abs(q).max())
+    a = np.abs(q)
+    p = np.maximum(a, 1e-6 * a.max())
+    p *= 1e-13
+    p[1::2] *= -1.0     # (alternating signs: the same numbers as 1e-13 * (+-1) * p)
+    q += p
     es = lv.elements.copy()
     try:
         for _ in range(2):

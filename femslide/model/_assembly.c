@@ -1785,7 +1785,260 @@ out:
     return res;
 }
 
+/* -- the elements' end moments from the equilibrium of rod pieces, and their interior extrema ----------
+ * (femslide.results.static.end_moments and _largest_inside, the same arithmetic in the same order:
+ * numpy's cumsum is the sequential sum) */
+
+/* cuts(X, g, first, ei, ej, M, G): M (n_el, 2) := the end moments, G (n_el, 2) := the middle forces of
+ * femslide.results.static.end_moments (``resultant``); X (n_nodes, 2) the current node positions, g
+ * (n_nodes, 3) the applied generalised forces, first (n_nodes) each node's rod start node */
+static PyObject *py_cuts(PyObject *mod, PyObject *args)
+{
+    PyObject *ox, *og, *of, *oi, *oj, *om, *oG;
+    if (!PyArg_ParseTuple(args, "OOOOOOO", &ox, &og, &of, &oi, &oj, &om, &oG))
+        return NULL;
+    Buf bx, bg, bf, bi, bj, bm, bG;
+    bx.held = bg.held = bf.held = bi.held = bj.held = bm.held = bG.held = 0;
+    PyObject *res = NULL;
+    double *S = NULL;
+    if (get_buf(ox, &bx, 0, "d", 8, "X") < 0 || get_buf(og, &bg, 0, "d", 8, "g") < 0 ||
+        get_buf(of, &bf, 0, "qlLn", 8, "first") < 0 || get_buf(oi, &bi, 0, "qlLn", 8, "ei") < 0 ||
+        get_buf(oj, &bj, 0, "qlLn", 8, "ej") < 0 || get_buf(om, &bm, 1, "d", 8, "M") < 0 ||
+        get_buf(oG, &bG, 1, "d", 8, "G") < 0)
+        goto out;
+    {
+        Py_ssize_t nn = LEN(bf), ne = LEN(bi);
+        if (LEN(bx) != 2 * nn || LEN(bg) < 3 * nn || LEN(bj) != ne || LEN(bm) != 2 * ne || LEN(bG) != 2 * ne) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: cuts: wrong sizes");
+            goto out;
+        }
+        const double *X = DBL(bx), *g = DBL(bg);
+        const long long *first = IDX(bf), *I = IDX(bi), *J = IDX(bj);
+        double *M = DBL(bm), *G = DBL(bG);
+        S = PyMem_Malloc(sizeof(double) * (6 * nn + 1));   /* cumulative sums, then the rows */
+        if (!S) {
+            PyErr_NoMemory();
+            goto out;
+        }
+        double *R = S + 3 * nn;
+        double c0 = 0.0, c1 = 0.0, c2 = 0.0;
+        for (Py_ssize_t k = 0; k < nn; k++) {
+            long long f = first[k];
+            if (f < 0 || f >= nn) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: cuts: node index out of range");
+                goto out;
+            }
+            double xr = X[2 * k] - X[2 * f], yr = X[2 * k + 1] - X[2 * f + 1];
+            R[3 * k] = g[3 * k];
+            R[3 * k + 1] = g[3 * k + 1];
+            R[3 * k + 2] = g[3 * k + 2] + (xr * g[3 * k + 1] - yr * g[3 * k]);
+            c0 += R[3 * k];
+            c1 += R[3 * k + 1];
+            c2 += R[3 * k + 2];
+            S[3 * k] = c0;
+            S[3 * k + 1] = c1;
+            S[3 * k + 2] = c2;
+        }
+        for (Py_ssize_t e = 0; e < ne; e++) {
+            long long i = I[e], j = J[e];
+            if (i < 0 || i >= nn || j < 0 || j >= nn) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: cuts: node index out of range");
+                goto out;
+            }
+            long long f = first[i];
+            double C0 = S[3 * i] - (S[3 * f] - R[3 * f]);
+            double C1 = S[3 * i + 1] - (S[3 * f + 1] - R[3 * f + 1]);
+            double C2 = S[3 * i + 2] - (S[3 * f + 2] - R[3 * f + 2]);
+            double xi = X[2 * i] - X[2 * f], yi = X[2 * i + 1] - X[2 * f + 1];
+            long long fj = first[j];
+            if (fj < 0 || fj >= nn) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: cuts: node index out of range");
+                goto out;
+            }
+            double xj = X[2 * j] - X[2 * fj], yj = X[2 * j + 1] - X[2 * fj + 1];
+            double dx = xi - xj, dy = yi - yj;
+            double m0 = xi * C1 - yi * C0 - C2;
+            M[2 * e] = m0;
+            M[2 * e + 1] = dx * C1 - dy * C0 - m0;
+            G[2 * e] = C0;
+            G[2 * e + 1] = C1;
+        }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    PyMem_Free(S);
+    release(&bx);
+    release(&bg);
+    release(&bf);
+    release(&bi);
+    release(&bj);
+    release(&bm);
+    release(&bG);
+    return res;
+}
+
+/* inside(X, U, ei, ej, beta0, alpha, M, G) -> max |M| at the ends and interior extrema of the elements'
+ * cubic moments (femslide.results.static._largest_inside; alpha None: zero); NaN if any is NaN */
+static PyObject *py_inside(PyObject *mod, PyObject *args)
+{
+    PyObject *ox, *ou, *oi, *oj, *ob, *oa, *om, *oG;
+    if (!PyArg_ParseTuple(args, "OOOOOOOO", &ox, &ou, &oi, &oj, &ob, &oa, &om, &oG))
+        return NULL;
+    Buf bx, bu, bi, bj, bb, ba, bm, bG;
+    bx.held = bu.held = bi.held = bj.held = bb.held = ba.held = bm.held = bG.held = 0;
+    PyObject *res = NULL;
+    if (get_buf(ox, &bx, 0, "d", 8, "X") < 0 || get_buf(ou, &bu, 0, "d", 8, "U") < 0 ||
+        get_buf(oi, &bi, 0, "qlLn", 8, "ei") < 0 || get_buf(oj, &bj, 0, "qlLn", 8, "ej") < 0 ||
+        get_buf(ob, &bb, 0, "d", 8, "beta0") < 0 || get_buf(oa, &ba, 0, "d", 8, "alpha") < 0 ||
+        get_buf(om, &bm, 0, "d", 8, "M") < 0 || get_buf(oG, &bG, 0, "d", 8, "G") < 0)
+        goto out;
+    {
+        Py_ssize_t nn = LEN(bx) / 2, ne = LEN(bi);
+        if (LEN(bu) < 3 * nn || LEN(bj) != ne || LEN(bb) != ne || (ba.held && LEN(ba) != ne) ||
+            LEN(bm) != 2 * ne || LEN(bG) != 2 * ne) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: inside: wrong sizes");
+            goto out;
+        }
+        const double *X = DBL(bx), *U = DBL(bu), *b0 = DBL(bb), *al = ba.held ? DBL(ba) : NULL;
+        const double *M = DBL(bm), *G = DBL(bG);
+        const long long *I = IDX(bi), *J = IDX(bj);
+        double top = 0.0;
+        int nan = 0;
+        for (Py_ssize_t e = 0; e < ne; e++) {
+            long long i = I[e], j = J[e];
+            if (i < 0 || i >= nn || j < 0 || j >= nn) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: inside: node index out of range");
+                goto out;
+            }
+            double Dx = X[2 * j] - X[2 * i], Dy = X[2 * j + 1] - X[2 * i + 1];
+            double ref = al ? b0[e] + al[e] : b0[e];
+            double cr = cos(ref), sr = sin(ref);
+            double chord = ref + atan2(cr * Dy - sr * Dx, cr * Dx + sr * Dy) - b0[e];
+            double t1 = U[3 * i + 2] - chord, t2 = U[3 * j + 2] - chord;
+            double W = G[2 * e] * Dx + G[2 * e + 1] * Dy;
+            double Ms = -M[2 * e];
+            double a1 = (M[2 * e + 1] - Ms) + W * t1;
+            double a2 = -W * (2.0 * t1 + t2);
+            double a3 = W * (t1 + t2);
+            double A = 3.0 * a3, B = 2.0 * a2;
+            double disc = B * B - 4.0 * A * a1;
+            double q = -0.5 * (B + copysign(sqrt(disc > 0.0 ? disc : 0.0), B));
+            double r[2];
+            r[0] = A != 0.0 ? q / A : 0.0;
+            r[1] = q != 0.0 ? a1 / q : 0.0;
+            for (int k = 0; k < 2; k++) {
+                double x = r[k];
+                if (x <= 0.0 || x >= 1.0 || disc < 0.0)
+                    x = 0.0;
+                double v = fabs(Ms + x * (a1 + x * (a2 + x * a3)));
+                if (v > top)
+                    top = v;
+                else if (v != v)
+                    nan = 1;
+            }
+        }
+        res = PyFloat_FromDouble(nan ? NAN : top);
+    }
+out:
+    release(&bx);
+    release(&bu);
+    release(&bi);
+    release(&bj);
+    release(&bb);
+    release(&ba);
+    release(&bm);
+    release(&bG);
+    return res;
+}
+
+/* prolong(a, b, nf, t, H, bet, X0c, yc, X0f, yf, ia, ib, ef, ec, beta0c, alpha, beta0f, af): the
+ * interpolation of femslide.analysis.refine.prolong, the same arithmetic in the same order, over the
+ * fine nodes of all rods (flattened plan: coarse end nodes a, b of each fine node's coarse element, the
+ * fine node nf, its parameter t and Hermite weights H (4, n), the rod's chord angle bet) and the fine
+ * elements ef (their nodes ia, ib, the coarse element ec at their middle): yf[:3 n_fine_nodes] := the
+ * fine nodal dofs, af[ef] := the fine elements' chord rotations */
+static PyObject *py_prolong(PyObject *mod, PyObject *args)
+{
+    PyObject *o[18];
+    if (!PyArg_ParseTuple(args, "OOOOOOOOOOOOOOOOOO", &o[0], &o[1], &o[2], &o[3], &o[4], &o[5], &o[6], &o[7],
+                          &o[8], &o[9], &o[10], &o[11], &o[12], &o[13], &o[14], &o[15], &o[16], &o[17]))
+        return NULL;
+    static const char *what[18] = {"a", "b", "nf", "t", "H", "bet", "X0c", "yc", "X0f", "yf", "ia", "ib", "ef",
+                                   "ec", "beta0c", "alpha", "beta0f", "af"};
+    static const int isint[18] = {1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 0, 0, 0, 0};
+    Buf B[18];
+    PyObject *res = NULL;
+    int k;
+    for (k = 0; k < 18; k++)
+        B[k].held = 0;
+    for (k = 0; k < 18; k++)
+        if (get_buf(o[k], &B[k], k == 9 || k == 17, isint[k] ? "qlLn" : "d", 8, what[k]) < 0)
+            goto out;
+    {
+        const long long *A = IDX(B[0]), *Bn = IDX(B[1]), *NF = IDX(B[2]);
+        const double *t = DBL(B[3]), *H = DBL(B[4]), *bet = DBL(B[5]), *X0c = DBL(B[6]), *yc = DBL(B[7]);
+        const double *X0f = DBL(B[8]);
+        double *yf = DBL(B[9]);
+        const long long *IA = IDX(B[10]), *IB = IDX(B[11]), *EF = IDX(B[12]), *EC = IDX(B[13]);
+        const double *b0c = DBL(B[14]), *al = DBL(B[15]), *b0f = DBL(B[16]);
+        double *af = DBL(B[17]);
+        Py_ssize_t n = LEN(B[0]), ne = LEN(B[10]), ncn = LEN(B[6]) / 2, nfn = LEN(B[8]) / 2;
+        Py_ssize_t nec = LEN(B[14]), nef = LEN(B[16]);
+        if (LEN(B[1]) != n || LEN(B[2]) != n || LEN(B[3]) != n || LEN(B[4]) != 4 * n || LEN(B[5]) != n ||
+            LEN(B[7]) < 3 * ncn || LEN(B[9]) < 3 * nfn || LEN(B[11]) != ne || LEN(B[12]) != ne ||
+            LEN(B[13]) != ne || LEN(B[15]) != nec || LEN(B[17]) != nef) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: prolong: wrong sizes");
+            goto out;
+        }
+        const double *H0 = H, *H1 = H + n, *H2 = H + 2 * n, *H3 = H + 3 * n;
+        for (Py_ssize_t m = 0; m < n; m++) {
+            long long a = A[m], b = Bn[m], f = NF[m];
+            if (a < 0 || a >= ncn || b < 0 || b >= ncn || f < 0 || f >= nfn) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: prolong: node index out of range");
+                goto out;
+            }
+            double Pax = X0c[2 * a] + yc[3 * a], Pay = X0c[2 * a + 1] + yc[3 * a + 1];
+            double Pbx = X0c[2 * b] + yc[3 * b], Pby = X0c[2 * b + 1] + yc[3 * b + 1];
+            double ga = bet[m] + yc[3 * a + 2], gb = bet[m] + yc[3 * b + 2];
+            double Tax = cos(ga), Tay = sin(ga), Tbx = cos(gb), Tby = sin(gb);
+            double px = H0[m] * Pax + H1[m] * Tax + H2[m] * Pbx + H3[m] * Tbx;
+            double py = H0[m] * Pay + H1[m] * Tay + H2[m] * Pby + H3[m] * Tby;
+            yf[3 * f] = px - X0f[2 * f];
+            yf[3 * f + 1] = py - X0f[2 * f + 1];
+            yf[3 * f + 2] = (1 - t[m]) * yc[3 * a + 2] + t[m] * yc[3 * b + 2];
+        }
+        for (Py_ssize_t e = 0; e < ne; e++) {
+            long long i = IA[e], j = IB[e], ef = EF[e], ec = EC[e];
+            if (i < 0 || i >= nfn || j < 0 || j >= nfn || ef < 0 || ef >= nef || ec < 0 || ec >= nec) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: prolong: element index out of range");
+                goto out;
+            }
+            double Dx = (X0f[2 * j] + yf[3 * j]) - (X0f[2 * i] + yf[3 * i]);
+            double Dy = (X0f[2 * j + 1] + yf[3 * j + 1]) - (X0f[2 * i + 1] + yf[3 * i + 1]);
+            double ref = b0c[ec] + al[ec];
+            double cr = cos(ref), sr = sin(ref);
+            af[ef] = (ref + atan2(cr * Dy - sr * Dx, cr * Dx + sr * Dy)) - b0f[ef];
+        }
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    for (k = 0; k < 18; k++)
+        release(&B[k]);
+    return res;
+}
+
 static PyMethodDef module_methods[] = {
+    {"prolong", py_prolong, METH_VARARGS,
+     "prolong(a, b, nf, t, H, bet, X0c, yc, X0f, yf, ia, ib, ef, ec, beta0c, alpha, beta0f, af): the nodal "
+     "dofs and chord rotations of femslide.analysis.refine.prolong (outputs yf, af written in place)"},
+    {"cuts", py_cuts, METH_VARARGS,
+     "cuts(X, g, first, ei, ej, M, G): M, G := the end moments and middle forces of the elements from the "
+     "equilibrium of the rod pieces (femslide.results.static.end_moments)"},
+    {"inside", py_inside, METH_VARARGS,
+     "inside(X, U, ei, ej, beta0, alpha, M, G) -> max |M| at the elements' ends and interior extrema "
+     "(femslide.results.static._largest_inside)"},
     {"coupled_rhs", py_coupled_rhs, METH_VARARGS,
      "coupled_rhs(r, wrq, h, cr, cc, cv, mr, mc, mv, nq, rhs): the right-hand side of a Radau step's coupled "
      "Newton system (femslide.analysis.radau.CoupledMatrix.solve)"},

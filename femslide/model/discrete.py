@@ -17,6 +17,7 @@ so that EI/(P a^2) from 1 to 1e12 needs no tuning; :mod:`femslide.results.static
 """
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
@@ -280,6 +281,31 @@ class _Plan:
                     tuple((r, e, tuple(v.tolist())) for r, e, v in self.node_loads), tuple(self.point_forces),
                     tuple((j.name, j.kind, j.ra, j.rb, j.at, j.axis, j.k, j.preload, j.c, j.springs, j.motion,
                            j.lifted) for j in self.joints))
+        self._ids = self._base = None   # (the plan this one was restiffened from: same geometry and key)
+
+    def restiffened(self, fs: Frozen, L: float, F: float) -> "_Plan":
+        """This plan for ``fs``, a structure that differs from this plan's only in the rods' EI and EA
+        (Frozen.with_stiffness): a copy with the rods' stiffness in model units replaced (the key,
+        which leaves the stiffness out, stays)."""
+        new = copy.copy(self)
+        new._base = self._base or self
+        new.rods = []
+        for rp, rod in zip(self.rods, fs.rods):
+            rq = _RodPlan()
+            for k in _RodPlan.__slots__:
+                setattr(rq, k, getattr(rp, k))
+            rq.EI, rq.EA = _scaled(rod.EI, 1.0 / (F * L * L), L), _scaled(rod.EA, 1.0 / F, L)
+            new.rods.append(rq)
+        return new
+
+    def ids(self, cache: PatternCache) -> tuple:
+        """(geometry, key) as ``cache``'s small integers (PatternCache.key_id), computed once per cache."""
+        held = self._ids
+        if held is None or held[0] is not cache:
+            ids = self._base.ids(cache) if self._base is not None else \
+                (cache.key_id(("geometry", self.geometry)), cache.key_id(("plan", self.key)))
+            held = self._ids = (cache, *ids)
+        return held[1], held[2]
 
 
 def body_origin(fs: Frozen, body) -> tuple:
@@ -298,7 +324,9 @@ def _plan(fs: Frozen, L: float, F: float, factors: dict | None = None) -> _Plan:
     key = ("plan", L, F) if factors is None else ("plan", L, F, tuple(sorted(factors.items())))
     plan = fs.derived.get(key)
     if plan is None:
-        plan = fs.derived[key] = _Plan(fs, L, F, factors)
+        parent = fs.derived.get("stiffness_of")   # (Frozen.with_stiffness: the same but for the rods' stiffness)
+        plan = fs.derived[key] = _plan(parent, L, F, factors).restiffened(fs, L, F) if parent is not None \
+            else _Plan(fs, L, F, factors)
     return plan
 
 
@@ -326,7 +354,8 @@ class Model:
         plan = _plan(structure, Lref, Fref, factors)
         self.rod_index = plan.rod_index
         counts = tuple(int(elements[rp.name]) for rp in plan.rods)
-        mesh = self.cache.mesh((plan.geometry, counts), lambda: _Mesh(plan, counts))
+        gid, kid = plan.ids(self.cache)
+        mesh = self.cache.mesh((gid, counts), lambda: _Mesh(plan, counts))
         counts = mesh.counts if plan.rods else counts   # a rod with loads inside: its pieces' elements
         self.X0, self.rod_nodes, self.n_nodes = mesh.X0, mesh.rod_nodes, mesh.n_nodes
         self.node_first = mesh.node_first
@@ -349,7 +378,7 @@ class Model:
             curv = np.repeat([rp.curvature for rp in plan.rods], counts_a)
             self.free_T = corotational.free_forces(self.elements, strain, curv)
         if finalize:
-            shared = self.cache.frames((plan.key, counts))
+            shared = self.cache.frames((kid, counts))
             if shared is not None:
                 self._share(shared)
                 return
@@ -415,7 +444,7 @@ class Model:
             self.add_term(PointForce(np.arange(d, d + 3), r, Fv, M, name))
         if finalize:
             self.finalize()
-            self.cache.frames((plan.key, counts), self)
+            self.cache.frames((kid, counts), self)
 
     _kern = None   # the compiled assembler of this model (femslide.model.fast), made at its first evaluation
     _pack = None

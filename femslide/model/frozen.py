@@ -98,6 +98,26 @@ class Frozen:
         return ({b.name: (b.mass * gx, b.mass * gy) for b in self.bodies},
                 {r.name: (r.rhoA * gx, r.rhoA * gy) for r in self.rods})
 
+    def with_stiffness(self, stiffness: dict) -> "Frozen":
+        """The same structure with rods' stiffnesses replaced: ``stiffness`` {rod: (EI, EA)} [N m^2, N],
+        each a positive number or a table {s, value} as a declaration gives them (EA None: EA_PER_EI
+        times EI), checked as :meth:`from_structure` checks them.  Everything else, checked already,
+        is shared: a sweep over the rods' stiffness freezes its structure once.  The solvers' data
+        derived from this structure that does not depend on the stiffness is derived again from this
+        one's (``derived["stiffness_of"]``: femslide.model.discrete keeps its plans' geometry, loads and
+        joints and rescales only the rods' stiffness)."""
+        unknown = set(stiffness) - {r.name for r in self.rods}
+        if unknown:
+            raise BadInput(f"rod {sorted(unknown)[0]}: no such rod; allowed: {', '.join(r.name for r in self.rods)}")
+        rods = []
+        for r in self.rods:
+            if r.name in stiffness:
+                EI, EA = stiffness[r.name]
+                EI, EA = _section(f"rod {r.name}", replace(r, EI=EI, EA=EA), r.length)
+                r = replace(r, EI=EI, EA=EA)
+            rods.append(r)
+        return replace(self, rods=tuple(rods), derived={"stiffness_of": self})
+
     # -- checking -----------------------------------------------------------------------------------
     @staticmethod
     def from_structure(s) -> "Frozen":

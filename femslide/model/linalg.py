@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 import contextlib
+import math
 import os
 
 try:
@@ -40,8 +41,21 @@ def kernel_enabled() -> bool:
         return False
     if _FORCED:
         return _FORCED[-1]
+    # os.environ's own store of encoded names and values where it has one (CPython on POSIX): ~0.1 us
+    # against ~2 us for os.environ.get, asked at each linear solve; os.environ.get elsewhere
+    data = getattr(os.environ, "_data", None)
+    if os.name == "posix" and isinstance(data, dict):
+        raw = data.get(b"FEMSLIDE_KERNEL")
+        return raw is None or raw.lower() != b"numpy"
     env = os.environ.get("FEMSLIDE_KERNEL")
     return env is None or env.lower() != "numpy"
+
+
+def model_kernel(model, name):
+    """The compiled kernel's function ``name`` for work on ``model`` when the model was finalized with
+    the kernel (its ``_pack``; a model keeps the assembly it was finalized with), else None: the
+    caller's numpy path.  (No look-up of the environment: it runs at every refinement level.)"""
+    return getattr(_kernel, name, None) if getattr(model, "_pack", None) is not None else None
 
 
 def kernel_function(name):
@@ -325,6 +339,25 @@ def solve_linear(A, b):
         return x
     import scipy.sparse.linalg as spla
     return spla.splu(A, permc_spec="COLAMD").solve(b)
+
+
+def det_sign(A) -> float:
+    """The sign of det A (dense, C order): 1.0, -1.0, 0.0 (a zero pivot) or NaN (a non-finite
+    factor) - the stability test's (femslide.analysis.paths.check_stable).  The kernel's dense LU with
+    partial pivoting (numpy's slogdet without the kernel): the product of the pivots' signs and of
+    the row exchanges'."""
+    if not (_kernel is not None and isinstance(A, np.ndarray) and A.dtype == np.float64 and kernel_enabled()):
+        return float(np.linalg.slogdet(A)[0])
+    n = A.shape[0]
+    lu = np.array(A, float, order="C")
+    piv = np.empty(n, np.intp)
+    if _kernel.factor(lu, piv, n, -1, -1):
+        return 0.0
+    d = lu.ravel()[::n + 1]
+    if not np.isfinite(d).all():
+        return math.nan
+    odd = (int(np.count_nonzero(d < 0.0)) + int(np.count_nonzero(piv != np.arange(n)))) % 2
+    return -1.0 if odd else 1.0
 
 
 def lu_factor(A):

@@ -58,6 +58,7 @@ class _Mesh:
             eoff += n
         self.n_nodes = off
         self.prolongations = {}   # interpolation plans from coarser meshes (static.prolong)
+        self.derived = {}         # data of higher layers that depends on the mesh alone (a Newton start's geometry)
         self.X0 = np.concatenate(Xs) if Xs else np.zeros((0, 2))
         # the first node of each node's rod (rods are numbered node block by node block)
         self.node_first = np.repeat([r[0] for r in self.rod_nodes], [r.size for r in self.rod_nodes]) \

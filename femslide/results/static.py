@@ -35,6 +35,7 @@ import math
 import numpy as np
 
 from femslide.joints.base import at_joint_point
+from femslide.model.linalg import model_kernel
 
 
 _GOLD = 0.5 * (math.sqrt(5.0) - 1.0)
@@ -297,12 +298,17 @@ def end_moments(model, y, X=None, resultant=False, lam=1.0):
         X = model.X0 if model.linear else model.X0 + model.nodal(y[:model.n_q])[:, :2]
     g = model.applied(y, lam)[:3 * model.n_nodes].reshape(-1, 3)
     first = model.node_first
+    es = model.elements
+    kern = model_kernel(model, "cuts")
+    if kern is not None:   # the compiled kernel: the same arithmetic in one call
+        M, G = np.empty((es.size, 2)), np.empty((es.size, 2))
+        kern(np.ascontiguousarray(X, float), np.ascontiguousarray(g), first, es.i, es.j, M, G)
+        return (M, G) if resultant else M
     Xr = X - X[first]
     rows = g.copy()      # forces and moments about each rod's start node
     rows[:, 2] += Xr[:, 0] * g[:, 1] - Xr[:, 1] * g[:, 0]
     C = rows.cumsum(axis=0)
     C -= C[first] - rows[first]            # sums over each rod's own nodes only
-    es = model.elements
     Ci, Xi = C[es.i], Xr[es.i]
     d = Xi - Xr[es.j]
     M = np.empty((es.size, 2))
@@ -357,10 +363,14 @@ def _largest_inside(model, y, alpha, cuts) -> float:
     es = model.elements
     U = model.nodal(y[:model.n_q])
     X = model.X0 + U[:, :2]
+    qb, Gmid = cuts
+    kern = model_kernel(model, "inside")
+    if kern is not None:   # the compiled kernel: the same arithmetic in one pass over the elements
+        return kern(X, np.ascontiguousarray(U), es.i, es.j, es.beta0, alpha, np.ascontiguousarray(qb),
+                    np.ascontiguousarray(Gmid))
     i, j = es.i, es.j
     Dx = X[j, 0] - X[i, 0]
     Dy = X[j, 1] - X[i, 1]
-    qb, Gmid = cuts
     ref = es.beta0 if alpha is None else es.beta0 + alpha
     cr, sr = np.cos(ref), np.sin(ref)
     chord = ref + np.arctan2(cr * Dy - sr * Dx, cr * Dx + sr * Dy) - es.beta0

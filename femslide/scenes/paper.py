@@ -148,7 +148,8 @@ def watch(scene):
         m, y = lv.model, lv.y
         F = m.Fref
         clamp = m.joint["clamp"]
-        s = (float(clamp.slide(y[clamp.dofs])[0]) - m.slide0["clamp"]) * m.Lref
+        # the slide alone (Link._slide's s, as floats; not its gradient and Hessian as arrays)
+        s = (clamp._slide(y[clamp.dofs].tolist())[0] - m.slide0["clamp"]) * m.Lref
         A = joint_forces(m, y, "A1")
         B = joint_forces(m, y, "B1")
         return ([lv.largest_moment(), -float(y[m.body_dof("deck") + 2]), s,
@@ -181,10 +182,26 @@ def check(scene: str, v: dict):
                            f"state is unstable even at dm = 0; allowed: k > {kc:.6g}")
 
 
+def frozen(scene: str, v: dict, cache=None):
+    """The scene's frozen structure.  With a ``cache`` (the cases of a sweep) a paper structure, whose
+    rods' EI and EA enter its declaration nowhere else, is declared and frozen once per set of the
+    other values and takes each case's EI and EA through Frozen.with_stiffness (the same structure
+    as freezing it anew, without checking again what did not change)."""
+    if cache is None or scene not in STRUCTURES:
+        return declare(scene, v).freeze()
+    try:
+        key = (scene, tuple(sorted((k, x) for k, x in v.items() if k not in ("EI", "EA") and not k.startswith("_"))))
+        hash(key)
+    except TypeError:    # a value that is not hashable: no reuse
+        return declare(scene, v).freeze()
+    base = cache.structure(key, lambda: declare(scene, v).freeze())
+    return base.with_stiffness({r.name: (v["EI"], v["EA"]) for r in base.rods})
+
+
 def solve_scene(scene: str, v: dict, cache=None) -> static.Solution:
     """Solve a built-in FE statics scene from scratch (validated parameters ``v``, SI)."""
     check(scene, v)
-    fs = declare(scene, v).freeze()
+    fs = frozen(scene, v, cache)
     Lref, Fref = units(scene, v)
     return static.solve(fs, elements=v.get("n_elements"), watch=watch(scene), path=path(scene, v),
                         Lref=Lref, Fref=Fref, cache=cache)

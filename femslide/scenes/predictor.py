@@ -67,6 +67,27 @@ def _bent_top(weld_point, line_point, e, base, L, beta0, th):
     return top, beta, t_top
 
 
+def _rod_geometry(model, k):
+    """What :func:`mechanism_state` needs of rod k's mesh, computed once per mesh (kept with it): its
+    nodes and their positions, the base node, chord length and angle, the shape's polynomials in
+    xi = s/L at the elements (xa^2 + xa xb + xb^2 - 1) and nodes (3 xi^2 - 1), the elements' lengths
+    along the chord, and the rod's elements with their reference angles."""
+    key = ("mechanism_state", k)
+    geo = model.mesh.derived.get(key)
+    if geo is None:
+        nodes = model.rod_nodes[k]
+        X = model.X0[nodes]
+        base = (float(X[0, 0]), float(X[0, 1]))
+        Lr = math.hypot(X[-1, 0] - base[0], X[-1, 1] - base[1])
+        xi = np.hypot(X[:, 0] - base[0], X[:, 1] - base[1]) / Lr
+        beta0 = math.atan2(X[-1, 1] - base[1], X[-1, 0] - base[0])
+        xa, xb = xi[:-1], xi[1:]
+        el = np.nonzero(model.elem_rod == k)[0]
+        geo = model.mesh.derived[key] = (nodes, X, base, Lr, beta0, xa * xa + xa * xb + xb * xb - 1.0,
+                                         np.diff(xi) * Lr, 3.0 * xi * xi - 1.0, el, model.elements.beta0[el])
+    return geo
+
+
 def mechanism_state(model, theta):
     """(y, elements): a start state of a paper structure's model at deck rotation ``theta`` [rad,
     counter-clockwise] (its chord rotations committed), or None if the geometry admits none (guide
@@ -154,27 +175,20 @@ def mechanism_state(model, theta):
     A_new = add(Xd, Ud, rot(sub(A0, Xd)))
     B_new = add(Xd, Ud, rot(sub(B0, Xd)))
     for k, name in enumerate(r.name for r in fs.rods):
-        nodes = model.rod_nodes[k]
-        X = model.X0[nodes]
-        base = (float(X[0, 0]), float(X[0, 1]))
-        Lr = math.hypot(X[-1, 0] - base[0], X[-1, 1] - base[1])
-        xi = np.hypot(X[:, 0] - base[0], X[:, 1] - base[1]) / Lr
-        beta0 = math.atan2(X[-1, 1] - base[1], X[-1, 0] - base[0])
+        nodes, X, base, Lr, beta0, xq, seg, xn, el, beta0_el = _rod_geometry(model, k)
         bent = _bent_top(A_new if name == "left" else None, B_new, e, base, Lr, beta0, th)
         if bent is None:
             return None
         _, beta, t_top = bent
-        xa, xb = xi[:-1], xi[1:]
-        t_el = 0.5 * t_top * (xa * xa + xa * xb + xb * xb - 1.0)
+        t_el = 0.5 * t_top * xq
         gam = beta + t_el
-        seg = np.diff(xi) * Lr
         P = np.empty_like(X)
         P[0] = base
         P[1:, 0] = base[0] + np.cumsum(seg * np.cos(gam))
         P[1:, 1] = base[1] + np.cumsum(seg * np.sin(gam))
         Uq[nodes, :2] = P - X
-        Uq[nodes, 2] = (beta - beta0) + 0.5 * t_top * (3.0 * xi * xi - 1.0)
-        alpha[model.elem_rod == k] = gam - model.elements.beta0[model.elem_rod == k]
+        Uq[nodes, 2] = (beta - beta0) + 0.5 * t_top * xn
+        alpha[el] = gam - beta0_el
     for b in fs.bodies:
         d = model.body_dof(b.name)
         Xb = tuple(float(x) for x in model.body_X0[model.body_index[b.name]])
