@@ -183,14 +183,18 @@ def _units(kinds, L, F):
 
 def _scales(vals, kinds):
     """Per-output scales for relative errors: |value|, floored at 1e-3 of its group's largest and at
-    1e-10 in model units: changes below that are round-off, not discretisation error.  (A handful of
-    values: Python floats.)"""
+    1e-10 in model units: changes below that are round-off, not discretisation error."""
+    return np.array(_scale_list(vals.tolist(), kinds))
+
+
+def _scale_list(vals, kinds):
+    """:func:`_scales` of a list of floats, as a list (a handful of values: Python floats)."""
     group = [GROUP_OF[k] for k in kinds]
-    a = [abs(v) for v in vals.tolist()]
+    a = [abs(v) for v in vals]
     top = [0.0] * len(GROUPS)
     for x, g in zip(a, group):
         top[g] = max(top[g], x)
-    return np.array([max(x, 1e-3 * top[g], 1e-10) for x, g in zip(a, group)])
+    return [max(x, 1e-3 * top[g], 1e-10) for x, g in zip(a, group)]
 
 
 def _force_like(kinds):

@@ -49,7 +49,7 @@ from femslide.analysis.refine import (
     _force_like,
     _force_noise,
     _roundoff_scatter,
-    _scales,
+    _scale_list,
     _units,
     default_watch,
     prolong,
@@ -377,34 +377,41 @@ def _solve(fs, meshes, watch, path, target, theory) -> Solution:
         prev_raw = None
         history = []     # the extrapolated estimates of every level
         fine = level(n)
+        units = None
         while True:
             coarse, fine = fine, level(2 * n)
             f1, kinds = values(coarse)
             f2, _ = values(fine)
-            units = _units(kinds, Lref, Fref)
-            ext.append((4.0 * f2 - f1) / 3.0)
-            scale = _scales(ext[-1] / units, kinds)
-            change = np.abs(f2 - f1) / units
-            raw = change / scale
+            # a handful of values: Python floats (the same IEEE arithmetic as numpy's elementwise, without
+            # its per-call cost on tiny arrays); the units and which outputs are force-like once per kinds
+            if units is None or kinds != units[0]:
+                units = (kinds, _units(kinds, Lref, Fref).tolist(), _force_like(kinds).tolist())
+            u, fl = units[1], units[2]
+            f1, f2 = f1.tolist(), f2.tolist()
+            ext.append([(4.0 * b - a) / 3.0 for a, b in zip(f1, f2)])
+            scale = _scale_list([e / x for e, x in zip(ext[-1], u)], kinds)
+            change = [abs(b - a) / x for a, b, x in zip(f1, f2, u)]
+            raw = [c / sc for c, sc in zip(change, scale)]
             if len(ext) >= 2:
-                errs = np.abs(ext[-1] - ext[-2]) / units / 15.0 / scale
+                errs = [abs(a - b) / x / 15.0 / sc for a, b, x, sc in zip(ext[-1], ext[-2], u, scale)]
                 err = float(min(errs[0], raw[0] / 3.0))
             else:
-                errs = raw / 3.0 * 10.0  # one level only: no estimate of the extrapolated error yet
+                errs = [r / 3.0 * 10.0 for r in raw]  # one level only: no estimate of the extrapolated error yet
                 err = float(raw[0] / 3.0)
             # an output is settled when its estimate meets the target, when it does not change, or
             # (forces and moments that are zero but for round-off, e.g. the shear of a rod in pure
             # bending) when its change is within the round-off level of the element forces
-            settled = (errs <= target) | (raw <= 1e-13)
-            small = ~settled & _force_like(kinds) & (np.abs(f2) / units < scale)  # below their group's floor
-            if small.any():
+            settled = [e <= target or r <= 1e-13 for e, r in zip(errs, raw)]
+            small = [not st and f and abs(b) / x < sc for st, f, b, x, sc in zip(settled, fl, f2, u, scale)]
+            if any(small):   # below their group's floor
                 zero = 10.0 * _force_noise(fine)
-                settled |= small & (np.abs(f2) / units <= zero) & (change <= zero)
-            if (len(ext) >= 2 or np.all(raw <= 1e-13)) and settled.all():
+                settled = [st or (sm and abs(b) / x <= zero and c <= zero)
+                           for st, sm, b, x, c in zip(settled, small, f2, u, change)]
+            if (len(ext) >= 2 or all(r <= 1e-13 for r in raw)) and all(settled):
                 break
             # the first two meshes already agree to 3e-8: the finer one is accurate to its O(h^2)
             # estimate raw / 3 <= target / 10; reported as it is (not extrapolated)
-            if len(ext) == 1 and np.all((raw / 3.0 <= 0.1 * target) | settled):
+            if len(ext) == 1 and all(r / 3.0 <= 0.1 * target or st for r, st in zip(raw, settled)):
                 raw_values = True
                 break
             # the changes must shrink like h^2 (x 1/4); outputs whose changes stop shrinking *at the
@@ -412,10 +419,9 @@ def _solve(fs, meshes, watch, path, target, theory) -> Solution:
             # outputs are such, stop and report the finest level's raw values.  (On coarse meshes
             # changes can stall far above round-off: then keep refining.)
             if prev_raw is not None:
-                stalled = raw > 0.6 * prev_raw
-                if np.all(settled | stalled):
+                if all(st or r > 0.6 * p for st, r, p in zip(settled, raw, prev_raw)):   # settled or stalled
                     noise = 1e3 * max(_roundoff_scatter(fine), 1e-13)
-                    if np.all(settled | (raw <= noise)):
+                    if all(st or r <= noise for st, r in zip(settled, raw)):
                         err = float(max(raw[0], prev_raw[0]))
                         raw_values = True
                         break
@@ -459,13 +465,14 @@ FLOOR_FROM = 64      # elements per rod from which a stalled estimate counts as 
 
 
 def _estimate_floor(history, settled, n):
-    """(output, estimate) when every unsettled output's extrapolated error estimate has stopped
+    """``history``: the estimates (arrays or lists) of every level; ``settled``: the outputs settled now
+    (booleans).  (output, estimate) when every unsettled output's extrapolated error estimate has stopped
     shrinking - neither of the last two levels brought it below half its value of the level before
     them - on meshes of at least FLOOR_FROM elements per rod; else None.  (A discretisation error
     shrinks by 4 to 16 a level; round-off does not.)"""
-    if n < FLOOR_FROM or len(history) < 3 or settled.all():
+    if n < FLOOR_FROM or len(history) < 3 or all(settled):
         return None
-    H = np.array(history)
+    H, settled = np.array(history), np.asarray(settled)
     before = H[-3]
     stuck = (H[-1] > 0.5 * before) & (H[-2] > 0.5 * before)
     if not np.all(settled | stuck):
