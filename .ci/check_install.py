@@ -24,7 +24,6 @@ import argparse
 import json
 import os
 import pathlib
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -32,13 +31,13 @@ import tempfile
 
 def femslide_command() -> list[str]:
     """The installed console script next to this interpreter (``bin/femslide`` or
-    ``Scripts/femslide.exe``), else ``python -m femslide``."""
+    ``Scripts/femslide.exe``), else ``python -m femslide`` with this interpreter (not a ``femslide``
+    found on PATH: that may belong to another install)."""
     here = pathlib.Path(sys.executable).parent
     for name in ("femslide", "femslide.exe"):
         if (here / name).is_file():
             return [str(here / name)]
-    found = shutil.which("femslide")
-    return [found] if found else [sys.executable, "-m", "femslide"]
+    return [sys.executable, "-m", "femslide"]
 
 
 def run(cmd: list[str], cwd: str, env: dict | None = None) -> str:

@@ -58,6 +58,7 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
     rot = model.rotation_dofs()
     hist = []
     prev = best = math.inf
+    prev_f = prev_g = math.inf   # (the force and constraint parts of the last residual: settle's rates)
     finfo = None
     stalled = floor_its = 0
     floor_step = False
@@ -105,11 +106,12 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
             sq *= max_rot / big
         y -= step
         if settle is not None and it >= 3 and res <= settle * prev and big <= max_rot:
-            # the contraction of the last step, continued: an upper bound of the next residual where
-            # Newton converges quadratically
-            rate = res / prev
-            if res_g * rate <= tol and res_f * rate <= max(tol, _floor(finfo, fscale)):
-                hist.append(res * rate)
+            # the contraction of the last step, continued (each part at its own rate: a constraint
+            # residual stuck at its own level does not follow the forces'): an upper bound of the next
+            # residual where Newton converges quadratically
+            nf, ng = res_f * _rate(res_f, prev_f), res_g * _rate(res_g, prev_g)
+            if ng <= tol and nf <= max(tol, _floor(finfo, fscale)):
+                hist.append(max(nf, ng))
                 return y, NewtonInfo(True, it, hist, "predicted")
         floor_step = at_floor
         if floor_its >= 4:
@@ -121,8 +123,13 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
             r, _, info = model.system(y, elements, lam, control, jacobian=False)
             hist.append(float(np.abs(r).max()))
             return y, NewtonInfo(True, it, hist)
-        prev = res
+        prev, prev_f, prev_g = res, res_f, res_g
     return y, NewtonInfo(False, maxit, hist, f"no convergence in {maxit} iterations")
+
+
+def _rate(now, before):
+    """The contraction now / before of a residual part (0 for a part that is zero now)."""
+    return 0.0 if now == 0.0 else (now / before if before > 0.0 else math.inf)
 
 
 def _denominator(info, fscale):

@@ -163,9 +163,9 @@ def _mode_grip(fr, stuck, y_static, elements, om, MPhi):
     n_q = base.n_q
     rhs = np.zeros((model.n, om.size))
     rhs[:n_q] = (MPhi * (om * om)[:, None]).T
-    off = ("the steps do not watch the friction forces of the vibrating modes: the tangent with the "
-           "friction joints " + ("stuck" if stuck else "free") + " is singular (locks that share one load); "
-           "they follow the modes' displacements only")
+    state = "stuck" if stuck else "free"
+    off = ("the steps do not watch the friction forces of the vibrating modes: the tangent with the friction "
+           f"joints {state} is singular (locks that share one load); they follow the modes' displacements only")
     try:
         lam = spla.splu(S.tocsc()).solve(rhs)[n_q:]   # (k columns of constraint forces)
     except RuntimeError:
@@ -185,7 +185,8 @@ def _mode_grip(fr, stuck, y_static, elements, om, MPhi):
     if not joints:
         return None
     if not np.isfinite(G).all():
-        return off
+        return (f"the steps do not watch the friction forces of the vibrating modes: with the friction joints "
+                f"{state} they came out non-finite; the steps follow the modes' displacements only")
     return joints, G
 
 

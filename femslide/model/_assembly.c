@@ -14,7 +14,9 @@
  * and the Jacobian in place: into a dense or LAPACK-band array through a map from the Jacobian's
  * pattern positions to storage positions, or as the pattern's values (for a sparse matrix).
  * Model units throughout (femslide.model.discrete).  Only the buffer protocol is used (no numpy C
- * API), so the build needs the Python headers and a C compiler only.
+ * API), so the build needs the Python headers and a C compiler only.  The bitwise agreement with the
+ * numpy path needs each multiply and add rounded apart: setup.py builds with -ffp-contract=off (gcc
+ * and clang fuse them into FMAs by default where the target has them: aarch64, Apple silicon).
  */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -23,6 +25,10 @@
 #include <string.h>
 #ifdef __SSE2__
 #include <emmintrin.h>
+#endif
+
+#if defined(_MSC_VER) && !defined(__cplusplus)
+#define restrict __restrict   /* MSVC's C (without /std:c11) has no restrict keyword */
 #endif
 
 #define EPS 2.220446049250313e-16

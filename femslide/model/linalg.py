@@ -41,12 +41,6 @@ def kernel_enabled() -> bool:
         return False
     if _FORCED:
         return _FORCED[-1]
-    # os.environ's own store of encoded names and values where it has one (CPython on POSIX): ~0.1 us
-    # against ~2 us for os.environ.get, asked at each linear solve; os.environ.get elsewhere
-    data = getattr(os.environ, "_data", None)
-    if os.name == "posix" and isinstance(data, dict):
-        raw = data.get(b"FEMSLIDE_KERNEL")
-        return raw is None or raw.lower() != b"numpy"
     env = os.environ.get("FEMSLIDE_KERNEL")
     return env is None or env.lower() != "numpy"
 

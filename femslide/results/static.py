@@ -302,7 +302,9 @@ def end_moments(model, y, X=None, resultant=False, lam=1.0):
     kern = model_kernel(model, "cuts")
     if kern is not None:   # the compiled kernel: the same arithmetic in one call
         M, G = np.empty((es.size, 2)), np.empty((es.size, 2))
-        kern(np.ascontiguousarray(X, float), np.ascontiguousarray(g), first, es.i, es.j, M, G)
+        # (the kernel takes 8-byte indices: np.repeat of Python ints gives int32 on Windows with numpy 1)
+        kern(np.ascontiguousarray(X, float), np.ascontiguousarray(g), np.asarray(first, np.int64),
+             np.asarray(es.i, np.int64), np.asarray(es.j, np.int64), M, G)
         return (M, G) if resultant else M
     Xr = X - X[first]
     rows = g.copy()      # forces and moments about each rod's start node
