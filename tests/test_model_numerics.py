@@ -186,3 +186,34 @@ def test_a_settled_time_step_meets_the_residual_it_predicts(monkeypatch, toleran
     assert len(seen) >= r["steps"] // 2
     worst = np.max(seen, axis=0)
     assert worst[0] <= 1.0 and worst[1] <= 1.0
+
+
+def test_history_centroids_are_the_models_body_points(monkeypatch):
+    """A simulate history's bodies.NAME.x and .y (written with Model.body_point's formula in Python
+    floats, femslide/analysis/simulate.py) equal Model.body_point of the same state to the last bit,
+    at every recorded step of section 5.2's structure (the deck's frame origin is the pin at A1, away
+    from its centroid; the piece's is its centroid)."""
+    import femslide.analysis.transient as transient
+    seen = []
+    plain = transient.integrate
+
+    def keep(model, *args, **kw):
+        observe = kw["observe"]
+
+        def watched(t, y, alpha, v, acc):
+            row = observe(t, y, alpha, v, acc)
+            seen.append((model, y.copy(), row))
+            return row
+        kw["observe"] = watched
+        return plain(model, *args, **kw)
+    monkeypatch.setattr(transient, "integrate", keep)
+    r = femslide.simulate("meshes/structures/beam-oscillation.toml", t_end=0.3, tolerance=1e-4,
+                          error_estimate=False)
+    cols = list(r.history)
+    assert len(seen) > 10
+    for model, y, row in seen:
+        fs = model.structure
+        for b in fs.bodies:
+            x, yy = model.body_point(b.name, y[:model.n_q], b.centroid)
+            assert row[cols.index(f"bodies.{b.name}.x")] == float(x)
+            assert row[cols.index(f"bodies.{b.name}.y")] == float(yy)
