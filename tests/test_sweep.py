@@ -330,8 +330,3 @@ def test_a_case_frozen_from_the_sweeps_structure_equals_freezing_it_anew(scene):
     with pytest.raises(BadInput, match="rod nosuch"):
         fs.with_stiffness({"nosuch": (1.0, None)})
 
-
-def test_refinement_groups_of_the_output_kinds():
-    """refine.GROUP_OF (the scales' group of each output kind) is GROUPS' index of the kind."""
-    from femslide.analysis.refine import GROUP_OF, GROUPS
-    assert GROUP_OF == {k: i for i, g in enumerate(GROUPS) for k in g}

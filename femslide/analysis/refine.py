@@ -173,7 +173,7 @@ def moment_watch(level, structure):
 
 
 GROUPS = (("moment",), ("length", "angle"), ("force",))
-GROUP_OF = {"moment": 0, "length": 1, "angle": 1, "force": 2}   # each kind's index in GROUPS
+GROUP_OF = {k: i for i, g in enumerate(GROUPS) for k in g}   # each kind's index in GROUPS
 
 
 def _units(kinds, L, F):

@@ -313,19 +313,19 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     else:   # frictionless sliders held for the start only: their free directions are zero frequencies
         freq, shapes = modes(model, y_s, e_s, masses, MODES, zero_ok=True,
                               max_free=sum(j.mu is not None for j in fs.joints))
-    modal = (2.0 * math.pi * np.asarray(freq, float), shapes, False)   # (the modes that keep vibrations resolved;
-    # False: of the structure as declared, True: with its friction joints stuck)
+    # the modes that keep vibrations resolved: of the structure as declared (stuck False) or with its
+    # friction joints stuck (True)
+    omega, phi, stuck = 2.0 * math.pi * np.asarray(freq, float), shapes, False
     # the frequencies that set the steps: the free structure's positive ones (a free direction's zero
     # sets none); the stuck ones for a structure without an equilibrium of its own (it starts stuck)
     f_pos = [float(f) for f in freq if f > 0]
     if sets and (frequencies_of != "frictionless structure" or not f_pos):
         f_pos = sets["stuck"] or f_pos
         if sets["stuck"]:
-            modal = (2.0 * math.pi * np.asarray(sets["stuck"], float), stuck_shapes, True)
+            omega, phi, stuck = 2.0 * math.pi * np.asarray(sets["stuck"], float), stuck_shapes, True
     # their damping ratios under the Rayleigh damping, alpha / (2 omega) + beta omega / 2 (for the steps)
-    om_ = np.where(modal[0] > 0, modal[0], 1.0)
-    modal = (modal[0], modal[1], np.where(modal[0] > 0, spec.alpha / (2.0 * om_) + spec.beta * om_ / 2.0, 0.0),
-             modal[2])
+    om_ = np.where(omega > 0, omega, 1.0)
+    modal = (omega, phi, np.where(omega > 0, spec.alpha / (2.0 * om_) + spec.beta * om_ / 2.0, 0.0), stuck)
     C = None
     if spec.alpha or spec.beta:
         from femslide.analysis.modes import tangent
@@ -387,14 +387,15 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     pairs = storey_pairs(fs)
     cols += drift_columns(pairs)   # (computed from the bodies' centroids after the run)
     n_raw = len(cols) - 2 * len(pairs)
-    centroid_r = {n: np.asarray(fs.body(n).centroid, float) / L - model.body_X0[model.body_index[n]] for n in bodies}
-    # each body's dof, frame origin X [m] and centroid relative to it [m], as floats (Model.body_point's
-    # formula, without its per-call lookups)
+    # each body's dof, frame origin X [m] and centroid relative to it [m] (Model.body_point's formula,
+    # without its per-call lookups), and that lever in model units (the centroid's velocity), as floats
     body_at = []
     for n in bodies:
-        X = model.body_X0[model.body_index[n]] * L
-        c = np.asarray(fs.body(n).centroid, float) - X
-        body_at.append((model.body_dof(n), float(X[0]), float(X[1]), float(c[0]), float(c[1])))
+        X0 = model.body_X0[model.body_index[n]]
+        c, X = np.asarray(fs.body(n).centroid, float), X0 * L
+        r, cr = c - X, c / L - X0
+        body_at.append((model.body_dof(n), float(X[0]), float(X[1]), float(r[0]), float(r[1]),
+                        float(cr[0]), float(cr[1])))
     bearing = {j.name: (kind_of(j.type), j.bearing / L if j.bearing else None) for j in fs.joints}
     frames, frames_rows = [], []   # (t, row index, y, alpha) every t_end / FRAMES
     next_frame = [0.0]
@@ -418,7 +419,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             row.append((float(link.slide(q[link.dofs])[0]) - model.slide0[n]) * L)
             kind, h = bearing[n]
             row.append(kind.normal_force(model.multipliers(y, link).tolist(), h)[0] * F)
-        for d, X0, X1, r0, r1 in body_at:
+        for d, X0, X1, r0, r1, _, _ in body_at:
             th = float(q[d + 2])
             c, s_ = math.cos(th), math.sin(th)
             row += [X0 + float(q[d]) * L + c * r0 - s_ * r1, X1 + float(q[d + 1]) * L + s_ * r0 + c * r1, th,
@@ -433,11 +434,9 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             if spec.ground is not None:
                 vg, ag = spec.ground.velocity(t), spec.ground.accel(t)
             e = spec.ground.direction if spec.ground is not None else (0.0, 0.0)
-            for n in bodies:
-                d = model.body_dof(n)
-                r = centroid_r[n]
+            for d, *_, r0, r1 in body_at:
                 c, s_ = math.cos(q[d + 2]), math.sin(q[d + 2])
-                Rr = (c * r[0] - s_ * r[1], s_ * r[0] + c * r[1])
+                Rr = (c * r0 - s_ * r1, s_ * r0 + c * r1)
                 w, al = v[d + 2], acc[d + 2]
                 row += [(v[d] - w * Rr[1]) * L + vg * e[0], (v[d + 1] + w * Rr[0]) * L + vg * e[1],
                         (acc[d] - al * Rr[1] - w * w * Rr[0]) * L + ag * e[0],
