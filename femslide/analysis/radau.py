@@ -46,7 +46,7 @@ import numpy as np
 
 from femslide.analysis.newton import newton
 from femslide.errors import SolverFailure
-from femslide.model.linalg import Assembler, Factorized, add_coo, kernel_function
+from femslide.model.linalg import Assembler, Factorized, kernel_function
 from femslide.model.state import ElementState, MotionState
 
 S6 = math.sqrt(6.0)
@@ -65,6 +65,7 @@ T_RK = np.array([[0.09443876248897524, -0.14125529502095421, 0.03002919410514742
                  [1.0, 1.0, 0.0]])
 TI_RK = np.linalg.inv(T_RK)
 W2_RK = W_RK @ W_RK
+W_FLAT = np.ascontiguousarray(W_RK).ravel()   # (the kernel's w)
 # the collocation polynomial through 0 and the stages: y(t_n + x h) = y_n + Z^T P [x, x^2, x^3]
 P_RK = np.array([[13.0 / 3.0 + 7.0 * S6 / 3.0, -23.0 / 3.0 - 22.0 * S6 / 3.0, 10.0 / 3.0 + 5.0 * S6],
                  [13.0 / 3.0 - 7.0 * S6 / 3.0, -23.0 / 3.0 + 22.0 * S6 / 3.0, 10.0 / 3.0 - 5.0 * S6],
@@ -87,6 +88,13 @@ def constraint_gradient(coo, n_q, n_c, released=()):
     np.add.at(G, (rows[sel] - n_q, cols[sel]), vals[sel])
     G[np.asarray(released, dtype=np.intp)] = 0.0
     return G
+
+
+def _w_times(Z):
+    """W Z for the three stages' rows Z (3, m), W = A^-1: row i is W_i0 Z_0 + W_i1 Z_1 + W_i2 Z_2 summed in
+    that order, as the kernel sums it (numpy's matmul may fuse or reorder the products)."""
+    W = W_RK
+    return (W[:, 0:1] * Z[0] + W[:, 1:2] * Z[1]) + W[:, 2:3] * Z[2]
 
 
 def _coo_mv(rows, cols, vals, x, n):
@@ -116,8 +124,16 @@ class CoupledMatrix:
             Cv = self.vel if s.Cvals is None else np.concatenate([self.vel, s._Cvals3], axis=1)
             self.Mv, self.Cv = self.mass.ravel(), Cv.ravel()
         n, m3 = nq + nc, 3 * nq
+        kern = self.fact.kern
+        if s._coupled_solve is not None and kern is not None and r.flags.c_contiguous and r.dtype == np.float64:
+            # all of the below in one kernel call, with the factors of the kernel's LU
+            out = np.empty(r.size)
+            lu, piv, kl, ku = kern
+            s._coupled_solve(r, h, W_FLAT, s._Cr, s._Cc, self.Cv, s._Mr, s._Mc, self.Mv, lu, piv, kl, ku,
+                             None if kl < 0 else self.fact.pattern.perm, self.fact.rs, self.fact.cs, out)
+            return out
         Rq = r[m3:2 * m3]
-        WRq = (W_RK @ Rq.reshape(3, nq)).ravel()
+        WRq = _w_times(Rq.reshape(3, nq)).ravel()
         # the stages' C (W dq) / h and M (W^2 dq) / h^2 with (W dq)_i eliminated, all stages in one
         # bincount each (the entries of a row in the same order as stage by stage), or one kernel call
         if s._coupled_rhs is not None and r.flags.c_contiguous and r.dtype == np.float64:
@@ -134,7 +150,7 @@ class CoupledMatrix:
         out = np.empty(r.size)
         dQ = x[:, :nq]
         out[:m3] = dQ.ravel()
-        out[m3:2 * m3] = ((W_RK @ dQ - Rq.reshape(3, nq)) / h).ravel()
+        out[m3:2 * m3] = ((_w_times(dQ) - Rq.reshape(3, nq)) / h).ravel()
         out[2 * m3:] = x[:, nq:].ravel()
         return out
 
@@ -175,8 +191,12 @@ class RadauSystem:
         self.roundoff_floor = True
         self.previous = None   # the last accepted step's collocation polynomial (the next predictor)
         self.big = None        # the coupled matrix's pattern (built at the first Jacobian)
+        self._error_pattern = None   # ... and the error estimate's matrix's
         self._coupled = kernel_function("coupled")   # the kernel's writer of the coupled matrix, or None
         self._coupled_rhs = kernel_function("coupled_rhs")   # ... and of CoupledMatrix.solve's right-hand side
+        self._coupled_solve = kernel_function("coupled_solve")   # ... or of all of CoupledMatrix.solve
+        self._stages = kernel_function("stages")   # the stage states from the unknowns ...
+        self._stage_rows = kernel_function("stage_rows")   # ... and the stacked residual from the stages'
 
     def rotation_dofs(self):
         return self._rot
@@ -244,10 +264,9 @@ class RadauSystem:
         self.qn, self.mun = s.y[:nq], s.y[nq:]
         if self.ground is not None:
             e = self.ground.direction / m.Lref
-            self.ag = [self.ground.accel(t) * e for t in self.t]
-            self._ag3 = np.array(self.ag, float).reshape(3, 2)   # (Masses.inertia_parts' ground)
+            # the ground's acceleration at the stages (Masses.inertia_parts' ground)
+            self._ag3 = np.array([self.ground.accel(t) * e for t in self.t], float).reshape(3, 2)
         else:
-            self.ag = [None, None, None]
             self._ag3 = None
         self.elements = [ElementState(s.alpha) for _ in range(3)]
         self._error_matrix = None
@@ -261,26 +280,25 @@ class RadauSystem:
         """[[K + lam C_v + lam^2 M, G^T], [G, 0]] at the step's start, lam = mu_r / h, factorised,
         with M and C_v (COO) for the right-hand side: what RADAU5's error estimate solves."""
         if self._error_matrix is None:
-            s, h, m = self.s, self.h, self.model
-            es = ElementState(s.alpha)
-            if self.released.size:
-                _, (r0, c0, v0), _ = self.model_system(s.y, es)
-                A0 = Assembler(r0, c0, m.n).assemble(v0)
-            else:
-                _, A0, _ = m.system(s.y, es, 1.0, None, True)
+            s, h = self.s, self.h
+            _, coo, _ = self.model_system(s.y, ElementState(s.alpha))
             lam = MU_REAL / h
             rows, cols = self.masses.coo_rows, self.masses.coo_cols
             _, base, vm, vd = self.masses.inertia_parts(self.qn[None, :], s.v[None, :], s.acc[None, :],
-                                                        None if self.ground is None else self.ag[:1])
+                                                        None if self.ground is None else self._ag3[:1])
             base, vm, vd = base[0], vm[0], vd[0]
-            coos = [(rows, cols, base + lam * vd + lam * lam * vm)] + [ex(s.y, s.v, 0.0)[1] for ex in self.extra]
+            ex = [e(s.y, s.v, 0.0)[1] for e in self.extra]
+            parts = [coo, (rows, cols, base + lam * vd + lam * lam * vm)] + ex
             Cr, Cc, Cvals = rows, cols, vd
             if self.Crows is not None:
-                coos.append((self.Crows, self.Ccols, lam * self.Cvals))
+                parts.append((self.Crows, self.Ccols, lam * self.Cvals))
                 Cr, Cc, Cvals = (np.concatenate([rows, self.Crows]), np.concatenate([cols, self.Ccols]),
                                  np.concatenate([vd, self.Cvals]))
-            fact = Factorized(add_coo(A0, *coos), overwrite=True)   # (A0 is this call's own)
-            self._error_matrix = (fact, (rows, cols, vm), (Cr, Cc, Cvals), lam)
+            if self._error_pattern is None:   # (static: the model's, the masses', the friction terms')
+                self._error_pattern = Assembler(np.concatenate([p[0] for p in parts]).astype(np.intp),
+                                                np.concatenate([p[1] for p in parts]).astype(np.intp), self.nq + self.nc)
+            A = self._error_pattern.assemble(np.concatenate([p[2] for p in parts]))
+            self._error_matrix = (Factorized(A, overwrite=True), (rows, cols, vm), (Cr, Cc, Cvals), lam)
         return self._error_matrix
 
     def predictor(self):
@@ -310,39 +328,55 @@ class RadauSystem:
         ``elements.trial`` becomes the step's end (the third stage's chord rotations)."""
         nq, nc, h = self.nq, self.nc, self.h
         m3 = 3 * nq
-        ZQ, ZV = Y[:m3].reshape(3, nq), Y[m3:2 * m3].reshape(3, nq)
-        Q = self.qn + ZQ
-        Ys = np.empty((3, nq + nc))      # the stages' model unknowns (q, mu), one row each
-        Ys[:, :nq] = Q
-        Ys[:, nq:] = Y[2 * m3:].reshape(3, nc)
-        V = self.s.v + ZV
-        ACC = (W_RK @ ZV) / h
+        kern = self._stages is not None and Y.flags.c_contiguous and Y.dtype == np.float64
+        if kern:   # (the same arithmetic as the numpy lines below)
+            Q, Ys, V, ACC = np.empty((3, nq)), np.empty((3, nq + nc)), np.empty((3, nq)), np.empty((3, nq))
+            self._stages(Y, self.qn, self.s.v, W_FLAT, h, Q, Ys, V, ACC)
+        else:
+            ZQ, ZV = Y[:m3].reshape(3, nq), Y[m3:2 * m3].reshape(3, nq)
+            Q = self.qn + ZQ
+            Ys = np.empty((3, nq + nc))      # the stages' model unknowns (q, mu), one row each
+            Ys[:, :nq] = Q
+            Ys[:, nq:] = Y[2 * m3:].reshape(3, nc)
+            V = self.s.v + ZV
+            ACC = _w_times(ZV) / h
         # the inertia of the three stages in one call, its derivative in parts linear in the
         # coefficients of the accelerations and velocities
         F, base, mass, vel = self.masses.inertia_parts(Q, V, ACC, self._ag3)
         r = np.empty(self.n)
-        Rv, Rm = r[:m3].reshape(3, nq), r[2 * m3:].reshape(3, nc)
         fmax = 0.0
-        vals = []
+        vals, parts, more = [], [], []
         for i in range(3):
             y = Ys[i]
             ri, coo, info = self.model_system(y, self.elements[i], jacobian)
-            rv = np.add(ri[:nq], F[i], out=Rv[i])
-            if self.Csr is not None:
-                rv += self.Csr @ V[i]
+            parts.append(ri)
             ex_coo = []
             for ex in self.extra:
                 fe, ce = ex(y, V[i], 0.0)
-                rv += fe
+                more.append((i, fe))
                 ex_coo.append(ce)
-            Rm[i] = ri[nq:]
             fmax = max(fmax, info["fmax"])
             if jacobian:
                 if self.big is None:
                     self._pattern(coo, ex_coo)
                 vals += [coo[2], base[i]] + [np.ascontiguousarray(ce[2], float) for ce in ex_coo]
+        # the stacked residual: forces (the model's + inertia, then damping and the friction terms), h x
+        # the kinematics W ZQ - h V, the constraints
+        Rv = r[:m3].reshape(3, nq)
+        if kern and self._stage_rows is not None:
+            self._stage_rows(parts, F, Y, V, W_FLAT, h, r)
+        else:
+            Rm = r[2 * m3:].reshape(3, nc)
+            for i, ri in enumerate(parts):
+                np.add(ri[:nq], F[i], out=Rv[i])
+                Rm[i] = ri[nq:]
+            np.subtract(_w_times(Y[:m3].reshape(3, nq)), h * V, out=r[m3:2 * m3].reshape(3, nq))
+        if self.Csr is not None:
+            for i in range(3):
+                Rv[i] += self.Csr @ V[i]
+        for i, fe in more:
+            Rv[i] += fe
         elements.trial = self.elements[2].trial
-        np.subtract(W_RK @ ZQ, h * V, out=r[m3:2 * m3].reshape(3, nq))
         noise = float(info["noise"]) if jacobian else 0.0
         if self.roundoff_floor and self.noise_in > 1e-6 * (1.0 + fmax):
             noise += self.noise_in

@@ -1716,6 +1716,29 @@ out:
     return res;
 }
 
+/* the right-hand side of coupled_rhs (below) with its index checks done; acc: 2 * 3 nq zeros (scratch) */
+static void rhs_core(const double *r, const double *wrq, double h, const long long *cr, const long long *cc,
+                     const double *cv, Py_ssize_t kc, const long long *mr, const long long *mc, const double *mv,
+                     Py_ssize_t km, Py_ssize_t nq, Py_ssize_t nc, double *acc, double *rhs)
+{
+    Py_ssize_t m3 = 3 * nq;
+    const double *rq = r + m3;
+    double *cp = acc, *mp = acc + m3, hh = h * h;
+    for (Py_ssize_t e = 0; e < kc; e++)
+        cp[cr[e]] += cv[e] * rq[cc[e]];
+    for (Py_ssize_t e = 0; e < km; e++)
+        mp[mr[e]] += mv[e] * wrq[mc[e]];
+    for (int i = 0; i < 3; i++) {
+        double *ri = rhs + i * (nq + nc);
+        for (Py_ssize_t d = 0; d < nq; d++) {
+            Py_ssize_t p = i * nq + d;
+            ri[d] = r[p] + cp[p] / h + mp[p] / hh;
+        }
+        for (Py_ssize_t c = 0; c < nc; c++)
+            ri[nq + c] = r[2 * m3 + i * nc + c];
+    }
+}
+
 /* coupled_rhs(r, wrq, h, cr, cc, cv, mr, mc, mv, nq, rhs): the right-hand side of femslide.analysis.radau's
  * coupled Newton system for the stacked residual r = [Rv (3 nq), Rq (3 nq), Rm (3 nc)] with the velocity
  * corrections eliminated: rhs (3, nq + nc) with rhs[i, :nq] = Rv_i + (C Rq)_i / h + (M wrq)_i / h^2 and
@@ -1766,27 +1789,244 @@ static PyObject *py_coupled_rhs(PyObject *mod, PyObject *args)
             PyErr_NoMemory();
             goto out;
         }
-        const double *r = DBL(b[0]), *wrq = DBL(b[1]), *cv = DBL(b[5]), *mv = DBL(b[8]), *rq = r + m3;
-        double *cp = acc, *mp = acc + m3, *rhs = DBL(b[10]), hh = h * h;
-        for (Py_ssize_t e = 0; e < kc; e++)
-            cp[cr[e]] += cv[e] * rq[cc[e]];
-        for (Py_ssize_t e = 0; e < km; e++)
-            mp[mr[e]] += mv[e] * wrq[mc[e]];
-        for (int i = 0; i < 3; i++) {
-            double *ri = rhs + i * (nq + nc);
-            for (Py_ssize_t d = 0; d < nq; d++) {
-                Py_ssize_t p = i * nq + d;
-                ri[d] = r[p] + cp[p] / h + mp[p] / hh;
-            }
-            for (Py_ssize_t c = 0; c < nc; c++)
-                ri[nq + c] = r[2 * m3 + i * nc + c];
-        }
+        rhs_core(DBL(b[0]), DBL(b[1]), h, cr, cc, DBL(b[5]), kc, mr, mc, DBL(b[8]), km, nq, nc, acc, DBL(b[10]));
         Py_INCREF(Py_None);
         res = Py_None;
     }
 out:
     PyMem_Free(acc);
     for (int i = 0; i < 11; i++)
+        release(&b[i]);
+    return res;
+}
+
+/* out_i = w_i0 z_0 + w_i1 z_1 + w_i2 z_2 for the three rows z (3, m) of W z, w (3, 3): the sums in that
+ * order (femslide.analysis.radau._w_times, numpy's path) */
+static void w_times(const double *w, const double *z, Py_ssize_t m, double *out)
+{
+    for (int i = 0; i < 3; i++) {
+        double a = w[3 * i], b = w[3 * i + 1], c = w[3 * i + 2];
+        double *o = out + i * m;
+        for (Py_ssize_t d = 0; d < m; d++)
+            o[d] = (a * z[d] + b * z[m + d]) + c * z[2 * m + d];
+    }
+}
+
+/* stages(Y, qn, v, w, h, Q, Ys, V, ACC): the stage states of femslide.analysis.radau.RadauSystem.system from
+ * its unknowns Y = [ZQ (3, nq), ZV (3, nq), MU (3, nc)]: Q_i = qn + ZQ_i, Ys_i = [Q_i, MU_i] (3, nq + nc),
+ * V_i = v + ZV_i, ACC = (w ZV) / h (w (3, 3) = A^-1: _w_times' sums); nq = len(qn), nc from Y's size */
+static PyObject *py_stages(PyObject *mod, PyObject *args)
+{
+    PyObject *o[9];
+    double h;
+    if (!PyArg_ParseTuple(args, "OOOOdOOOO", &o[0], &o[1], &o[2], &o[3], &h, &o[5], &o[6], &o[7], &o[8]))
+        return NULL;
+    o[4] = NULL;
+    static const char *what[9] = {"Y", "qn", "v", "w", "", "Q", "Ys", "V", "ACC"};
+    Buf b[9];
+    for (int i = 0; i < 9; i++)
+        b[i].held = 0;
+    PyObject *res = NULL;
+    for (int i = 0; i < 9; i++)
+        if (o[i] != NULL && get_buf(o[i], &b[i], i >= 5, "d", 8, what[i]) < 0)
+            goto out;
+    {
+        Py_ssize_t nq = LEN(b[1]), m3 = 3 * nq, nc3 = LEN(b[0]) - 2 * m3, nc = nc3 / 3;
+        if (nc3 < 0 || 3 * nc != nc3 || LEN(b[2]) != nq || LEN(b[3]) != 9 || LEN(b[5]) != m3 ||
+            LEN(b[6]) != 3 * (nq + nc) || LEN(b[7]) != m3 || LEN(b[8]) != m3) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: stages: wrong sizes");
+            goto out;
+        }
+        const double *Y = DBL(b[0]), *qn = DBL(b[1]), *v = DBL(b[2]);
+        double *Q = DBL(b[5]), *Ys = DBL(b[6]), *V = DBL(b[7]), *ACC = DBL(b[8]);
+        for (int i = 0; i < 3; i++) {
+            const double *zq = Y + i * nq, *zv = Y + m3 + i * nq, *mu = Y + 2 * m3 + i * nc;
+            double *q = Q + i * nq, *ys = Ys + i * (nq + nc), *vi = V + i * nq;
+            for (Py_ssize_t d = 0; d < nq; d++) {
+                q[d] = qn[d] + zq[d];
+                ys[d] = q[d];
+                vi[d] = v[d] + zv[d];
+            }
+            for (Py_ssize_t c = 0; c < nc; c++)
+                ys[nq + c] = mu[c];
+        }
+        w_times(DBL(b[3]), Y + m3, nq, ACC);
+        for (Py_ssize_t d = 0; d < m3; d++)
+            ACC[d] /= h;
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    for (int i = 0; i < 9; i++)
+        release(&b[i]);
+    return res;
+}
+
+/* stage_rows(parts, F, Y, V, w, h, r): the stacked stage residual of femslide.analysis.radau.RadauSystem.system,
+ * r = [forces (3, nq), h x kinematics (3, nq), constraints (3, nc)], from the stages' model residuals parts
+ * (3 arrays of nq + nc), their inertia F (3, nq), the unknowns Y = [ZQ, ZV, MU] and the stage velocities V:
+ * forces_i = part_i[:nq] + F_i, kinematics = w ZQ - h V (_w_times' sums), constraints_i = part_i[nq:] */
+static PyObject *py_stage_rows(PyObject *mod, PyObject *args)
+{
+    PyObject *oparts, *o[7];
+    double h;
+    if (!PyArg_ParseTuple(args, "OOOOOdO", &oparts, &o[1], &o[2], &o[3], &o[4], &h, &o[6]))
+        return NULL;
+    PyObject *seq = PySequence_Fast(oparts, "femslide kernel: stage_rows: parts must be a sequence");
+    if (!seq)
+        return NULL;
+    static const char *what[7] = {"", "F", "Y", "V", "w", "", "r"};
+    Buf b[7], bp[3];
+    for (int i = 0; i < 7; i++)
+        b[i].held = 0;
+    for (int i = 0; i < 3; i++)
+        bp[i].held = 0;
+    PyObject *res = NULL;
+    for (int i = 1; i < 7; i++)
+        if (i != 5 && get_buf(o[i], &b[i], i == 6, "d", 8, what[i]) < 0)
+            goto out;
+    if (PySequence_Fast_GET_SIZE(seq) != 3) {
+        PyErr_SetString(PyExc_ValueError, "femslide kernel: stage_rows: three parts expected");
+        goto out;
+    }
+    for (int i = 0; i < 3; i++)
+        if (get_buf(PySequence_Fast_GET_ITEM(seq, i), &bp[i], 0, "d", 8, "part") < 0)
+            goto out;
+    {
+        Py_ssize_t m3 = LEN(b[1]), nq = m3 / 3, n = LEN(b[6]), nc3 = n - 2 * m3, nc = nc3 / 3;
+        int bad = 3 * nq != m3 || nc3 < 0 || 3 * nc != nc3 || LEN(b[2]) != n || LEN(b[3]) != m3 || LEN(b[4]) != 9;
+        for (int i = 0; i < 3; i++)
+            bad |= LEN(bp[i]) != nq + nc;
+        if (bad) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: stage_rows: wrong sizes");
+            goto out;
+        }
+        const double *F = DBL(b[1]), *Y = DBL(b[2]), *V = DBL(b[3]);
+        double *r = DBL(b[6]);
+        for (int i = 0; i < 3; i++) {
+            const double *p = DBL(bp[i]), *f = F + i * nq;
+            double *rf = r + i * nq, *rc = r + 2 * m3 + i * nc;
+            for (Py_ssize_t d = 0; d < nq; d++)
+                rf[d] = p[d] + f[d];
+            for (Py_ssize_t c = 0; c < nc; c++)
+                rc[c] = p[nq + c];
+        }
+        double *rk = r + m3;
+        w_times(DBL(b[4]), Y, nq, rk);
+        for (Py_ssize_t d = 0; d < m3; d++)
+            rk[d] -= h * V[d];
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    Py_DECREF(seq);
+    for (int i = 0; i < 7; i++)
+        release(&b[i]);
+    for (int i = 0; i < 3; i++)
+        release(&bp[i]);
+    return res;
+}
+
+/* coupled_solve(r, h, w, cr, cc, cv, mr, mc, mv, lu, piv, kl, ku, perm, rs, cs, out): femslide.analysis.radau.
+ * CoupledMatrix.solve in one call: the Newton correction out (the stacked unknowns [dQ (3, nq), dV (3, nq),
+ * dMU (3, nc)]) for the stacked residual r with the coupled matrix's factors (factor(): lu, piv, kl, ku;
+ * kl < 0 dense) and its scales rs, cs (equilibrate()), perm the band's ordering (None: dense): wrq = w Rq,
+ * rhs as coupled_rhs, x = cs * LU^-1 (rs * rhs[perm]) placed back at perm, dQ and dMU its rows and
+ * dV = (w dQ - Rq) / h (_w_times' sums); nq and nc from the sizes: len(r) = 6 nq + 3 nc, len(rs) = 3 (nq + nc) */
+static PyObject *py_coupled_solve(PyObject *mod, PyObject *args)
+{
+    PyObject *o[17];
+    double h;
+    Py_ssize_t kl, ku;
+    if (!PyArg_ParseTuple(args, "OdOOOOOOOOOnnOOOO", &o[0], &h, &o[2], &o[3], &o[4], &o[5], &o[6], &o[7], &o[8],
+                          &o[9], &o[10], &kl, &ku, &o[13], &o[14], &o[15], &o[16]))
+        return NULL;
+    o[1] = o[11] = o[12] = NULL;
+    static const char *what[17] = {"r", "", "w", "cr", "cc", "cv", "mr", "mc", "mv", "factors", "pivots", "", "",
+                                   "perm", "rs", "cs", "out"};
+    Buf b[17];
+    for (int i = 0; i < 17; i++)
+        b[i].held = 0;
+    PyObject *res = NULL;
+    double *work = NULL;
+    for (int i = 0; i < 17; i++) {
+        if (o[i] == NULL)
+            continue;
+        int idx = i == 3 || i == 4 || i == 6 || i == 7 || i == 10 || i == 13;
+        if (get_buf(o[i], &b[i], i == 16, idx ? "qlLn" : "d", 8, what[i]) < 0)
+            goto out;
+    }
+    {
+        Py_ssize_t n = LEN(b[0]), N = LEN(b[14]), kc = LEN(b[3]), km = LEN(b[6]);
+        /* n = 6 nq + 3 nc, N = 3 (nq + nc): nq = (n - N) / 3 */
+        Py_ssize_t nq = (n - N) / 3, nc = N / 3 - nq, m3 = 3 * nq;
+        if (nq < 0 || nc < 0 || 3 * nq != n - N || 3 * (nq + nc) != N || LEN(b[2]) != 9 || LEN(b[4]) != kc ||
+            LEN(b[5]) != kc || LEN(b[7]) != km || LEN(b[8]) != km || LEN(b[10]) != N || LEN(b[15]) != N ||
+            LEN(b[16]) != n || (b[13].held && LEN(b[13]) != N) || (kl < 0) != !b[13].held ||
+            (kl < 0 ? LEN(b[9]) != N * N : (ku < 0 || LEN(b[9]) != N * (2 * kl + ku + 1)))) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: coupled_solve: wrong sizes");
+            goto out;
+        }
+        const long long *cr = IDX(b[3]), *cc = IDX(b[4]), *mr = IDX(b[6]), *mc = IDX(b[7]);
+        for (Py_ssize_t e = 0; e < kc; e++)
+            if (cr[e] < 0 || cr[e] >= m3 || cc[e] < 0 || cc[e] >= m3) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled_solve: index out of range");
+                goto out;
+            }
+        for (Py_ssize_t e = 0; e < km; e++)
+            if (mr[e] < 0 || mr[e] >= m3 || mc[e] < 0 || mc[e] >= m3) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled_solve: index out of range");
+                goto out;
+            }
+        const long long *perm = b[13].held ? IDX(b[13]) : NULL;
+        const Py_ssize_t *piv = (const Py_ssize_t *)b[10].view.buf;
+        if (perm)
+            for (Py_ssize_t i = 0; i < N; i++)
+                if (perm[i] < 0 || perm[i] >= N) {
+                    PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled_solve: perm out of range");
+                    goto out;
+                }
+        for (Py_ssize_t i = 0; i < N; i++)
+            if (piv[i] < 0 || piv[i] >= N) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled_solve: pivot out of range");
+                goto out;
+            }
+        /* scratch: wrq (m3), the products (2 m3), rhs (N), x (N), w dQ (m3) */
+        work = PyMem_Calloc(4 * m3 + 2 * N + 1, sizeof(double));
+        if (!work) {
+            PyErr_NoMemory();
+            goto out;
+        }
+        double *wrq = work, *acc = work + m3, *rhs = work + 3 * m3, *x = rhs + N, *wdq = x + N;
+        const double *r = DBL(b[0]), *w = DBL(b[2]), *rs = DBL(b[14]), *cs = DBL(b[15]), *rq = r + m3;
+        double *outv = DBL(b[16]);
+        w_times(w, rq, nq, wrq);
+        rhs_core(r, wrq, h, cr, cc, DBL(b[5]), kc, mr, mc, DBL(b[8]), km, nq, nc, acc, rhs);
+        for (Py_ssize_t i = 0; i < N; i++)
+            x[i] = rs[i] * rhs[perm ? perm[i] : i];
+        if (kl < 0)
+            lu_dense_solve(DBL(b[9]), N, piv, x);
+        else
+            lu_band_solve(DBL(b[9]), N, kl, ku, piv, x);
+        /* x back in the stacked order: rhs := the solution */
+        for (Py_ssize_t i = 0; i < N; i++)
+            rhs[perm ? perm[i] : i] = cs[i] * x[i];
+        for (int i = 0; i < 3; i++) {
+            const double *xi = rhs + i * (nq + nc);
+            for (Py_ssize_t d = 0; d < nq; d++)
+                outv[i * nq + d] = xi[d];
+            for (Py_ssize_t c = 0; c < nc; c++)
+                outv[2 * m3 + i * nc + c] = xi[nq + c];
+        }
+        w_times(w, outv, nq, wdq);
+        for (Py_ssize_t d = 0; d < m3; d++)
+            outv[m3 + d] = (wdq[d] - rq[d]) / h;
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    PyMem_Free(work);
+    for (int i = 0; i < 17; i++)
         release(&b[i]);
     return res;
 }
@@ -2045,6 +2285,15 @@ static PyMethodDef module_methods[] = {
     {"inside", py_inside, METH_VARARGS,
      "inside(X, U, ei, ej, beta0, alpha, M, G) -> max |M| at the elements' ends and interior extrema "
      "(femslide.results.static._largest_inside)"},
+    {"stages", py_stages, METH_VARARGS,
+     "stages(Y, qn, v, w, h, Q, Ys, V, ACC): a Radau step's stage states from its unknowns "
+     "(femslide.analysis.radau.RadauSystem.system; outputs written in place)"},
+    {"stage_rows", py_stage_rows, METH_VARARGS,
+     "stage_rows(parts, F, Y, V, w, h, r): a Radau step's stacked stage residual from the stages' model "
+     "residuals and inertia (femslide.analysis.radau.RadauSystem.system)"},
+    {"coupled_solve", py_coupled_solve, METH_VARARGS,
+     "coupled_solve(r, h, w, cr, cc, cv, mr, mc, mv, lu, piv, kl, ku, perm, rs, cs, out): the Newton correction "
+     "of a Radau step from its coupled matrix's factors (femslide.analysis.radau.CoupledMatrix.solve)"},
     {"coupled_rhs", py_coupled_rhs, METH_VARARGS,
      "coupled_rhs(r, wrq, h, cr, cc, cv, mr, mc, mv, nq, rhs): the right-hand side of a Radau step's coupled "
      "Newton system (femslide.analysis.radau.CoupledMatrix.solve)"},
