@@ -192,11 +192,10 @@ def simulate(target: Target, **params: Any) -> Result:
     """
     from femslide.model.frozen import Frozen
     _check_target("simulate", target)
-    if isinstance(target, (Structure, Frozen)) or (isinstance(target, (str, os.PathLike))
-                                                   and str(target).endswith(".toml")
-                                                   and _is_structure_file(str(target))):
+    data = _structure_data(str(target)) if isinstance(target, (str, os.PathLike)) else None
+    if isinstance(target, (Structure, Frozen)) or data is not None:
         from femslide.app.api import run_api
-        return run_api(target if not isinstance(target, os.PathLike) else str(target), dict(params))
+        return run_api(target if not isinstance(target, os.PathLike) else str(target), dict(params), data=data)
     return _run("simulate", target, dict(params))
 
 
@@ -256,9 +255,14 @@ def buckling(target: Target, count: int = 4, about: str = "equilibrium", combina
     return Result.of(_buckling(fs, count=count, about=about, elements=elements, combination=combination, name=name))
 
 
-def _is_structure_file(path):
+def _structure_data(path):
+    """The tables of the structure file ``path`` (read once: the run parses them), None for anything else
+    (a scene name, a scene file)."""
+    if not path.endswith(".toml"):
+        return None
     from femslide.app.structfile import is_structure_data, read_toml
-    return is_structure_data(read_toml(path))
+    data = read_toml(path)
+    return data if is_structure_data(data) else None
 
 
 def sweep(target: Target, *, fixed: dict[str, Any] | None = None, jobs: int = 1, quiet: bool = False,

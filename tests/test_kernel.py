@@ -25,6 +25,7 @@ import pytest
 
 import femslide
 from femslide.analysis import static
+from femslide.elements import corotational
 from femslide.joints.holds import BodyHold, DofHold, SlideHold
 from femslide.joints.kind import JointKind
 from femslide.joints.kinds import register, unregister
@@ -158,6 +159,37 @@ def test_kernel_equals_the_numpy_path_with_thermal_loads(lam):
         hold = DofHold(int(m.body_dof("deck")) + 2, 0.03)
         yc = np.concatenate([y, [lam]])
         _same(m, *_both(m, yc, es, control=hold), control=hold.dof)
+
+
+@pytest.mark.parametrize("thermal", [False, True])
+def test_basic_forces_and_strain_energy_through_the_kernel(thermal):
+    """Model.element_forces (a history's rows) and Model.potential (the energy balance) through the
+    kernel's Assembler.basic against the numpy path (corotational.basic_forces, strain_energy): the
+    basic forces and chord rotations bit for bit, the potential energy to 1e-14 of the largest of its
+    terms (the kernel sums the elements' energies in order, numpy pairwise), on the frame of every piece
+    at random states, with thermal loads (free forces: uniform dT and a gradient) and without."""
+    s = frame()
+    if thermal:
+        for rod, a in (("left", 1.2e-5), ("right", 1e-5)):
+            s.set(f"{rod}.alpha", a)
+            s.set(f"{rod}.depth", 0.2)
+        s.thermal("heat", "left", dT=30.0, dT_gradient=8.0)
+    m = _model(s)
+    m.finalize()
+    for _ in range(3):
+        y, es = _state(m)
+        got = []
+        for on in (False, True):
+            with fast.forced(on):
+                m.finalize()
+                NM, alpha = m.element_forces(y[:m.n_q], es.committed)
+                got.append((NM, alpha, m.potential(y, es.committed)))
+        assert (m._pack is not None) and (m.free_T is not None) == thermal
+        (NM0, a0, V0), (NM1, a1, V1) = got
+        assert NM1.shape == NM0.shape == (es.committed.size, 3)
+        assert np.array_equal(NM0, NM1) and np.array_equal(a0, a1)
+        E = corotational.strain_energy(m.elements, m.nodal(y[:m.n_q]), es.committed, m.free_T)
+        assert abs(E) > 1e-6 and abs(V1 - V0) <= 1e-14 * (abs(E) + abs(V0 - E))
 
 
 @pytest.mark.parametrize("storage", ["band", "sparse"])

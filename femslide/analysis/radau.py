@@ -295,8 +295,8 @@ class RadauSystem:
                 Cr, Cc, Cvals = (np.concatenate([rows, self.Crows]), np.concatenate([cols, self.Ccols]),
                                  np.concatenate([vd, self.Cvals]))
             if self._error_pattern is None:   # (static: the model's, the masses', the friction terms')
-                self._error_pattern = Assembler(np.concatenate([p[0] for p in parts]).astype(np.intp),
-                                                np.concatenate([p[1] for p in parts]).astype(np.intp), self.nq + self.nc)
+                rows_e, cols_e = (np.concatenate([p[i] for p in parts]).astype(np.intp) for i in (0, 1))
+                self._error_pattern = Assembler(rows_e, cols_e, self.nq + self.nc)
             A = self._error_pattern.assemble(np.concatenate([p[2] for p in parts]))
             self._error_matrix = (Factorized(A, overwrite=True), (rows, cols, vm), (Cr, Cc, Cvals), lam)
         return self._error_matrix

@@ -416,7 +416,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
         q = y[:model.n_q]
         for n in slides:
             link = model.joint[n]
-            row.append((float(link.slide(q[link.dofs])[0]) - model.slide0[n]) * L)
+            row.append((link.slide_value(q[link.dofs]) - model.slide0[n]) * L)
             kind, h = bearing[n]
             row.append(kind.normal_force(model.multipliers(y, link).tolist(), h)[0] * F)
         for d, X0, X1, r0, r1, _, _ in body_at:

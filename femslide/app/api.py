@@ -11,11 +11,12 @@ import os
 from femslide.errors import BadInput
 
 
-def run_api(target, params: dict):
+def run_api(target, params: dict, data: dict | None = None):
     """``femslide.simulate`` of a Structure, a Frozen structure or a structure file: keyword
     arguments named like the [simulate] keys (t_end, tolerance, damping, ground, initial, elements;
     also as ``**{"simulate.tolerance": 1e-7}``, the command line's form) set or override them;
-    ``NAME.FIELD`` ones change the structure (a Structure or a file)."""
+    ``NAME.FIELD`` ones change the structure (a Structure or a file); ``data``: the file's tables
+    if the caller has read them."""
     from femslide.analysis.simulate import SIM_KEYS, parse_spec, simulate
     from femslide.app.result import Result
     from femslide.app.structfile import apply, load
@@ -23,7 +24,7 @@ def run_api(target, params: dict):
     from femslide.model.structure import Structure
     table, base = {}, "."
     if isinstance(target, str):
-        sf = load(target)
+        sf = load(target, data)
         table = dict(sf.simulate_table or {})
         base = os.path.dirname(os.path.abspath(target))
         target, name = sf.structure, sf.name

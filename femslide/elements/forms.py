@@ -17,12 +17,25 @@ from __future__ import annotations
 import numpy as np
 
 
+def element_stiffness(L0, s0, EI, EA):
+    """Basic stiffness (n, 3, 3) of beam elements of lengths L0 [m] starting at arc lengths s0 [m]: the
+    closed form EA/L, EI/L [[4, 2], [2, 4]] for constant EI [N m^2] and EA [N] (numbers), scikit-fem
+    forms (:func:`basic_stiffness`) where either varies along the rod (a callable of s, a table)."""
+    if callable(EI) or callable(EA):
+        return basic_stiffness(L0, s0, EI, EA)
+    kb = np.zeros((L0.size, 3, 3))
+    kb[:, 0, 0] = EA / L0
+    kb[:, 1, 1] = kb[:, 2, 2] = 4.0 * EI / L0
+    kb[:, 1, 2] = kb[:, 2, 1] = 2.0 * EI / L0
+    return kb
+
+
 def basic_stiffness(L0, s0, EI, EA):
     """Basic stiffness matrices, shape (n_elements, 3, 3), by scikit-fem quadrature.
 
     ``L0``: element lengths [m]; ``s0``: arc length of each element's first node [m];
     ``EI``, ``EA``: callables of the arc length s [m] returning N m^2 and N (vectorised), or numbers.
-    (The model uses the closed form for constant EI and EA, femslide.model.discrete.element_stiffness.)
+    (The model uses the closed form for constant EI and EA: :func:`element_stiffness`.)
     """
     return _assemble(np.asarray(L0, float), np.asarray(s0, float), EI, EA)
 

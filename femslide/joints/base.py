@@ -203,6 +203,10 @@ class Link:
         s, ds, H = self._slide(z.tolist())
         return s, np.array(ds), np.array(H).reshape(self.k, self.k)
 
+    def slide_value(self, z) -> float:
+        """The slide s of :meth:`slide` alone (model units; ``z`` the joint dofs' values, an array)."""
+        return self._slide(z.tolist())[0]
+
     def _slide(self, z):
         """:meth:`slide` as Python floats: s, ds (k), H (k x k, row-major); ``z`` a list."""
         k, ib = self.k, self.ib
@@ -312,7 +316,7 @@ class SlideSpring:
 
     def energy(self, z, lam=1.0):
         """:meth:`eval`'s energy alone (the same arithmetic)."""
-        s, _, _ = self.link._slide(z.tolist())
+        s = self.link.slide_value(z)
         s -= self.s0
         return 0.5 * self.k * s * s - lam * self.F0 * s
 

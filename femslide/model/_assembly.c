@@ -703,7 +703,74 @@ done:
     return result;
 }
 
+/* basic(y, alpha_ref, NM, alpha) -> strain energy: the elements' basic forces (N, M1, M2) into NM (3, ne), their
+ * chord rotations (continued from alpha_ref) into alpha (ne), and their strain energy: the kinematics of assemble()
+ * without the nodal forces and tangents (femslide.elements.corotational.basic_forces and strain_energy, the free
+ * (thermal) forces at full load; the forces bitwise as there, the energy summed in element order) */
+static PyObject *Assembler_basic(Assembler *self, PyObject *args)
+{
+    PyObject *oy, *oaref, *onm, *oal;
+    if (!PyArg_ParseTuple(args, "OOOO", &oy, &oaref, &onm, &oal))
+        return NULL;
+    Buf by, bar, bnm, bal;
+    by.held = bar.held = bnm.held = bal.held = 0;
+    PyObject *result = NULL;
+    if (get_buf(oy, &by, 0, "d", 8, "y") < 0 || get_buf(oaref, &bar, 0, "d", 8, "alpha_ref") < 0 ||
+        get_buf(onm, &bnm, 1, "d", 8, "NM") < 0 || get_buf(oal, &bal, 1, "d", 8, "alpha") < 0)
+        goto done;
+    {
+        const Py_ssize_t ne = self->ne;
+        if (LEN(by) < self->n_q || LEN(bar) != ne || LEN(bnm) != 3 * ne || LEN(bal) != ne) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: basic: arrays of the wrong size");
+            goto done;
+        }
+        const double *y = DBL(by), *aref = DBL(bar);
+        double *NM = DBL(bnm), *alpha = DBL(bal);
+        const long long *edof = IDX(self->st[S_EDOF]);
+        const double *edat = DBL(self->st[S_EDAT]);
+        double E = 0.0, ET = 0.0;
+        for (Py_ssize_t e = 0; e < ne; e++) {
+            const long long *d = edof + 6 * e;
+            const double *c = edat + 12 * e;
+            double D0x = c[0], D0y = c[1], L0 = c[2], beta0 = c[3];
+            double k00 = c[4], k11 = c[5], k12 = c[6], k21 = c[7], k22 = c[8];
+            double u1 = y[d[0]], v1 = y[d[1]], t1 = y[d[2]], u2 = y[d[3]], v2 = y[d[4]], t2 = y[d[5]];
+            double dx = u2 - u1, dy = v2 - v1;
+            double Dx = D0x + dx, Dy = D0y + dy;
+            double Ln = hypot(Dx, Dy);
+            double ub = ((D0x + Dx) * dx + (D0y + Dy) * dy) / (Ln + L0);
+            double bref = beta0 + aref[e];
+            double cb = cos(bref), sb = sin(bref);
+            double al = aref[e] + atan2(cb * Dy - sb * Dx, cb * Dx + sb * Dy);
+            alpha[e] = al;
+            double th1 = t1 - al, th2 = t2 - al;
+            double N = k00 * ub;
+            double M1 = k11 * th1 + k12 * th2, M2 = k21 * th1 + k22 * th2;
+            if (self->thermal) {
+                N -= c[9];
+                M1 -= c[10];
+                M2 -= c[11];
+                ET += c[9] * ub + c[10] * th1 + c[11] * th2;
+            }
+            NM[e] = N;
+            NM[ne + e] = M1;
+            NM[2 * ne + e] = M2;
+            E += k00 * (ub * ub) + k11 * (th1 * th1) + (k12 + k21) * th1 * th2 + k22 * (th2 * th2);
+        }
+        result = PyFloat_FromDouble(0.5 * E - ET);
+    }
+done:
+    release(&by);
+    release(&bar);
+    release(&bnm);
+    release(&bal);
+    return result;
+}
+
 static PyMethodDef Assembler_methods[] = {
+    {"basic", (PyCFunction)Assembler_basic, METH_VARARGS,
+     "basic(y, alpha_ref, NM, alpha) -> strain energy: the elements' basic forces (N, M1, M2) into NM (3, ne) and "
+     "their chord rotations into alpha"},
     {"assemble", (PyCFunction)Assembler_assemble, METH_VARARGS,
      "assemble(y, alpha_ref, alpha_out, lam, control_dof, target, r, A, flat, vals, fl, xr, xrv, xj, xjv, xf, xfv"
      "[, elements]) -> (fmax, noise): residual into r, Jacobian into A[flat[p]] (or vals[p]), trial chord rotations"

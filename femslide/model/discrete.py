@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from femslide.elements import corotational
+from femslide.elements.forms import element_stiffness
 from femslide.elements.loads import PointForce, distributed_nodal_loads
 from femslide.joints.base import Carrier, ElasticSupport, Link, RotationalSpring, SlideSpring
 from femslide.joints.kinds import kind_of
@@ -122,19 +123,6 @@ class _Topology:
             rows, cols, size, _, _, _ = self.pattern(control)
             self.patterns[key] = rows * size + cols
         return self.patterns[key]
-
-
-def element_stiffness(L0, s0, EI, EA):
-    """Basic stiffness (n, 3, 3) of beam elements of lengths L0 starting at arc lengths s0: the
-    closed form EA/L, EI/L [[4, 2], [2, 4]] for constant EI and EA, scikit-fem forms otherwise."""
-    if isinstance(EI, Table) or isinstance(EA, Table):
-        from femslide.elements.forms import basic_stiffness
-        return basic_stiffness(L0, s0, EI, EA)
-    kb = np.zeros((L0.size, 3, 3))
-    kb[:, 0, 0] = EA / L0
-    kb[:, 1, 1] = kb[:, 2, 2] = 4.0 * EI / L0
-    kb[:, 1, 2] = kb[:, 2, 1] = 2.0 * EI / L0
-    return kb
 
 
 def _scaled(x, f, L):
@@ -592,10 +580,18 @@ class Model:
     def nodal(self, q):
         return q[: 3 * self.n_nodes].reshape(-1, 3)
 
+    def _assembler(self):
+        """The compiled kernel's Assembler of this model (built at the first call; a model with ``_pack``)."""
+        if self._kern is None:
+            self._kern = fast.assembler(self, self._pack)
+        return self._kern
+
     def element_forces(self, q, alpha_ref):
         """Basic forces (N, M1, M2) of every element and the chord rotations alpha."""
         if self.elements is None:
             return np.zeros((0, 3)), np.zeros(0)
+        if self._pack is not None:   # (the same arithmetic in C)
+            return fast.basic(self._assembler(), q, alpha_ref)[:2]
         NM, alpha = corotational.basic_forces(self.elements, self.nodal(q).reshape(-1), alpha_ref, self.free_T)
         return NM.T, alpha
 
@@ -604,8 +600,12 @@ class Model:
         dead loads' potential (gravity included); the term ``skip`` (an extra term of a caller)
         left out."""
         q = y[:self.n_q]
-        V = corotational.strain_energy(self.elements, self.nodal(q), alpha_ref, self.free_T) \
-            if self.elements is not None else 0.0
+        if self.elements is None:
+            V = 0.0
+        elif self._pack is not None:   # (the kernel's sum in element order)
+            V = fast.basic(self._assembler(), q, alpha_ref)[2]
+        else:
+            V = corotational.strain_energy(self.elements, self.nodal(q), alpha_ref, self.free_T)
         V += float(np.dot(self.p_lin, q))
         for t, d in zip(self.terms, self._term_dofs):
             if t is not skip:   # (a term's energy alone, where it has it: its eval forms the Hessian too)
@@ -618,10 +618,7 @@ class Model:
         frame), model units.  At equilibrium the elements' internal forces balance them; results
         recover cut forces and moments along rods from them (exact to the residual)."""
         if self._pack is not None:
-            kern = self._kern
-            if kern is None:
-                kern = self._kern = fast.assembler(self, self._pack)
-            return fast.applied(self, kern, y, lam)
+            return fast.applied(self, self._assembler(), y, lam)
         rv, _ = self._joint_terms(y, lam, None)
         # the residual's bincount without the elements (the joints' equations land beyond n_q)
         return np.bincount(self._topo.rbins_applied, weights=np.concatenate([lam * self._p_sel, rv]),
@@ -666,10 +663,8 @@ class Model:
         for the residual and one for a dense Jacobian.
         """
         if self._pack is not None:
-            kern = self._kern
-            if kern is None:
-                kern = self._kern = fast.assembler(self, self._pack)
-            out = fast.system(self, kern, y, elements, lam, control, jacobian, dense, _Info(lam=lam), extra)
+            out = fast.system(self, self._assembler(), y, elements, lam, control, jacobian, dense, _Info(lam=lam),
+                              extra)
             if self._motion_rows.size:
                 out[0][self._motion_rows] += out[2]["lam"] * self._motion_vals
             return out

@@ -234,6 +234,17 @@ def system(model, kern, y, elements, lam, control, jacobian, dense, info, extra=
     return r, out, info
 
 
+def basic(kern, q, alpha_ref):
+    """(NM (ne, 3), alpha (ne,), strain energy) through the kernel ``kern``: the elements' basic forces
+    (N, M1, M2), chord rotations and strain energy at the frame dofs q (model units; the free forces of
+    a thermal load at full load), as :meth:`femslide.model.discrete.Model.element_forces` and
+    :func:`femslide.elements.corotational.strain_energy` give them."""
+    ne = np.size(alpha_ref)
+    NM, alpha = np.empty((3, ne)), np.empty(ne)
+    energy = kern.basic(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(alpha_ref, dtype=float), NM, alpha)
+    return NM.T, alpha, energy
+
+
 def applied(model, kern, y, lam):
     """:meth:`femslide.model.discrete.Model.applied` through the kernel: the residual without the
     elements, over the frame dofs."""

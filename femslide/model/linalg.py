@@ -18,6 +18,7 @@ import numpy as np
 import contextlib
 import math
 import os
+import sys
 
 try:
     from femslide.model import _assembly as _kernel
@@ -186,12 +187,17 @@ def _lapack(name):
 
 
 _OPENBLAS: dict = {}   # {library path: (set_num_threads, get_num_threads) or None}
+_OPENBLAS_SEEN = [-1, []]   # [len(sys.modules) at the last scan, its controls]
 
 
 def _openblas_controls():
     """(set_num_threads, get_num_threads) of every OpenBLAS library loaded in the process (numpy's
     and scipy's wheels each bring one), from /proc/self/maps; empty where that fails (not Linux,
-    another BLAS): then nothing is changed."""
+    another BLAS): then nothing is changed.  The maps are read again only when modules were imported
+    since the last scan (a library comes with an extension module; reading them is ~1 ms)."""
+    seen = len(sys.modules)
+    if _OPENBLAS_SEEN[0] == seen:
+        return _OPENBLAS_SEEN[1]
     try:
         import ctypes
         with open("/proc/self/maps") as f:   # (the path: the sixth field, which may hold spaces)
@@ -213,9 +219,11 @@ def _openblas_controls():
                     set_.argtypes, set_.restype, get.argtypes, get.restype = [ctypes.c_int], None, [], ctypes.c_int
                     _OPENBLAS[path] = (set_, get)
                     break
-        return [_OPENBLAS[p] for p in paths if _OPENBLAS[p] is not None]
+        found = [_OPENBLAS[p] for p in paths if _OPENBLAS[p] is not None]
     except Exception:  # noqa: BLE001 - any surprise: the BLAS is left as it is
-        return []
+        found = []
+    _OPENBLAS_SEEN[:] = [seen, found]
+    return found
 
 
 @contextlib.contextmanager

@@ -269,7 +269,16 @@ class Masses:
     def kinetic(self, q, v):
         """Kinetic energy (model units: Fref Lref)."""
         nd = self.node_dofs
-        T = 0.5 * float(np.dot(self.node_vals, v[nd] ** 2))
+        T = 0.5 * float(np.dot(self.node_vals, v[nd] ** 2)) if nd.size else 0.0
+        if 0 < self.body_d.size <= self.SCALAR_BODIES:   # (a few bodies: scalar arithmetic)
+            Tb = 0.0
+            for d, m, J, (rx, ry) in self._body_list:
+                th = float(q[d + 2])
+                c, s = math.cos(th), math.sin(th)
+                td = float(v[d + 2])
+                vx, vy = float(v[d]) - td * (s * rx + c * ry), float(v[d + 1]) + td * (c * rx - s * ry)
+                Tb += m * (vx * vx + vy * vy) + J * td * td
+            return T + 0.5 * Tb
         if self.body_d.size:
             d = self.body_d
             px, py, _ = self._rho(q)

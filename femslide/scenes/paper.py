@@ -149,7 +149,7 @@ def watch(scene):
         F = m.Fref
         clamp = m.joint["clamp"]
         # the slide alone (Link._slide's s, as floats; not its gradient and Hessian as arrays)
-        s = (clamp._slide(y[clamp.dofs].tolist())[0] - m.slide0["clamp"]) * m.Lref
+        s = (clamp.slide_value(y[clamp.dofs]) - m.slide0["clamp"]) * m.Lref
         A = joint_forces(m, y, "A1")
         B = joint_forces(m, y, "B1")
         return ([lv.largest_moment(), -float(y[m.body_dof("deck") + 2]), s,
