@@ -330,3 +330,34 @@ def test_a_case_frozen_from_the_sweeps_structure_equals_freezing_it_anew(scene):
     with pytest.raises(BadInput, match="rod nosuch"):
         fs.with_stiffness({"nosuch": (1.0, None)})
 
+
+
+def test_the_pattern_cache_is_bounded_and_never_serves_another_key():
+    """PatternCache keeps at most ``limit`` entries of each kind, the least recently used dropped; a
+    dropped key is rebuilt (its id is new, never an id another key had), a recent one is not; and a
+    sweep over a geometry with a cache of 2 entries gives the cases' solutions of fresh solves (the
+    cache of a long sweep over geometry kept every model before)."""
+    from femslide.model.patterns import PatternCache
+    from femslide.scenes import paper
+    from femslide.scenes.catalog import SCENES
+    cache = PatternCache(limit=3)
+    ids = [cache.key_id(("k", i)) for i in range(5)]
+    assert ids == [0, 1, 2, 3, 4] and len(cache._ids) == 3
+    assert cache.key_id(("k", 4)) == 4 and cache.key_id(("k", 0)) == 5   # (0 was dropped: a new id)
+    built = []
+
+    def build(i):
+        built.append(i)
+        return ("mesh", i)
+    for i in (0, 1, 2, 0, 3, 0, 1):
+        assert cache.mesh(i, lambda i=i: build(i)) == ("mesh", i)
+    assert built == [0, 1, 2, 3, 1] and len(cache._meshes) == 3   # (0 kept by its use, 1 dropped by 3)
+    cache = PatternCache(limit=2)
+    first = set()
+    for d in (0.1, 0.2, 0.3, 0.1, 0.25):
+        v = SCENES["beam-slider"].resolve({"d": d, "EI": 1e4})
+        got, fresh = paper.solve_scene("beam-slider", v, cache), paper.solve_scene("beam-slider", v)
+        assert list(got.watched) == list(fresh.watched) and got.error_estimate == fresh.error_estimate
+        first.add(float(got.watched[0]))
+    assert len(first) == 4   # (four geometries, four answers)
+    assert max(len(cache._frames), len(cache._meshes), len(cache._topologies), len(cache._structures)) <= 2
