@@ -741,11 +741,13 @@ def test_error_estimate_off_and_bad_value():
 @pytest.mark.parametrize("n_el", [2, 40])
 def test_radau_stage_system_kernel_equals_numpy(n_el):
     """RadauSystem.system through the compiled kernel (femslide.model._assembly: ``inertia`` for the
-    three stages' inertia, ``coupled`` writing the coupled Newton matrix into its storage) against its
-    numpy path (Masses.inertia_parts' Python loop, numpy blocks and a bincount): the same residual and
-    the same matrix, bitwise (the same arithmetic in the same order; tolerance 0), on a rod with rhoA
-    and three bodies (welded, one on a damped hinge off its centroid) under Rayleigh-like damping, at
-    a random state: a dense matrix (2 elements) and a band (40 elements)."""
+    three stages' inertia, ``coupled`` writing the coupled Newton matrix into its storage, ``stages`` and
+    ``stage_rows``, the model's Assembler called directly for the stages, CoupledMatrix.solve as
+    ``coupled_solve``) against its numpy path (Masses.inertia_parts' Python loop, numpy blocks and a
+    bincount, Model.system per stage): the same residual, matrix, chord rotations and info, bitwise
+    (the same arithmetic in the same order; tolerance 0), on a rod with rhoA and three bodies (welded,
+    one on a damped hinge off its centroid) under Rayleigh-like damping, at a random state: a dense
+    matrix (2 elements) and a band (40 elements)."""
     import scipy.sparse as sp
     from femslide.analysis.radau import RadauSystem
     from femslide.model import fast
@@ -770,9 +772,12 @@ def test_radau_stage_system_kernel_equals_numpy(n_el):
     sysm.prepare(st, 2e-3)
     sysm_np.prepare(st, 2e-3)
     Y = sysm.predictor() + 1e-4 * rng.standard_normal(sysm.n)
-    r1, A1, _ = sysm.system(Y, ElementState.zero(ne))
-    r2, A2, _ = sysm_np.system(Y, ElementState.zero(ne))
+    e1, e2 = ElementState.zero(ne), ElementState.zero(ne)
+    r1, A1, i1 = sysm.system(Y, e1)
+    r2, A2, i2 = sysm_np.system(Y, e2)
+    assert np.array_equal(e1.trial, e2.trial) and i1 == i2   # (the step's end's chord rotations, fmax, noise)
     assert sysm._coupled is not None and sysm_np._coupled is None and sysm_np.masses._kern is None
+    assert sysm._direct and not sysm_np._direct   # (the kernel's Assembler called directly, or Model.system)
     assert np.array_equal(r1, r2)
     M1, M2 = (a.A if isinstance(a.A, np.ndarray) else a.A.ab for a in (A1, A2))
     assert isinstance(A1.A, np.ndarray) == (n_el == 2)
@@ -802,3 +807,42 @@ def test_a_touch_of_the_breakaway_bound_is_no_event():
     for t, kind in [(0.0, "slip+"), (1e-9, "stick")]:   # (no stick before the slip: kept)
         fr.event(0, t, kind)
     assert [e["kind"] for e in fr.events["iso"]] == ["slip+", "stick"]
+
+
+def test_runs_with_friction_and_contacts_through_the_stage_kernels_equal_their_numpy_paths(monkeypatch):
+    """Radau steps through their kernel functions (stages, stage_rows, coupled_solve, coupled,
+    coupled_rhs, and the model's Assembler called directly for the stages) and through their numpy
+    paths give the same steps, events and histories, bit for bit (the LU is the kernel's in both): a
+    belt that slips both ways and sticks (belt-ex1: friction terms added to the stages' force rows after
+    the kernel's rows, and in the error estimate's matrix) and the rocking block (a corner that lifts
+    and lands: released rows, a model with Python-evaluated pieces)."""
+    import femslide.analysis.radau as radau
+    from femslide.model import fast
+    if not fast.available():
+        pytest.skip("the compiled kernel is not built")
+    systems = []
+    make = radau.RadauSystem.__init__
+
+    def spy(self, *a, **k):
+        make(self, *a, **k)
+        systems.append(self)
+    monkeypatch.setattr(radau.RadauSystem, "__init__", spy)
+    names = {"stages", "stage_rows", "coupled_solve", "coupled", "coupled_rhs"}
+    kernel_function = radau.kernel_function
+    seen = []
+    for path, t_end, kind in (("belt-ex1", 0.7, "slip+"), ("rocking-block", 1.5, "lift")):
+        kw = dict(tolerance=1e-4, error_estimate=False, t_end=t_end)
+        path = f"meshes/structures/{path}.toml"
+        monkeypatch.setattr(radau, "kernel_function", kernel_function)
+        systems.clear()
+        a = femslide.simulate(path, **kw)
+        seen += [(s._direct and s._coupled_solve is not None, bool(s.extra), bool(s.released.size)) for s in systems]
+        monkeypatch.setattr(radau, "kernel_function", lambda name: None if name in names else kernel_function(name))
+        systems.clear()
+        b = femslide.simulate(path, **kw)
+        assert systems and not any(s._direct or s._stages or s._coupled_solve for s in systems)
+        assert kind in [e["kind"] for evs in a["events"].values() for e in evs]
+        assert a["steps"] == b["steps"] and a["events"] == b["events"]
+        ha, hb = a.history, b.history
+        assert list(ha) == list(hb) and all(np.array_equal(ha[c], hb[c]) for c in ha)
+    assert (True, True, False) in seen and any(rel for _, _, rel in seen)

@@ -46,6 +46,7 @@ import numpy as np
 
 from femslide.analysis.newton import newton
 from femslide.errors import SolverFailure
+from femslide.model.discrete import Model
 from femslide.model.linalg import Assembler, Factorized, kernel_function
 from femslide.model.state import ElementState, MotionState
 
@@ -197,6 +198,11 @@ class RadauSystem:
         self._coupled_solve = kernel_function("coupled_solve")   # ... or of all of CoupledMatrix.solve
         self._stages = kernel_function("stages")   # the stage states from the unknowns ...
         self._stage_rows = kernel_function("stage_rows")   # ... and the stacked residual from the stages'
+        # a model assembled by the kernel without Python-evaluated pieces: its Assembler is called directly
+        # (not a model whose system is another's: the linearised model's equations are its own)
+        pack = getattr(model, "_pack", None)
+        self._direct = (self._stages is not None and pack is not None and not pack.python
+                        and not self.released.size and type(model).system is Model.system)
 
     def rotation_dofs(self):
         return self._rot
@@ -221,6 +227,29 @@ class RadauSystem:
         d = nq + rel
         return r, (np.concatenate([rows, d]), np.concatenate([cols, d]),
                    np.concatenate([vals, np.ones(rel.size)])), info
+
+    def _stage_models(self, Ys, jacobian):
+        """The model at the three stages Ys (3, n): (residuals (3, n), Jacobian values (3, nnz) in its
+        pattern's order or None, {"fmax": the largest, "noise": the last stage's}, -, the pattern's rows and
+        columns), each stage's chord rotations its trial ones: the kernel's Assembler called as
+        femslide.model.fast.system calls it (Model.system's wrappers were most of a stage's cost).  For a
+        model assembled by the kernel without Python-evaluated pieces and without lifted contacts."""
+        m = self.model
+        kern = m._assembler()
+        rows, cols = m._topo.pattern(None)[:2]
+        R = np.empty((3, m.n))
+        vals = np.empty((3, rows.size)) if jacobian else None
+        ne = self.elements[0].committed.size
+        alpha = np.empty((3, ne))
+        fmax = noise = 0.0
+        for i in range(3):
+            f, noise = kern.assemble(Ys[i], self.elements[i].committed, alpha[i], 1.0, -1, 0.0, R[i], None, None,
+                                     None if vals is None else vals[i], None, None, None, None, None, None, None)
+            self.elements[i].trial = alpha[i]
+            fmax = max(fmax, f)
+        if m._motion_rows.size:   # (Model.system's prescribed motions, at load factor 1)
+            R[:, m._motion_rows] += 1.0 * m._motion_vals
+        return R, vals, {"fmax": fmax, "noise": 4.0 * noise if jacobian and ne else 0.0}, None, rows, cols
 
     def release_dense(self, r, A, y):
         """The released rows of a dense residual r and Jacobian A (the model's) set to mu = 0."""
@@ -262,6 +291,8 @@ class RadauSystem:
         self.s, self.h = s, h
         self.t = s.t + C_RK * h
         self.qn, self.mun = s.y[:nq], s.y[nq:]
+        # (the kernel's stage functions take C-ordered float arrays; the numpy path any)
+        self._flat = all(a.flags.c_contiguous and a.dtype == np.float64 for a in (self.qn, s.v))
         if self.ground is not None:
             e = self.ground.direction / m.Lref
             # the ground's acceleration at the stages (Masses.inertia_parts' ground)
@@ -328,7 +359,7 @@ class RadauSystem:
         ``elements.trial`` becomes the step's end (the third stage's chord rotations)."""
         nq, nc, h = self.nq, self.nc, self.h
         m3 = 3 * nq
-        kern = self._stages is not None and Y.flags.c_contiguous and Y.dtype == np.float64
+        kern = self._stages is not None and self._flat and Y.flags.c_contiguous and Y.dtype == np.float64
         if kern:   # (the same arithmetic as the numpy lines below)
             Q, Ys, V, ACC = np.empty((3, nq)), np.empty((3, nq + nc)), np.empty((3, nq)), np.empty((3, nq))
             self._stages(Y, self.qn, self.s.v, W_FLAT, h, Q, Ys, V, ACC)
@@ -346,9 +377,14 @@ class RadauSystem:
         r = np.empty(self.n)
         fmax = 0.0
         vals, parts, more = [], [], []
+        direct = self._stage_models(Ys, jacobian) if self._direct and kern else None
         for i in range(3):
             y = Ys[i]
-            ri, coo, info = self.model_system(y, self.elements[i], jacobian)
+            if direct is not None:
+                ri, coo = direct[0][i], (direct[4], direct[5], None if direct[1] is None else direct[1][i])
+                info = direct[2]
+            else:
+                ri, coo, info = self.model_system(y, self.elements[i], jacobian)
             parts.append(ri)
             ex_coo = []
             for ex in self.extra:
@@ -414,13 +450,13 @@ class RadauSystem:
     def error(self, Y):
         """RADAU5's local error estimate of the positions and velocities (n_q each): the embedded
         order-3 solution's difference filtered through the real system."""
-        ZQ, ZV, _ = self.split(Y)
         h, nq = self.h, self.nq
         fact, Mp, Cp, lam = self._error_system()
-        ZEq, ZEv = (E_RK @ ZQ) / h, (E_RK @ ZV) / h
-        rv, rq = _coo_mv(*Mp, self.s.acc + ZEv, nq), self.s.v + ZEq
-        top = rv + _coo_mv(*Cp, rq, nq) + lam * _coo_mv(*Mp, rq, nq)
-        eq = fact.solve(np.concatenate([top, np.zeros(self.nc)]))[:nq]
+        ZEq, ZEv = (E_RK @ Y[:6 * nq].reshape(2, 3, nq)) / h   # (E ZQ, E ZV) / h
+        rq = self.s.v + ZEq
+        b = np.zeros(nq + self.nc)
+        b[:nq] = _coo_mv(*Mp, (self.s.acc + ZEv) + lam * rq, nq) + _coo_mv(*Cp, rq, nq)
+        eq = fact.solve(b)[:nq]
         return eq, lam * eq - rq
 
     def dense(self, Y):

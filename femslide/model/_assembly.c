@@ -141,6 +141,14 @@ static int Assembler_init(Assembler *self, PyObject *args, PyObject *kwds)
         PyErr_SetString(PyExc_ValueError, "femslide kernel: inconsistent static array sizes");
         return -1;
     }
+    {   /* the element dofs index every state y (of n_q frame dofs and more): checked once here */
+        const long long *ed = IDX(self->st[S_EDOF]);
+        for (Py_ssize_t i = 0; i < 6 * self->ne; i++)
+            if (ed[i] < 0 || ed[i] >= n_q) {
+                PyErr_SetString(PyExc_IndexError, "femslide kernel: element dof out of range");
+                return -1;
+            }
+    }
     self->thermal = 0;
     {
         const double *ed = DBL(self->st[S_EDAT]);
@@ -382,6 +390,29 @@ static inline int gdof(const LinkGeo *L, int j)
 
 /* -- the assembly ------------------------------------------------------------------------------------------ */
 
+/* -- an element's corotational kinematics (corotational._kinematics): displacement differences (dx, dy),
+ * deformed chord (Dx, Dy) and its length Ln, stretch ub, chord rotation al (continued from aref), end
+ * rotations relative to the chord th1, th2; c the element's data row, d its dofs ------------------------ */
+
+typedef struct {
+    double dx, dy, Dx, Dy, Ln, ub, al, th1, th2;
+} Kin;
+
+static inline void kinematics(const double *y, const long long *d, const double *c, double aref, Kin *k)
+{
+    double D0x = c[0], D0y = c[1], L0 = c[2], beta0 = c[3];
+    double u1 = y[d[0]], v1 = y[d[1]], t1 = y[d[2]], u2 = y[d[3]], v2 = y[d[4]], t2 = y[d[5]];
+    double dx = u2 - u1, dy = v2 - v1;
+    double Dx = D0x + dx, Dy = D0y + dy;
+    double Ln = hypot(Dx, Dy);
+    k->ub = ((D0x + Dx) * dx + (D0y + Dy) * dy) / (Ln + L0);
+    double bref = beta0 + aref;
+    double cb = cos(bref), sb = sin(bref);
+    double al = aref + atan2(cb * Dy - sb * Dx, cb * Dx + sb * Dy);
+    k->dx = dx, k->dy = dy, k->Dx = Dx, k->Dy = Dy, k->Ln = Ln, k->al = al;
+    k->th1 = t1 - al, k->th2 = t2 - al;
+}
+
 static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
 {
     PyObject *oy, *oaref, *oaout, *or_, *oA, *oflat, *ovals, *ofl, *oxr, *oxrv, *oxj, *oxjv, *oxf, *oxfv;
@@ -458,18 +489,13 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
         for (Py_ssize_t e = 0; e < ne; e++) {
             const long long *d = edof + 6 * e;
             const double *c = edat + 12 * e;
-            double D0x = c[0], D0y = c[1], L0 = c[2], beta0 = c[3];
+            double L0 = c[2];
             double k00 = c[4], k11 = c[5], k12 = c[6], k21 = c[7], k22 = c[8];
-            double u1 = y[d[0]], v1 = y[d[1]], t1 = y[d[2]], u2 = y[d[3]], v2 = y[d[4]], t2 = y[d[5]];
-            double dx = u2 - u1, dy = v2 - v1;
-            double Dx = D0x + dx, Dy = D0y + dy;
-            double Ln = hypot(Dx, Dy);
-            double ub = ((D0x + Dx) * dx + (D0y + Dy) * dy) / (Ln + L0);
-            double bref = beta0 + aref[e];
-            double cb = cos(bref), sb = sin(bref);
-            double al = aref[e] + atan2(cb * Dy - sb * Dx, cb * Dx + sb * Dy);
+            Kin k;
+            kinematics(y, d, c, aref[e], &k);
+            double dx = k.dx, dy = k.dy, Dx = k.Dx, Dy = k.Dy, Ln = k.Ln, ub = k.ub, al = k.al;
+            double th1 = k.th1, th2 = k.th2;
             alpha[e] = al;
-            double th1 = t1 - al, th2 = t2 - al;
             double N = k00 * ub;
             double M1 = k11 * th1 + k12 * th2, M2 = k21 * th1 + k22 * th2;
             if (self->thermal) {
@@ -732,18 +758,11 @@ static PyObject *Assembler_basic(Assembler *self, PyObject *args)
         for (Py_ssize_t e = 0; e < ne; e++) {
             const long long *d = edof + 6 * e;
             const double *c = edat + 12 * e;
-            double D0x = c[0], D0y = c[1], L0 = c[2], beta0 = c[3];
             double k00 = c[4], k11 = c[5], k12 = c[6], k21 = c[7], k22 = c[8];
-            double u1 = y[d[0]], v1 = y[d[1]], t1 = y[d[2]], u2 = y[d[3]], v2 = y[d[4]], t2 = y[d[5]];
-            double dx = u2 - u1, dy = v2 - v1;
-            double Dx = D0x + dx, Dy = D0y + dy;
-            double Ln = hypot(Dx, Dy);
-            double ub = ((D0x + Dx) * dx + (D0y + Dy) * dy) / (Ln + L0);
-            double bref = beta0 + aref[e];
-            double cb = cos(bref), sb = sin(bref);
-            double al = aref[e] + atan2(cb * Dy - sb * Dx, cb * Dx + sb * Dy);
-            alpha[e] = al;
-            double th1 = t1 - al, th2 = t2 - al;
+            Kin k;
+            kinematics(y, d, c, aref[e], &k);
+            double ub = k.ub, th1 = k.th1, th2 = k.th2;
+            alpha[e] = k.al;
             double N = k00 * ub;
             double M1 = k11 * th1 + k12 * th2, M2 = k21 * th1 + k22 * th2;
             if (self->thermal) {
@@ -1024,7 +1043,7 @@ static PyObject *py_factor(PyObject *mod, PyObject *args)
     Buf bm, bp;
     if (get_buf(om, &bm, 1, "d", 8, "matrix") < 0)
         return NULL;
-    if (get_buf(op, &bp, 1, "qlLn", 8, "pivots") < 0) {
+    if (get_buf(op, &bp, 1, "qlLn", (Py_ssize_t)sizeof(Py_ssize_t), "pivots") < 0) {
         release(&bm);
         return NULL;
     }
@@ -1054,7 +1073,8 @@ static PyObject *py_solve(PyObject *mod, PyObject *args)
     Buf bm, bp, bb;
     bm.held = bp.held = bb.held = 0;
     PyObject *res = NULL;
-    if (get_buf(om, &bm, 0, "d", 8, "factors") < 0 || get_buf(op, &bp, 0, "qlLn", 8, "pivots") < 0 ||
+    if (get_buf(om, &bm, 0, "d", 8, "factors") < 0 ||
+        get_buf(op, &bp, 0, "qlLn", (Py_ssize_t)sizeof(Py_ssize_t), "pivots") < 0 ||
         get_buf(ob, &bb, 1, "d", 8, "right-hand side") < 0)
         goto out;
     {
@@ -1783,6 +1803,17 @@ out:
     return res;
 }
 
+/* 0, or -1 with IndexError when a COO entry (rows[e], cols[e]) lies outside an m x m matrix */
+static int check_coo(const long long *rows, const long long *cols, Py_ssize_t k, Py_ssize_t m, const char *who)
+{
+    for (Py_ssize_t e = 0; e < k; e++)
+        if (rows[e] < 0 || rows[e] >= m || cols[e] < 0 || cols[e] >= m) {
+            PyErr_Format(PyExc_IndexError, "femslide kernel: %s: index out of range", who);
+            return -1;
+        }
+    return 0;
+}
+
 /* the right-hand side of coupled_rhs (below) with its index checks done; acc: 2 * 3 nq zeros (scratch) */
 static void rhs_core(const double *r, const double *wrq, double h, const long long *cr, const long long *cc,
                      const double *cv, Py_ssize_t kc, const long long *mr, const long long *mc, const double *mv,
@@ -1841,16 +1872,8 @@ static PyObject *py_coupled_rhs(PyObject *mod, PyObject *args)
             goto out;
         }
         const long long *cr = IDX(b[3]), *cc = IDX(b[4]), *mr = IDX(b[6]), *mc = IDX(b[7]);
-        for (Py_ssize_t e = 0; e < kc; e++)
-            if (cr[e] < 0 || cr[e] >= m3 || cc[e] < 0 || cc[e] >= m3) {
-                PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled_rhs: index out of range");
-                goto out;
-            }
-        for (Py_ssize_t e = 0; e < km; e++)
-            if (mr[e] < 0 || mr[e] >= m3 || mc[e] < 0 || mc[e] >= m3) {
-                PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled_rhs: index out of range");
-                goto out;
-            }
+        if (check_coo(cr, cc, kc, m3, "coupled_rhs") < 0 || check_coo(mr, mc, km, m3, "coupled_rhs") < 0)
+            goto out;
         acc = PyMem_Calloc(2 * m3 + 1, sizeof(double));
         if (!acc) {
             PyErr_NoMemory();
@@ -2020,7 +2043,8 @@ static PyObject *py_coupled_solve(PyObject *mod, PyObject *args)
         if (o[i] == NULL)
             continue;
         int idx = i == 3 || i == 4 || i == 6 || i == 7 || i == 10 || i == 13;
-        if (get_buf(o[i], &b[i], i == 16, idx ? "qlLn" : "d", 8, what[i]) < 0)
+        Py_ssize_t size = i == 10 ? (Py_ssize_t)sizeof(Py_ssize_t) : 8;   /* (pivots: Py_ssize_t, np.intp) */
+        if (get_buf(o[i], &b[i], i == 16, idx ? "qlLn" : "d", size, what[i]) < 0)
             goto out;
     }
     {
@@ -2035,16 +2059,8 @@ static PyObject *py_coupled_solve(PyObject *mod, PyObject *args)
             goto out;
         }
         const long long *cr = IDX(b[3]), *cc = IDX(b[4]), *mr = IDX(b[6]), *mc = IDX(b[7]);
-        for (Py_ssize_t e = 0; e < kc; e++)
-            if (cr[e] < 0 || cr[e] >= m3 || cc[e] < 0 || cc[e] >= m3) {
-                PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled_solve: index out of range");
-                goto out;
-            }
-        for (Py_ssize_t e = 0; e < km; e++)
-            if (mr[e] < 0 || mr[e] >= m3 || mc[e] < 0 || mc[e] >= m3) {
-                PyErr_SetString(PyExc_IndexError, "femslide kernel: coupled_solve: index out of range");
-                goto out;
-            }
+        if (check_coo(cr, cc, kc, m3, "coupled_solve") < 0 || check_coo(mr, mc, km, m3, "coupled_solve") < 0)
+            goto out;
         const long long *perm = b[13].held ? IDX(b[13]) : NULL;
         const Py_ssize_t *piv = (const Py_ssize_t *)b[10].view.buf;
         if (perm)
