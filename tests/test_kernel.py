@@ -396,6 +396,28 @@ def test_without_the_extension_femslide_runs_on_numpy():
     assert abs(M / r["M_max"] - 1) <= 1e-11 and abs(phi / r["phi"] - 1) <= 1e-11
 
 
+def test_a_kernel_built_from_another_source_is_not_used():
+    """An extension whose VERSION is not the source's (an editable install not rebuilt after an update
+    of _assembly.c: functions missing or doing other arithmetic) is not used: femslide solves on the
+    numpy path, the status line says why and how to rebuild, and the answer is the kernel's to
+    round-off."""
+    import json
+    import subprocess
+    import sys
+    from femslide.model import linalg
+    assert femslide.model._assembly.VERSION == linalg.KERNEL_VERSION
+    code = ("import femslide.model._assembly as a; a.VERSION = a.VERSION - 1\n"
+            "import femslide, json\n"
+            "from femslide.model import fast, linalg\n"
+            "r = femslide.solve('beam-slider', EI=1e5)\n"
+            "print(json.dumps([fast.status(), linalg._kernel is None, r['M_max']]))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    status, off, M = json.loads(out.stdout.strip().splitlines()[-1])
+    assert off and "built from another version" in status and "pip install -e ." in status
+    assert abs(M / femslide.solve("beam-slider", EI=1e5)["M_max"] - 1) <= 1e-11
+
+
 def test_rcm_ordering_equals_the_python_one():
     """The kernel's reverse Cuthill-McKee (Banded's ordering at any size, without scipy) gives the
     permutation of femslide.model.linalg.reverse_cuthill_mckee on random patterns and on a

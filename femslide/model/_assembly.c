@@ -2418,6 +2418,6 @@ PyMODINIT_FUNC PyInit__assembly(void)
         Py_DECREF(m);
         return NULL;
     }
-    PyModule_AddIntConstant(m, "VERSION", 1);
+    PyModule_AddIntConstant(m, "VERSION", 2);   /* femslide.model.linalg.KERNEL_VERSION: raise both with a change */
     return m;
 }

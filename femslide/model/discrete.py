@@ -590,7 +590,7 @@ class Model:
         """Basic forces (N, M1, M2) of every element and the chord rotations alpha."""
         if self.elements is None:
             return np.zeros((0, 3)), np.zeros(0)
-        if self._pack is not None and hasattr(self._assembler(), "basic"):   # (the same arithmetic in C)
+        if self._pack is not None:   # (the same arithmetic in C)
             return fast.basic(self._assembler(), q, alpha_ref)[:2]
         NM, alpha = corotational.basic_forces(self.elements, self.nodal(q).reshape(-1), alpha_ref, self.free_T)
         return NM.T, alpha
@@ -602,7 +602,7 @@ class Model:
         q = y[:self.n_q]
         if self.elements is None:
             V = 0.0
-        elif self._pack is not None and hasattr(self._assembler(), "basic"):   # (the kernel's sum in element order)
+        elif self._pack is not None:   # (the kernel's sum in element order)
             V = fast.basic(self._assembler(), q, alpha_ref)[2]
         else:
             V = corotational.strain_energy(self.elements, self.nodal(q), alpha_ref, self.free_T)

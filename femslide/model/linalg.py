@@ -20,12 +20,21 @@ import math
 import os
 import sys
 
+KERNEL_VERSION = 2   # the source's (_assembly.c's VERSION): a kernel built from another is not used
+
 try:
     from femslide.model import _assembly as _kernel
     KERNEL_ERROR = ""
 except ImportError as exc:   # not built or not loadable: LAPACK and the numpy assembly (fast.status says so)
     _kernel = None
     KERNEL_ERROR = str(exc) or type(exc).__name__
+if _kernel is not None and getattr(_kernel, "VERSION", None) != KERNEL_VERSION:
+    # (an editable install whose extension was not rebuilt after an update of _assembly.c: its functions
+    # may be missing or do other arithmetic; the numpy path gives the right answers)
+    KERNEL_ERROR = (f"built from another version of femslide/model/_assembly.c (kernel version "
+                    f"{getattr(_kernel, 'VERSION', None)}, this source {KERNEL_VERSION}): rebuild it with "
+                    f"pip install -e . (or reinstall femslide)")
+    _kernel = None
 
 _FORCED: list = []
 
