@@ -783,6 +783,9 @@ def test_radau_stage_system_kernel_equals_numpy(n_el):
     assert isinstance(A1.A, np.ndarray) == (n_el == 2)
     assert np.array_equal(M1, M2)
     assert np.array_equal(A1.solve(r1), A2.solve(r2))
+    assert sysm._error_rhs is not None and sysm_np._error_rhs is None
+    for a, b in zip(sysm.error(Y), sysm_np.error(Y)):   # (the error estimate: error_rhs, or numpy's)
+        assert np.array_equal(a, b)
 
 
 def test_a_touch_of_the_breakaway_bound_is_no_event():
@@ -827,7 +830,7 @@ def test_runs_with_friction_and_contacts_through_the_stage_kernels_equal_their_n
         make(self, *a, **k)
         systems.append(self)
     monkeypatch.setattr(radau.RadauSystem, "__init__", spy)
-    names = {"stages", "stage_rows", "coupled_solve", "coupled", "coupled_rhs"}
+    names = {"stages", "stage_rows", "coupled_solve", "coupled", "coupled_rhs", "error_rhs"}
     kernel_function = radau.kernel_function
     seen = []
     for path, t_end, kind in (("belt-ex1", 0.7, "slip+"), ("rocking-block", 1.5, "lift")):

@@ -198,6 +198,7 @@ class RadauSystem:
         self._coupled_solve = kernel_function("coupled_solve")   # ... or of all of CoupledMatrix.solve
         self._stages = kernel_function("stages")   # the stage states from the unknowns ...
         self._stage_rows = kernel_function("stage_rows")   # ... and the stacked residual from the stages'
+        self._error_rhs = kernel_function("error_rhs")   # ... and the error estimate's right-hand side
         # a model assembled by the kernel without Python-evaluated pieces: its Assembler is called directly
         # (not a model whose system is another's: the linearised model's equations are its own)
         pack = getattr(model, "_pack", None)
@@ -292,7 +293,7 @@ class RadauSystem:
         self.t = s.t + C_RK * h
         self.qn, self.mun = s.y[:nq], s.y[nq:]
         # (the kernel's stage functions take C-ordered float arrays; the numpy path any)
-        self._flat = all(a.flags.c_contiguous and a.dtype == np.float64 for a in (self.qn, s.v))
+        self._flat = all(a.flags.c_contiguous and a.dtype == np.float64 for a in (self.qn, s.v, s.acc))
         if self.ground is not None:
             e = self.ground.direction / m.Lref
             # the ground's acceleration at the stages (Masses.inertia_parts' ground)
@@ -452,10 +453,15 @@ class RadauSystem:
         order-3 solution's difference filtered through the real system."""
         h, nq = self.h, self.nq
         fact, Mp, Cp, lam = self._error_system()
-        ZEq, ZEv = (E_RK @ Y[:6 * nq].reshape(2, 3, nq)) / h   # (E ZQ, E ZV) / h
-        rq = self.s.v + ZEq
-        b = np.zeros(nq + self.nc)
-        b[:nq] = _coo_mv(*Mp, (self.s.acc + ZEv) + lam * rq, nq) + _coo_mv(*Cp, rq, nq)
+        if self._error_rhs is not None and self._flat and Y.flags.c_contiguous and Y.dtype == np.float64:
+            rq, b = np.empty(nq), np.empty(nq + self.nc)   # (the same arithmetic as the lines below)
+            self._error_rhs(Y, E_RK, h, self.s.acc, self.s.v, lam, *Mp, *Cp, b, rq)
+        else:
+            Z = Y[:6 * nq].reshape(2, 3, nq)
+            ZEq, ZEv = ((E_RK[0] * Z[:, 0] + E_RK[1] * Z[:, 1]) + E_RK[2] * Z[:, 2]) / h   # (E ZQ, E ZV) / h
+            rq = self.s.v + ZEq
+            b = np.zeros(nq + self.nc)
+            b[:nq] = _coo_mv(*Mp, (self.s.acc + ZEv) + lam * rq, nq) + _coo_mv(*Cp, rq, nq)
         eq = fact.solve(b)[:nq]
         return eq, lam * eq - rq
 

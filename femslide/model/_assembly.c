@@ -2114,6 +2114,74 @@ out:
     return res;
 }
 
+/* error_rhs(Y, e, h, acc, v, lam, mr, mc, mv, cr, cc, cv, b, rq): the right-hand side of RADAU5's error estimate
+ * (femslide.analysis.radau.RadauSystem.error): with ZQ, ZV the first two blocks (3, nq) of the step's unknowns Y,
+ * zq = (e ZQ) / h and zv = (e ZV) / h (e (3,), summed in order), rq := v + zq (nq) and b (nq + nc) := [M ((acc + zv) +
+ * lam rq) + C rq, 0], the products over the COO entries (mr, mc, mv) and (cr, cc, cv) (rows and columns below nq),
+ * each row's terms summed in their order (numpy's bincount) */
+static PyObject *py_error_rhs(PyObject *mod, PyObject *args)
+{
+    PyObject *o[14];
+    double h, lam;
+    if (!PyArg_ParseTuple(args, "OOdOOdOOOOOOOO", &o[0], &o[1], &h, &o[3], &o[4], &lam, &o[6], &o[7], &o[8], &o[9],
+                          &o[10], &o[11], &o[12], &o[13]))
+        return NULL;
+    o[2] = o[5] = NULL;
+    static const char *what[14] = {"Y", "e", "", "acc", "v", "", "mr", "mc", "mv", "cr", "cc", "cv", "b", "rq"};
+    Buf b[14];
+    for (int i = 0; i < 14; i++)
+        b[i].held = 0;
+    PyObject *res = NULL;
+    double *x = NULL;
+    for (int i = 0; i < 14; i++) {
+        if (o[i] == NULL)
+            continue;
+        int idx = i == 6 || i == 7 || i == 9 || i == 10;
+        if (get_buf(o[i], &b[i], i >= 12, idx ? "qlLn" : "d", 8, what[i]) < 0)
+            goto out;
+    }
+    {
+        Py_ssize_t nq = LEN(b[4]), nb = LEN(b[12]), km = LEN(b[6]), kc = LEN(b[9]);
+        if (LEN(b[0]) < 6 * nq || LEN(b[1]) != 3 || LEN(b[3]) != nq || nb < nq || LEN(b[13]) != nq ||
+            LEN(b[7]) != km || LEN(b[8]) != km || LEN(b[10]) != kc || LEN(b[11]) != kc) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: error_rhs: wrong sizes");
+            goto out;
+        }
+        const long long *mr = IDX(b[6]), *mc = IDX(b[7]), *cr = IDX(b[9]), *cc = IDX(b[10]);
+        if (check_coo(mr, mc, km, nq, "error_rhs") < 0 || check_coo(cr, cc, kc, nq, "error_rhs") < 0)
+            goto out;
+        x = PyMem_Calloc(2 * nq + 1, sizeof(double));
+        if (!x) {
+            PyErr_NoMemory();
+            goto out;
+        }
+        const double *Y = DBL(b[0]), *e = DBL(b[1]), *acc = DBL(b[3]), *v = DBL(b[4]), *mv = DBL(b[8]),
+                     *cv = DBL(b[11]);
+        double *bb = DBL(b[12]), *rq = DBL(b[13]), *p2 = x + nq;
+        for (Py_ssize_t d = 0; d < nq; d++) {
+            double zq = ((e[0] * Y[d] + e[1] * Y[nq + d]) + e[2] * Y[2 * nq + d]) / h;
+            double zv = ((e[0] * Y[3 * nq + d] + e[1] * Y[4 * nq + d]) + e[2] * Y[5 * nq + d]) / h;
+            rq[d] = v[d] + zq;
+            x[d] = (acc[d] + zv) + lam * rq[d];
+        }
+        for (Py_ssize_t i = 0; i < nb; i++)
+            bb[i] = 0.0;
+        for (Py_ssize_t k = 0; k < km; k++)
+            bb[mr[k]] += mv[k] * x[mc[k]];
+        for (Py_ssize_t k = 0; k < kc; k++)
+            p2[cr[k]] += cv[k] * rq[cc[k]];
+        for (Py_ssize_t d = 0; d < nq; d++)
+            bb[d] += p2[d];
+        Py_INCREF(Py_None);
+        res = Py_None;
+    }
+out:
+    PyMem_Free(x);
+    for (int i = 0; i < 14; i++)
+        release(&b[i]);
+    return res;
+}
+
 /* -- the elements' end moments from the equilibrium of rod pieces, and their interior extrema ----------
  * (femslide.results.static.end_moments and _largest_inside, the same arithmetic in the same order:
  * numpy's cumsum is the sequential sum) */
@@ -2374,6 +2442,9 @@ static PyMethodDef module_methods[] = {
     {"stage_rows", py_stage_rows, METH_VARARGS,
      "stage_rows(parts, F, Y, V, w, h, r): a Radau step's stacked stage residual from the stages' model "
      "residuals and inertia (femslide.analysis.radau.RadauSystem.system)"},
+    {"error_rhs", py_error_rhs, METH_VARARGS,
+     "error_rhs(Y, e, h, acc, v, lam, mr, mc, mv, cr, cc, cv, b, rq): the right-hand side of a Radau step's "
+     "error estimate (femslide.analysis.radau.RadauSystem.error; b and rq written in place)"},
     {"coupled_solve", py_coupled_solve, METH_VARARGS,
      "coupled_solve(r, h, w, cr, cc, cv, mr, mc, mv, lu, piv, kl, ku, perm, rs, cs, out): the Newton correction "
      "of a Radau step from its coupled matrix's factors (femslide.analysis.radau.CoupledMatrix.solve)"},
@@ -2418,6 +2489,6 @@ PyMODINIT_FUNC PyInit__assembly(void)
         Py_DECREF(m);
         return NULL;
     }
-    PyModule_AddIntConstant(m, "VERSION", 2);   /* femslide.model.linalg.KERNEL_VERSION: raise both with a change */
+    PyModule_AddIntConstant(m, "VERSION", 3);   /* femslide.model.linalg.KERNEL_VERSION: raise both with a change */
     return m;
 }
