@@ -461,7 +461,7 @@ class RadauSystem:
             ZEq, ZEv = ((E_RK[0] * Z[:, 0] + E_RK[1] * Z[:, 1]) + E_RK[2] * Z[:, 2]) / h   # (E ZQ, E ZV) / h
             rq = self.s.v + ZEq
             b = np.zeros(nq + self.nc)
-            b[:nq] = _coo_mv(*Mp, (self.s.acc + ZEv) + lam * rq, nq) + _coo_mv(*Cp, rq, nq)
+            b[:nq] = (_coo_mv(*Mp, self.s.acc + ZEv, nq) + _coo_mv(*Cp, rq, nq)) + lam * _coo_mv(*Mp, rq, nq)
         eq = fact.solve(b)[:nq]
         return eq, lam * eq - rq
 

@@ -2116,8 +2116,8 @@ out:
 
 /* error_rhs(Y, e, h, acc, v, lam, mr, mc, mv, cr, cc, cv, b, rq): the right-hand side of RADAU5's error estimate
  * (femslide.analysis.radau.RadauSystem.error): with ZQ, ZV the first two blocks (3, nq) of the step's unknowns Y,
- * zq = (e ZQ) / h and zv = (e ZV) / h (e (3,), summed in order), rq := v + zq (nq) and b (nq + nc) := [M ((acc + zv) +
- * lam rq) + C rq, 0], the products over the COO entries (mr, mc, mv) and (cr, cc, cv) (rows and columns below nq),
+ * zq = (e ZQ) / h and zv = (e ZV) / h (e (3,), summed in order), rq := v + zq (nq) and b (nq + nc) := [(M (acc + zv) +
+ * C rq) + lam M rq, 0], the products over the COO entries (mr, mc, mv) and (cr, cc, cv) (rows and columns below nq),
  * each row's terms summed in their order (numpy's bincount) */
 static PyObject *py_error_rhs(PyObject *mod, PyObject *args)
 {
@@ -2150,28 +2150,30 @@ static PyObject *py_error_rhs(PyObject *mod, PyObject *args)
         const long long *mr = IDX(b[6]), *mc = IDX(b[7]), *cr = IDX(b[9]), *cc = IDX(b[10]);
         if (check_coo(mr, mc, km, nq, "error_rhs") < 0 || check_coo(cr, cc, kc, nq, "error_rhs") < 0)
             goto out;
-        x = PyMem_Calloc(2 * nq + 1, sizeof(double));
+        x = PyMem_Calloc(3 * nq + 1, sizeof(double));
         if (!x) {
             PyErr_NoMemory();
             goto out;
         }
         const double *Y = DBL(b[0]), *e = DBL(b[1]), *acc = DBL(b[3]), *v = DBL(b[4]), *mv = DBL(b[8]),
                      *cv = DBL(b[11]);
-        double *bb = DBL(b[12]), *rq = DBL(b[13]), *p2 = x + nq;
+        double *bb = DBL(b[12]), *rq = DBL(b[13]), *p2 = x + nq, *p3 = x + 2 * nq;
         for (Py_ssize_t d = 0; d < nq; d++) {
             double zq = ((e[0] * Y[d] + e[1] * Y[nq + d]) + e[2] * Y[2 * nq + d]) / h;
             double zv = ((e[0] * Y[3 * nq + d] + e[1] * Y[4 * nq + d]) + e[2] * Y[5 * nq + d]) / h;
             rq[d] = v[d] + zq;
-            x[d] = (acc[d] + zv) + lam * rq[d];
+            x[d] = acc[d] + zv;
         }
         for (Py_ssize_t i = 0; i < nb; i++)
             bb[i] = 0.0;
-        for (Py_ssize_t k = 0; k < km; k++)
+        for (Py_ssize_t k = 0; k < km; k++) {
             bb[mr[k]] += mv[k] * x[mc[k]];
+            p3[mr[k]] += mv[k] * rq[mc[k]];
+        }
         for (Py_ssize_t k = 0; k < kc; k++)
             p2[cr[k]] += cv[k] * rq[cc[k]];
         for (Py_ssize_t d = 0; d < nq; d++)
-            bb[d] += p2[d];
+            bb[d] = (bb[d] + p2[d]) + lam * p3[d];
         Py_INCREF(Py_None);
         res = Py_None;
     }
