@@ -217,3 +217,28 @@ def test_history_centroids_are_the_models_body_points(monkeypatch):
             x, yy = model.body_point(b.name, y[:model.n_q], b.centroid)
             assert row[cols.index(f"bodies.{b.name}.x")] == float(x)
             assert row[cols.index(f"bodies.{b.name}.y")] == float(yy)
+
+
+def test_an_event_located_inside_a_step_is_not_put_at_its_start_by_a_shortest_trial():
+    """events.locate_step: an event function that falls linearly from f0 > 0 at the step's start to
+    zero at 0.3 h (exact root) is located there to 1e-9 h, also where a trial as short as the
+    resolution of event times would give a garbage value (a step of 2.5e-8 s on a structure with
+    massless parts gave a friction margin of -2 for a true +3e-4 N: the event was placed at x_min,
+    1.6e-4 s early); no trial is shorter than x_min; an event within x_min of the start is placed at
+    x_min."""
+    from femslide.analysis.events import locate_step
+    h, x_min, root = 5e-4, 2.5e-8, 1.5e-4
+    tried = []
+
+    def attempt(x):
+        tried.append(x)
+        return x
+
+    def f(c):   # the event function at a trial's end; garbage on trials shorter than 4 x_min
+        return -2.0 if c < 4 * x_min else (root - c) / h
+
+    x, c = locate_step(attempt, f, root / h, h, h, x_min=x_min)
+    assert abs(x - root) <= 1e-9 * h and c == x and f(c) <= 0.0
+    assert min(tried) >= x_min
+    x, _ = locate_step(attempt, lambda c: (1e-8 - c) / h, 1e-8 / h, h, h, x_min=x_min)   # (root below x_min)
+    assert x == x_min

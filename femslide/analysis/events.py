@@ -159,10 +159,14 @@ def locate_step(attempt, f, f0, h, cand, max_iter=60, x_min=0.0):
     A function that is zero at the start (a slip just begun from rest) gives no secant: the step is
     halved until a trial has not crossed yet, so that the event lies inside the step, never at its
     start.  No trial is shorter than ``x_min`` (the resolution of event times: shorter steps carry
-    the round-off of their own stage equations); an event before it is placed at x_min."""
+    the round-off of their own stage equations); an event before it is placed at x_min.  A trial of
+    x_min is made only where the event may lie that near the start: f0 is zero, or the secant through
+    the step's ends crosses within 4 x_min (a trial of 2.5e-8 s on a structure with massless parts
+    gave a friction margin of -2 for a true +3e-4 N, and the event was placed 1.6e-4 s early)."""
     tried = {h: cand}
 
     def trial(x):
+        x = max(x, x_min)   # (never shorter than the resolution)
         c = attempt(x)
         if c is None:
             return None
@@ -171,7 +175,8 @@ def locate_step(attempt, f, f0, h, cand, max_iter=60, x_min=0.0):
     lo, g_lo, hi, g_hi = 0.0, -f0, h, -f(cand)
     if h <= x_min:   # (no trial shorter than the resolution: the event is at the step's end)
         return h, cand
-    if 0.0 < x_min < h:
+    near = f0 <= 0.0 or g_hi <= 0.0 or f0 / (f0 + g_hi) * h <= 4.0 * x_min   # (the secant's crossing)
+    if 0.0 < x_min < h and near:
         g = trial(x_min)
         if g is not None:
             if g >= 0.0:
