@@ -231,7 +231,7 @@ class RadauSystem:
 
     def _stage_models(self, Ys, jacobian):
         """The model at the three stages Ys (3, n): (residuals (3, n), Jacobian values (3, nnz) in its
-        pattern's order or None, {"fmax": the largest, "noise": the last stage's}, -, the pattern's rows and
+        pattern's order or None, {"fmax": the largest, "noise": the last stage's}, the pattern's rows and
         columns), each stage's chord rotations its trial ones: the kernel's Assembler called as
         femslide.model.fast.system calls it (Model.system's wrappers were most of a stage's cost).  For a
         model assembled by the kernel without Python-evaluated pieces and without lifted contacts."""
@@ -250,7 +250,7 @@ class RadauSystem:
             fmax = max(fmax, f)
         if m._motion_rows.size:   # (Model.system's prescribed motions, at load factor 1)
             R[:, m._motion_rows] += 1.0 * m._motion_vals
-        return R, vals, {"fmax": fmax, "noise": 4.0 * noise if jacobian and ne else 0.0}, None, rows, cols
+        return R, vals, {"fmax": fmax, "noise": 4.0 * noise if jacobian and ne else 0.0}, rows, cols
 
     def release_dense(self, r, A, y):
         """The released rows of a dense residual r and Jacobian A (the model's) set to mu = 0."""
@@ -382,8 +382,8 @@ class RadauSystem:
         for i in range(3):
             y = Ys[i]
             if direct is not None:
-                ri, coo = direct[0][i], (direct[4], direct[5], None if direct[1] is None else direct[1][i])
-                info = direct[2]
+                R, jv, info, prow, pcol = direct
+                ri, coo = R[i], (prow, pcol, None if jv is None else jv[i])
             else:
                 ri, coo, info = self.model_system(y, self.elements[i], jacobian)
             parts.append(ri)

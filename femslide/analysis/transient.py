@@ -164,12 +164,14 @@ def _mode_grip(fr, stuck, y_static, elements, om, MPhi):
     rhs = np.zeros((model.n, om.size))
     rhs[:n_q] = (MPhi * (om * om)[:, None]).T
     state = "stuck" if stuck else "free"
-    off = ("the steps do not watch the friction forces of the vibrating modes: the tangent with the friction "
-           f"joints {state} is singular (locks that share one load); they follow the modes' displacements only")
+
+    def off(why):
+        return (f"the steps do not watch the friction forces of the vibrating modes: {why}; the steps follow "
+                f"the modes' displacements only")
     try:
         lam = spla.splu(S.tocsc()).solve(rhs)[n_q:]   # (k columns of constraint forces)
     except RuntimeError:
-        return off
+        return off(f"the tangent with the friction joints {state} is singular (locks that share one load)")
     locks = every if stuck else ()
     joints, rows = [], []
     for i, fj in enumerate(fr.joints):
@@ -185,8 +187,7 @@ def _mode_grip(fr, stuck, y_static, elements, om, MPhi):
     if not joints:
         return None
     if not np.isfinite(G).all():
-        return (f"the steps do not watch the friction forces of the vibrating modes: with the friction joints "
-                f"{state} they came out non-finite; the steps follow the modes' displacements only")
+        return off(f"with the friction joints {state} they came out non-finite")
     return joints, G
 
 
