@@ -225,6 +225,27 @@ def test_cli_core_imports_nothing_heavy_for_hinge_scenes():
     assert not heavy, heavy
 
 
+def test_a_structure_solve_without_files_imports_no_writer_machinery():
+    """A structure file solved with --json (no --out: no file written) imports neither meshio nor
+    pyvista nor the standard library's XML and network stack (xml.sax.saxutils brings urllib.request,
+    http, email and ssl: ~50 ms of start-up and ~6 MB of peak memory, for a quoted attribute that
+    femslide.output.vtu now writes itself); its notes (lift-off, below ground) are still computed."""
+    argvs = [["solve", str(ROOT / "meshes" / "structures" / "two-storey-frame.toml"), "--json"]]
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
+    code = _IMPORT_PROBE.replace("ARGVS", repr(argvs))
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, env=env,
+                       timeout=120)
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout.strip().splitlines()[-1])
+    assert out["codes"] == [0]
+    assert "femslide.output.diagrams" in out["modules"]     # the notes ran
+    loaded = sorted(m for m in out["modules"] if m.split(".")[0] in ("meshio", "pyvista", "xml", "http", "email",
+                                                                      "ssl", "matplotlib")
+                    or m == "urllib.request")
+    assert not loaded, loaded
+
+
 def test_version_prints_the_package_version():
     """`femslide --version` prints `femslide X.Y.Z` (femslide.__version__, the one source of the
     version: pyproject.toml reads it) and, on a second line, which assembly runs (the compiled kernel,

@@ -41,6 +41,7 @@ from femslide.model.linalg import model_kernel
 _GOLD = 0.5 * (math.sqrt(5.0) - 1.0)
 SAMPLES = 16     # samples per element before the golden-section search of a maximum (module docstring)
 GOLDEN_STEPS = 48
+PEAK_CHUNK = 512  # elements sampled at once by _Inside.peak (bounds its temporaries on fine meshes)
 
 
 class _Inside:
@@ -174,10 +175,15 @@ class _Inside:
         """(value, xi) of the largest |f| inside each element e (signed value at its position)."""
         ne = e.size
         xs = np.linspace(0.0, 1.0, SAMPLES + 1)
-        E = np.repeat(e, xs.size)
-        X = np.tile(xs, ne)
-        v = np.abs(f(E, X)).reshape(ne, xs.size)
-        k = np.argmax(v, axis=1)
+        # the samples of at most PEAK_CHUNK elements at a time: the same values, with the temporaries
+        # of a fine mesh bounded (17 samples of 4096 elements were ~10 MB of arrays at once)
+        k = np.empty(ne, np.intp)
+        best = np.empty(ne)
+        for lo in range(0, ne, PEAK_CHUNK):
+            ec = e[lo:lo + PEAK_CHUNK]
+            v = np.abs(f(np.repeat(ec, xs.size), np.tile(xs, ec.size))).reshape(ec.size, xs.size)
+            kc = k[lo:lo + ec.size] = np.argmax(v, axis=1)
+            best[lo:lo + ec.size] = v[np.arange(ec.size), kc]
         h = 1.0 / SAMPLES
         a = np.clip(xs[k] - h, 0.0, 1.0)
         b = np.clip(xs[k] + h, 0.0, 1.0)
@@ -195,7 +201,6 @@ class _Inside:
             fc, fd = np.where(left, fnew, fd), np.where(left, fc, fnew)
         xi = 0.5 * (a + b)
         # never below the best sample (the nodes' values included)
-        best = v[np.arange(ne), k]
         fx = f(e, xi)
         use = np.abs(fx) >= best
         xi = np.where(use, xi, xs[k])
