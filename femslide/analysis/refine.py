@@ -10,12 +10,14 @@ reconverged from a slightly perturbed state) as a floor of the estimate.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from femslide.elements import corotational
 from femslide.model.discrete import Model
 from femslide.model.state import ElementState
-from femslide.model.linalg import model_kernel, solve_linear
+from femslide.model.linalg import largest_abs, model_kernel, solve_linear
 from femslide.results.static import end_moments, extract, flatten, largest_moment, rod_arrays
 
 
@@ -238,7 +240,7 @@ def _scatter(lv: Level) -> float:
     y = lv.y.copy()
     q = y[:m.n_q]
     a = np.abs(q)
-    p = np.maximum(a, 1e-6 * a.max())
+    p = np.maximum(a, 1e-6 * largest_abs(a))
     p *= 1e-13
     p[1::2] *= -1.0     # (alternating signs: the same numbers as 1e-13 * (+-1) * p)
     q += p
@@ -249,10 +251,10 @@ def _scatter(lv: Level) -> float:
             y -= solve_linear(A, r)
     except (np.linalg.LinAlgError, RuntimeError, ValueError):
         return 0.0
-    if not np.all(np.isfinite(y)):
+    if not math.isfinite(largest_abs(y)):   # (a NaN or an infinity anywhere)
         return 0.0
-    M0 = np.abs(lv.cuts[0]).max()
-    M1 = np.abs(end_moments(m, y)).max()
+    M0 = largest_abs(lv.cuts[0])
+    M1 = largest_abs(end_moments(m, y))
     # relative to the moment, or to 1e-6 of the loads' moment scale (model unit) when the rods carry
     # (almost) none: the noise of a zero moment is no relative error of anything
     return float(abs(M1 - M0) / max(M0, 1e-6))

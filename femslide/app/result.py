@@ -301,6 +301,9 @@ HISTORY_UNITS = {"t": "s", "w": "m", "v": "m/s", "state": "-", "F": "N", "f": "N
 
 def clean(obj):
     """JSON-safe copy: numpy scalars to float, non-finite floats to null, private keys dropped."""
+    t = type(obj)
+    if t is float:   # (the common leaf first: a result is mostly floats)
+        return obj if math.isfinite(obj) else None
     if isinstance(obj, dict):
         return {k: clean(v) for k, v in obj.items() if not str(k).startswith("_")}
     if isinstance(obj, (list, tuple)):

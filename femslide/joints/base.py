@@ -204,8 +204,13 @@ class Link:
         return s, np.array(ds), np.array(H).reshape(self.k, self.k)
 
     def slide_value(self, z) -> float:
-        """The slide s of :meth:`slide` alone (model units; ``z`` the joint dofs' values, an array)."""
-        return self._slide(z.tolist())[0]
+        """The slide s of :meth:`slide` alone (model units; ``z`` the joint dofs' values, an array): the
+        same arithmetic without the gradient and Hessian."""
+        z = z.tolist()
+        ax, ay, _, _, _ = _point(z, self.ia, self.a)
+        bx, by, _, _, thb = _point(z, self.ib, self.b)
+        ex, ey, _, _ = self.guide(thb)
+        return (ax - bx) * ex + (ay - by) * ey
 
     def _slide(self, z):
         """:meth:`slide` as Python floats: s, ds (k), H (k x k, row-major); ``z`` a list."""

@@ -38,6 +38,24 @@ if _kernel is not None and getattr(_kernel, "VERSION", None) != KERNEL_VERSION:
 
 _FORCED: list = []
 
+# os.environ.get of an unset variable raises and catches a KeyError (~1 us): at every dense solve that
+# was 4 % of a sweep.  The environment's own mapping is read instead where os.environ has one.
+_ENV_NAME = "FEMSLIDE_KERNEL"
+try:
+    _ENV_KEY = os.environ.encodekey(_ENV_NAME)
+except AttributeError:   # (another os.environ: the public interface)
+    _ENV_KEY = None
+
+
+def _kernel_env():
+    """The value of FEMSLIDE_KERNEL, or None when it is not set."""
+    env = os.environ
+    data = getattr(env, "_data", None) if _ENV_KEY is not None else None
+    if type(data) is not dict:
+        return env.get(_ENV_NAME)
+    v = data.get(_ENV_KEY)
+    return None if v is None else env.decodevalue(v)
+
 
 def kernel_available() -> bool:
     """Whether the compiled kernel (femslide.model._assembly) is built and importable."""
@@ -51,7 +69,7 @@ def kernel_enabled() -> bool:
         return False
     if _FORCED:
         return _FORCED[-1]
-    env = os.environ.get("FEMSLIDE_KERNEL")
+    env = _kernel_env()
     return env is None or env.lower() != "numpy"
 
 
@@ -329,6 +347,15 @@ def norms(v, k, idx=None):
             float(a[idx].max()) if idx is not None and len(idx) else 0.0)
 
 
+def largest_abs(a) -> float:
+    """max |a| over every entry of a non-empty array, as a float (NaN if one is NaN): one kernel pass
+    (:func:`norms`) for a C-ordered float array, without numpy's ``max`` wrappers (a refinement level
+    takes several)."""
+    if _kernel is not None and a.dtype == np.float64 and a.flags.c_contiguous and a.size:
+        return _kernel.norms(a.reshape(-1), a.size)[0]
+    return float(np.abs(a).max())
+
+
 def solve_linear(A, b):
     """Solve A x = b for the dense, banded or sparse Jacobian of :meth:`Model.system`.
 
@@ -364,11 +391,14 @@ def det_sign(A) -> float:
     piv = np.empty(n, np.intp)
     if _kernel.factor(lu, piv, n, -1, -1):
         return 0.0
-    d = lu.ravel()[::n + 1]
-    if not np.isfinite(d).all():
-        return math.nan
-    odd = (int(np.count_nonzero(d < 0.0)) + int(np.count_nonzero(piv != np.arange(n)))) % 2
-    return -1.0 if odd else 1.0
+    # (Python floats: a few hundred pivots at most, DENSE_CHECK, without numpy's per-call cost)
+    odd = 0
+    for x in lu.ravel()[::n + 1].tolist():
+        if not math.isfinite(x):
+            return math.nan
+        odd += x < 0.0
+    odd += sum(p != i for i, p in enumerate(piv.tolist()))
+    return -1.0 if odd % 2 else 1.0
 
 
 def lu_factor(A):

@@ -35,7 +35,7 @@ import math
 import numpy as np
 
 from femslide.joints.base import at_joint_point
-from femslide.model.linalg import model_kernel
+from femslide.model.linalg import largest_abs, model_kernel
 
 
 _GOLD = 0.5 * (math.sqrt(5.0) - 1.0)
@@ -355,7 +355,7 @@ def largest_moment(model, y, alpha, cuts=None) -> float:
         ins = _Inside(model, y, alpha, cuts, 1.0, moment_only=True)
         val, _ = ins.moment_peak()
         return max(float(np.abs(val).max()), float(np.abs(cuts[0]).max())) * model.Fref * model.Lref
-    top = float(np.abs(cuts[0]).max())
+    top = largest_abs(cuts[0])
     if not model.linear:
         top = max(top, _largest_inside(model, y, alpha, cuts))
     return top * model.Fref * model.Lref

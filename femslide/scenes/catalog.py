@@ -64,9 +64,11 @@ class Scene:
 
 def _non_finite(obj, path=""):
     """Dotted path of the first NaN or inf float in a result (private ``_`` keys skipped), or ''."""
+    if type(obj) is float:   # (the common leaf first)
+        return "" if math.isfinite(obj) else path
     if isinstance(obj, dict):
         for k, v in obj.items():
-            if str(k).startswith("_"):
+            if (type(v) is float and math.isfinite(v)) or str(k).startswith("_"):   # (no path built)
                 continue
             bad = _non_finite(v, f"{path}.{k}" if path else str(k))
             if bad:

@@ -184,8 +184,8 @@ def mechanism_state(model, theta):
         gam = beta + t_el
         P = np.empty_like(X)
         P[0] = base
-        P[1:, 0] = base[0] + np.cumsum(seg * np.cos(gam))
-        P[1:, 1] = base[1] + np.cumsum(seg * np.sin(gam))
+        P[1:, 0] = base[0] + (seg * np.cos(gam)).cumsum()   # (the method: no dispatch wrapper)
+        P[1:, 1] = base[1] + (seg * np.sin(gam)).cumsum()
         Uq[nodes, :2] = P - X
         Uq[nodes, 2] = (beta - beta0) + 0.5 * t_top * xn
         alpha[el] = gam - beta0_el
