@@ -242,3 +242,37 @@ def test_an_event_located_inside_a_step_is_not_put_at_its_start_by_a_shortest_tr
     assert min(tried) >= x_min
     x, _ = locate_step(attempt, lambda c: (1e-8 - c) / h, 1e-8 / h, h, h, x_min=x_min)   # (root below x_min)
     assert x == x_min
+
+
+def test_largest_abs_is_numpys_largest_magnitude():
+    """linalg.largest_abs (one kernel pass where the array allows it) gives float(np.abs(a).max()):
+    the same float on C-ordered, strided and integer arrays, NaN where one entry is NaN, inf where one
+    is infinite."""
+    from femslide.model.linalg import largest_abs
+    rng = np.random.default_rng(3)
+    for a in (rng.standard_normal(7), rng.standard_normal((5, 2)), rng.standard_normal((6, 4))[:, 1],
+              np.arange(-5, 3), np.array([-0.0]), np.array([1e308, -1e308])):
+        assert largest_abs(a) == float(np.abs(a).max())
+    assert np.isnan(largest_abs(np.array([1.0, np.nan, 3.0])))
+    assert largest_abs(np.array([1.0, -np.inf])) == np.inf
+
+
+def test_a_joints_slide_value_is_the_slide_of_its_gradient_evaluation():
+    """Link.slide_value (the slide alone: history rows, watched results) is bit for bit the slide that
+    Link.slide computes with its gradient and Hessian, on random states of a sliding clamp whose guide
+    a turning body carries (its joint point off the body's frame origin: a lever)."""
+    from femslide.model.discrete import Model
+    s = Structure(gravity=(0.0, -9.81))
+    s.body("deck", mass=100.0, outline=[(-1.0, 0.0), (1.0, 0.0), (1.0, 0.2), (-1.0, 0.2)])
+    s.rod("post", (0.6, -2.0), (0.6, 0.0), EI=1e5, EA=1e8)
+    s.pin("A", "deck", "ground", at=(-0.6, 0.0))
+    s.pin("B", "post.start", "ground")
+    s.slider("clamp", "post.end", "deck", axis=(0.0, 1.0))
+    fs = s.freeze()
+    m = Model(fs, {"post": 4}, 1.0, 1.0)
+    link = m.joint["clamp"]
+    assert link.lever_b
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        z = rng.standard_normal(link.dofs.size)
+        assert link.slide_value(z) == link.slide(z)[0]
