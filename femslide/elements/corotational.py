@@ -75,7 +75,7 @@ class ElementSet:
     def with_stiffness(self, kb: np.ndarray) -> "ElementSet":
         """The same elements with the basic stiffness kb (n, 3, 3): the geometric data are shared."""
         new = object.__new__(ElementSet)
-        new.__dict__.update((k, v) for k, v in self.__dict__.items() if k not in _DERIVED)
+        new.__dict__.update({k: v for k, v in self.__dict__.items() if k not in _DERIVED})
         new.kb = kb
         return new
 

@@ -23,11 +23,12 @@ def element_stiffness(L0, s0, EI, EA):
     forms (:func:`basic_stiffness`) where either varies along the rod (a callable of s, a table)."""
     if callable(EI) or callable(EA):
         return basic_stiffness(L0, s0, EI, EA)
-    kb = np.zeros((L0.size, 3, 3))
-    kb[:, 0, 0] = EA / L0
-    kb[:, 1, 1] = kb[:, 2, 2] = 4.0 * EI / L0
-    kb[:, 1, 2] = kb[:, 2, 1] = 2.0 * EI / L0
-    return kb
+    n = L0.size
+    kb = np.zeros((n, 9))   # (the flat rows: k00 .. k22)
+    kb[:, 0] = EA / L0
+    kb[:, 4] = kb[:, 8] = 4.0 * EI / L0
+    kb[:, 5] = kb[:, 7] = 2.0 * EI / L0
+    return kb.reshape(n, 3, 3)
 
 
 def basic_stiffness(L0, s0, EI, EA):

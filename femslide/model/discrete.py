@@ -444,10 +444,11 @@ class Model:
         """Take the frames, joints, terms, loads and dof layout of a finalized model of the same
         plan key and mesh (they do not depend on the rods' stiffness): the joints, terms and
         (read-only) arrays are shared, the lists and dicts copied."""
-        d = self.__dict__
+        d, own = self.__dict__, self._OWN
         for k, v in other.__dict__.items():
-            if k not in self._OWN:
-                d[k] = v.copy() if isinstance(v, (list, dict)) else v
+            if k not in own:
+                t = type(v)
+                d[k] = v.copy() if t is list or t is dict else v
 
     # -- layout -----------------------------------------------------------------------------------
     def node(self, rod: str, i: int) -> int:

@@ -124,9 +124,10 @@ class Pack:
 
 
 def _geometry(es):
-    """The elements' dofs (n, 6) and their geometric columns of the kernel's data (D0x, D0y, L0,
-    beta0), built once per element geometry (kept on the geometry's arrays' owner: the models of one
-    mesh share ``conn``; the cases of a sweep over stiffnesses)."""
+    """The elements' dofs (n, 6) and the kernel's element data (n, 12) with their geometric columns
+    (D0x, D0y, L0, beta0) filled and the others zero, built once per element geometry (kept on the
+    geometry's arrays' owner: the models of one mesh share ``conn``; the cases of a sweep over
+    stiffnesses)."""
     cached = _GEOMETRY.get(id(es.conn))
     if cached is not None and cached[0] is es.conn:
         return cached[1], cached[2]
@@ -134,7 +135,8 @@ def _geometry(es):
     edof = np.empty((es.size, 6), np.int64)
     edof[:, 0:3] = 3 * c[:, :1] + np.arange(3)
     edof[:, 3:6] = 3 * c[:, 1:] + np.arange(3)
-    geo = np.column_stack([es.D0[:, 0], es.D0[:, 1], es.L0, es.beta0])
+    geo = np.zeros((es.size, 12))   # the kernel's element data with the geometric columns filled
+    geo[:, 0], geo[:, 1], geo[:, 2], geo[:, 3] = es.D0[:, 0], es.D0[:, 1], es.L0, es.beta0
     if len(_GEOMETRY) >= 64:
         _GEOMETRY.clear()
     _GEOMETRY[id(c)] = (c, edof, geo)
@@ -150,8 +152,7 @@ def assembler(model, pack: Pack):
     es = model.elements
     if es is not None:
         edof, geo = _geometry(es)
-        edat = np.zeros((es.size, 12))
-        edat[:, :4] = geo
+        edat = geo.copy()
         edat[:, 4:9] = es.kb.reshape(-1, 9)[:, _KB]
         free = getattr(model, "free_T", None)
         if free is not None:
