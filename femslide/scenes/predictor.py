@@ -109,7 +109,7 @@ def mechanism_state(model, theta):
     e = (-st, ct)       # deck's (0, 1): guide direction
     L = model.Lref
     pt = {j.name: (j.at[0] / L, j.at[1] / L) for j in fs.joints}
-    Xd = tuple(float(x) for x in model.body_X0[model.body_index["deck"]])
+    Xd = tuple(model.body_X0[model.body_index["deck"]].tolist())
     A1, B0, B1 = pt["A1"], pt["clamp"], pt["B1"]
     A0 = pt["A"] if "A" in pt else A1  # the weld point of a flexible left rod
     left_rod = "left" in model.rod_index
@@ -121,7 +121,7 @@ def mechanism_state(model, theta):
 
     def node(rod, i):
         X = model.X0[model.node(rod, i)]
-        return (float(X[0]), float(X[1]))
+        return tuple(X[:2].tolist())
 
     if not left_rod:           # a rigid left rod is part of the deck, pinned at A1
         Ud = sub(add(A1, rot(sub(Xd, A1))), Xd)
@@ -191,7 +191,7 @@ def mechanism_state(model, theta):
         alpha[el] = gam - beta0_el
     for b in fs.bodies:
         d = model.body_dof(b.name)
-        Xb = tuple(float(x) for x in model.body_X0[model.body_index[b.name]])
+        Xb = tuple(model.body_X0[model.body_index[b.name]].tolist())
         if b.name == "deck":
             U = Ud
         elif b.name == "right":     # the rigid right rod turns with the deck about its ground pin
