@@ -208,20 +208,26 @@ print(json.dumps({"codes": codes, "modules": sorted(sys.modules)}))
 """
 
 
+def _imports_of(argvs, timeout=60):
+    """(exit codes, modules loaded) of running the command lines ``argvs`` in one fresh interpreter."""
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
+    code = _IMPORT_PROBE.replace("ARGVS", repr(argvs))
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, env=env,
+                       timeout=timeout)
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout.strip().splitlines()[-1])
+    return out["codes"], out["modules"]
+
+
 def test_cli_core_imports_nothing_heavy_for_hinge_scenes():
     """A spring-hinge solve (and listing the scenes) must not import numpy, scipy, skfem, pyvista,
     meshio or matplotlib: the command-line core has to start fast."""
     argvs = [["scenes"], ["scenes", "--json"]] + [["solve", s, "--json"] for s in HINGE_SCENES] \
         + [["sweep", "hinge-slider", "--vary", "c=1e4,1e6", "--json"]]
-    env = dict(os.environ)
-    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
-    code = _IMPORT_PROBE.replace("ARGVS", repr(argvs))
-    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, env=env,
-                       timeout=60)
-    assert r.returncode == 0, r.stderr
-    out = json.loads(r.stdout.strip().splitlines()[-1])
-    assert out["codes"] == [0] * len(argvs)
-    heavy = sorted(m for m in out["modules"] if m.split(".")[0] in HEAVY)
+    codes, modules = _imports_of(argvs)
+    assert codes == [0] * len(argvs)
+    heavy = sorted(m for m in modules if m.split(".")[0] in HEAVY)
     assert not heavy, heavy
 
 
@@ -231,18 +237,12 @@ def test_a_structure_solve_without_files_imports_no_writer_machinery():
     http, email and ssl: ~50 ms of start-up and ~6 MB of peak memory, for a quoted attribute that
     femslide.output.vtu now writes itself) nor numpy.ma (np.unique imports it: ~17 ms with bytecode,
     ~3 MB); its notes (lift-off, below ground) are still computed."""
-    argvs = [["solve", str(ROOT / "meshes" / "structures" / "two-storey-frame.toml"), "--json"]]
-    env = dict(os.environ)
-    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
-    code = _IMPORT_PROBE.replace("ARGVS", repr(argvs))
-    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, env=env,
-                       timeout=120)
-    assert r.returncode == 0, r.stderr
-    out = json.loads(r.stdout.strip().splitlines()[-1])
-    assert out["codes"] == [0]
-    assert "femslide.output.diagrams" in out["modules"]     # the notes ran
-    loaded = sorted(m for m in out["modules"] if m.split(".")[0] in ("meshio", "pyvista", "xml", "http", "email",
-                                                                      "ssl", "matplotlib")
+    codes, modules = _imports_of([["solve", str(ROOT / "meshes" / "structures" / "two-storey-frame.toml"),
+                                   "--json"]], timeout=120)
+    assert codes == [0]
+    assert "femslide.output.diagrams" in modules     # the notes ran
+    loaded = sorted(m for m in modules if m.split(".")[0] in ("meshio", "pyvista", "xml", "http", "email", "ssl",
+                                                              "matplotlib")
                     or m in ("urllib.request", "numpy.ma"))
     assert not loaded, loaded
 
