@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from femslide.errors import BadInput
-from femslide.model.linalg import _unique
+from femslide.model.linalg import distinct
 
 RANK_TOL = 1e-9   # relative to the largest singular value: rows dependent to 1e-9 are redundant
 
@@ -25,8 +25,8 @@ def _rows(model):
     restricted to the dofs the joints touch."""
     y, _ = model.zero_state()
     q = y[:model.n_q]
-    # (linalg._unique: np.unique's result without its import of numpy.ma, ~17 ms of a statics run)
-    dofs = _unique(np.concatenate([c.dofs for c in model.constraints] + [np.zeros(0, np.intp)]))
+    # (linalg.distinct: np.unique's result without its import of numpy.ma)
+    dofs = distinct(np.concatenate([c.dofs for c in model.constraints] + [np.zeros(0, np.intp)]))
     col = {int(d): i for i, d in enumerate(dofs)}
     names, rows = [], []
     for c in model.constraints:

@@ -29,7 +29,7 @@ from femslide.joints.base import Carrier, ElasticSupport, Link, RotationalSpring
 from femslide.joints.kinds import kind_of
 from femslide.model import fast
 from femslide.model.frozen import Frozen, support_springs
-from femslide.model.linalg import Banded, _unique
+from femslide.model.linalg import Banded, distinct
 from femslide.model.state import ElementState
 from femslide.model.parts import DEAD, Table
 from femslide.model.patterns import PatternCache
@@ -74,7 +74,7 @@ class _Topology:
         self.con_mu = [slice(self.c_off[i], self.c_off[i + 1]) for i in range(len(sizes))]
         # loads act on few dofs: d r / d lam is sparse with a static pattern
         # (a thermal load's free forces act through the elements: their dofs too)
-        self.load_dofs = _unique(np.concatenate([*term_dofs, lin_dofs, *([] if free_dofs is None else [free_dofs])]
+        self.load_dofs = distinct(np.concatenate([*term_dofs, lin_dofs, *([] if free_dofs is None else [free_dofs])]
                                                 )).astype(np.intp)
         self.patterns = {}
         # the residual is one bincount of the element forces, the loads, the terms' forces and the
@@ -445,6 +445,7 @@ class Model:
         plan key and mesh (they do not depend on the rods' stiffness): the joints, terms and
         (read-only) arrays are shared, the lists and dicts copied."""
         d, own = self.__dict__, self._OWN
+        # (by exact type: every container of a model is a plain list or dict; a subclass would be shared)
         for k, v in other.__dict__.items():
             if k not in own:
                 t = type(v)

@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from femslide.model.linalg import distinct
+
 
 def envelope(results: dict) -> dict:
     """The envelope of ``results`` ({combination: section-8 result}, in declaration order)."""
@@ -67,7 +69,7 @@ def moment_envelope(arrays: dict) -> dict:
     if not combos:
         return out
     for rod in arrays[combos[0]]:
-        grid = np.unique(np.concatenate([np.asarray(arrays[c][rod]["s"], float) for c in combos]))
+        grid = distinct(np.concatenate([np.asarray(arrays[c][rod]["s"], float) for c in combos]))
         Ms = {c: np.interp(grid, arrays[c][rod]["s"], arrays[c][rod]["M"]) for c in combos}
         stack = np.vstack(list(Ms.values()))
         out[rod] = {"s": grid, "M": Ms, "M_min": stack.min(axis=0), "M_max": stack.max(axis=0)}
