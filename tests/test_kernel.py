@@ -78,17 +78,25 @@ def _state(m, scale=0.05):
     return y, es
 
 
-def _both(m, y, es, **kw):
-    """(numpy path, kernel) outputs of Model.system at the same state."""
+def _on_both_paths(m, compute):
+    """[compute() with m finalized for the numpy path, compute() with m finalized for the kernel] (each
+    asserted to be the path it says)."""
     out = []
     for on in (False, True):
         with fast.forced(on):
             m.finalize()
-            e = es.copy()
-            r, A, info = m.system(y, e, **kw)
-            out.append((r, A, dict(info) if A is None else {k: info[k] for k in ("fmax", "noise", "fl")}, e.trial))
-    assert m._pack is not None
+            assert (m._pack is not None) == on
+            out.append(compute())
     return out
+
+
+def _both(m, y, es, **kw):
+    """(numpy path, kernel) outputs of Model.system at the same state."""
+    def system():
+        e = es.copy()
+        r, A, info = m.system(y, e, **kw)
+        return r, A, dict(info) if A is None else {k: info[k] for k in ("fmax", "noise", "fl")}, e.trial
+    return _on_both_paths(m, system)
 
 
 def _dense(m, A, control=None):
@@ -178,13 +186,8 @@ def test_basic_forces_and_strain_energy_through_the_kernel(thermal):
     m.finalize()
     for _ in range(3):
         y, es = _state(m)
-        got = []
-        for on in (False, True):
-            with fast.forced(on):
-                m.finalize()
-                assert (m._pack is not None) == on
-                NM, alpha = m.element_forces(y[:m.n_q], es.committed)
-                got.append((NM, alpha, m.potential(y, es.committed)))
+        got = _on_both_paths(m, lambda y=y, es=es: (*m.element_forces(y[:m.n_q], es.committed),
+                                                        m.potential(y, es.committed)))
         assert (m.free_T is not None) == thermal
         (NM0, a0, V0), (NM1, a1, V1) = got
         assert NM1.shape == NM0.shape == (es.committed.size, 3)
@@ -496,15 +499,11 @@ def test_rod_cuts_and_interior_moments_equal_the_numpy_path(lam):
     m.finalize()
     for _ in range(3):
         y, es = _state(m)
-        out = []
-        for on in (False, True):
-            with fast.forced(on):
-                m.finalize()
-                assert (m._pack is not None) == on
-                M, G = rs.end_moments(m, y, resultant=True, lam=lam)
-                out.append((M, G, rs._largest_inside(m, y, es.committed, (M, G)),
-                            rs._largest_inside(m, y, None, (M, G))))
-        (M0, G0, a0, b0), (M1, G1, a1, b1) = out
+
+        def cuts(y=y, es=es):
+            M, G = rs.end_moments(m, y, resultant=True, lam=lam)
+            return M, G, rs._largest_inside(m, y, es.committed, (M, G)), rs._largest_inside(m, y, None, (M, G))
+        (M0, G0, a0, b0), (M1, G1, a1, b1) = _on_both_paths(m, cuts)
         assert np.array_equal(M0, M1) and np.array_equal(G0, G1)
         assert a0 == a1 and b0 == b1 and a0 > 0.0
 

@@ -30,6 +30,11 @@ class _Lru:
             del d[next(iter(d))]
         return value
 
+    def get_or_build(self, key, build):
+        """The value of ``key``, made by ``build()`` and kept if absent."""
+        value = self.get(key)
+        return value if value is not None else self.put(key, build())
+
     def __len__(self):
         return len(self._d)
 
@@ -52,8 +57,7 @@ class PatternCache:
         """A frozen structure kept by ``key`` (a scene and its values but the rods' stiffness: the
         cases of a sweep over EI derive theirs from it, femslide.model.frozen.Frozen.with_stiffness),
         built by ``build()`` once."""
-        fs = self._structures.get(key)
-        return fs if fs is not None else self._structures.put(key, build())
+        return self._structures.get_or_build(key, build)
 
     def key_id(self, key) -> int:
         """A small integer for a (large, hashable) key, the same for equal keys while it is kept: the
@@ -67,8 +71,7 @@ class PatternCache:
 
     def mesh(self, key, build):
         """The rod meshes of a geometry and element counts (femslide.model.discrete._Mesh), built once."""
-        m = self._meshes.get(key)
-        return m if m is not None else self._meshes.put(key, build())
+        return self._meshes.get_or_build(key, build)
 
     def frames(self, key, model=None):
         """A finalized model (femslide.model.discrete.Model) whose frames, joints, terms and loads the models of
@@ -81,5 +84,4 @@ class PatternCache:
     def topology(self, key, build):
         """The dof layout and Jacobian patterns (femslide.model.discrete._Topology) of a model topology
         ``key``, built by ``build()`` once."""
-        topo = self._topologies.get(key)
-        return topo if topo is not None else self._topologies.put(key, build())
+        return self._topologies.get_or_build(key, build)

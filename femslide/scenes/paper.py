@@ -148,7 +148,7 @@ def watch(scene):
         m, y = lv.model, lv.y
         F = m.Fref
         clamp = m.joint["clamp"]
-        # the slide alone (Link._slide's s, as floats; not its gradient and Hessian as arrays)
+        # the slide alone (Link.slide_value: not its gradient and Hessian)
         s = (clamp.slide_value(y[clamp.dofs]) - m.slide0["clamp"]) * m.Lref
         A = joint_forces(m, y, "A1")
         B = joint_forces(m, y, "B1")
