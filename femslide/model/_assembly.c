@@ -68,6 +68,31 @@ static void release(Buf *b)
     }
 }
 
+/* the array arguments o[0 .. n) of a kernel call as buffers b[0 .. n): kind[i] is 'd' a float64 array read,
+ * 'w' a float64 array written, 'i' 8-byte indices, 'p' pivots (Py_ssize_t, np.intp), '-' no array (a scalar's
+ * slot; o[i] is not read); what[i] names it in errors.  Every b[i] is set first, so that release_all(b, n)
+ * is right after a failure too; None (or a NULL o[i]) gives an empty buffer, as get_buf does. */
+static int get_all(PyObject *const *o, Buf *b, int n, const char *kind, const char *const *what)
+{
+    for (int i = 0; i < n; i++)
+        b[i].held = 0;
+    for (int i = 0; i < n; i++) {
+        char k = kind[i];
+        if (k == '-')
+            continue;
+        Py_ssize_t size = k == 'p' ? (Py_ssize_t)sizeof(Py_ssize_t) : 8;
+        if (get_buf(o[i], &b[i], k == 'w', k == 'i' || k == 'p' ? "qlLn" : "d", size, what[i]) < 0)
+            return -1;
+    }
+    return 0;
+}
+
+static void release_all(Buf *b, int n)
+{
+    for (int i = 0; i < n; i++)
+        release(&b[i]);
+}
+
 #define DBL(b) ((double *)(b).view.buf)
 #define IDX(b) ((long long *)(b).view.buf)
 #define LEN(b) ((b).held ? (b).view.len / (b).view.itemsize : 0)
@@ -1625,14 +1650,9 @@ static PyObject *py_inertia(PyObject *mod, PyObject *args)
     static const char *what[12] = {"Q", "V", "ACC", "ground", "node dofs", "node masses", "body dofs",
                                    "body data", "F", "base", "mass", "vel"};
     Buf b[12];
-    for (int i = 0; i < 12; i++)
-        b[i].held = 0;
     PyObject *res = NULL;
-    for (int i = 0; i < 12; i++) {
-        int idx = i == 4 || i == 6, wr = i >= 8;
-        if (get_buf(o[i], &b[i], wr, idx ? "qlLn" : "d", 8, what[i]) < 0)
-            goto out;
-    }
+    if (get_all(o, b, 12, "ddddididwwww", what) < 0)
+        goto out;
     {
         Py_ssize_t nn = LEN(b[5]), nb = LEN(b[6]), nnz = nn + 9 * nb, nF = LEN(b[8]);
         Py_ssize_t k = nnz > 0 ? LEN(b[9]) / nnz : 0;
@@ -1705,8 +1725,7 @@ static PyObject *py_inertia(PyObject *mod, PyObject *args)
         res = Py_None;
     }
 out:
-    for (int i = 0; i < 12; i++)
-        release(&b[i]);
+    release_all(b, 12);
     return res;
 }
 
@@ -1853,17 +1872,10 @@ static PyObject *py_coupled_rhs(PyObject *mod, PyObject *args)
     o[2] = o[9] = NULL;
     static const char *what[11] = {"r", "wrq", "", "cr", "cc", "cv", "mr", "mc", "mv", "", "rhs"};
     Buf b[11];
-    for (int i = 0; i < 11; i++)
-        b[i].held = 0;
     PyObject *res = NULL;
     double *acc = NULL;
-    for (int i = 0; i < 11; i++) {
-        if (o[i] == NULL)
-            continue;
-        int idx = i == 3 || i == 4 || i == 6 || i == 7;
-        if (get_buf(o[i], &b[i], i == 10, idx ? "qlLn" : "d", 8, what[i]) < 0)
-            goto out;
-    }
+    if (get_all(o, b, 11, "dd-iidiid-w", what) < 0)
+        goto out;
     {
         Py_ssize_t m3 = 3 * nq, n = LEN(b[0]), nc3 = n - 2 * m3, nc = nc3 / 3, kc = LEN(b[3]), km = LEN(b[6]);
         if (nq < 0 || nc3 < 0 || nc * 3 != nc3 || LEN(b[1]) != m3 || LEN(b[4]) != kc || LEN(b[5]) != kc ||
@@ -1885,8 +1897,7 @@ static PyObject *py_coupled_rhs(PyObject *mod, PyObject *args)
     }
 out:
     PyMem_Free(acc);
-    for (int i = 0; i < 11; i++)
-        release(&b[i]);
+    release_all(b, 11);
     return res;
 }
 
@@ -1914,12 +1925,9 @@ static PyObject *py_stages(PyObject *mod, PyObject *args)
     o[4] = NULL;
     static const char *what[9] = {"Y", "qn", "v", "w", "", "Q", "Ys", "V", "ACC"};
     Buf b[9];
-    for (int i = 0; i < 9; i++)
-        b[i].held = 0;
     PyObject *res = NULL;
-    for (int i = 0; i < 9; i++)
-        if (o[i] != NULL && get_buf(o[i], &b[i], i >= 5, "d", 8, what[i]) < 0)
-            goto out;
+    if (get_all(o, b, 9, "dddd-wwww", what) < 0)
+        goto out;
     {
         Py_ssize_t nq = LEN(b[1]), m3 = 3 * nq, nc3 = LEN(b[0]) - 2 * m3, nc = nc3 / 3;
         if (nc3 < 0 || 3 * nc != nc3 || LEN(b[2]) != nq || LEN(b[3]) != 9 || LEN(b[5]) != m3 ||
@@ -1947,8 +1955,7 @@ static PyObject *py_stages(PyObject *mod, PyObject *args)
         res = Py_None;
     }
 out:
-    for (int i = 0; i < 9; i++)
-        release(&b[i]);
+    release_all(b, 9);
     return res;
 }
 
@@ -1967,14 +1974,11 @@ static PyObject *py_stage_rows(PyObject *mod, PyObject *args)
         return NULL;
     static const char *what[7] = {"", "F", "Y", "V", "w", "", "r"};
     Buf b[7], bp[3];
-    for (int i = 0; i < 7; i++)
-        b[i].held = 0;
     for (int i = 0; i < 3; i++)
         bp[i].held = 0;
     PyObject *res = NULL;
-    for (int i = 1; i < 7; i++)
-        if (i != 5 && get_buf(o[i], &b[i], i == 6, "d", 8, what[i]) < 0)
-            goto out;
+    if (get_all(o, b, 7, "-dddd-w", what) < 0)
+        goto out;
     if (PySequence_Fast_GET_SIZE(seq) != 3) {
         PyErr_SetString(PyExc_ValueError, "femslide kernel: stage_rows: three parts expected");
         goto out;
@@ -2010,10 +2014,8 @@ static PyObject *py_stage_rows(PyObject *mod, PyObject *args)
     }
 out:
     Py_DECREF(seq);
-    for (int i = 0; i < 7; i++)
-        release(&b[i]);
-    for (int i = 0; i < 3; i++)
-        release(&bp[i]);
+    release_all(b, 7);
+    release_all(bp, 3);
     return res;
 }
 
@@ -2035,18 +2037,10 @@ static PyObject *py_coupled_solve(PyObject *mod, PyObject *args)
     static const char *what[17] = {"r", "", "w", "cr", "cc", "cv", "mr", "mc", "mv", "factors", "pivots", "", "",
                                    "perm", "rs", "cs", "out"};
     Buf b[17];
-    for (int i = 0; i < 17; i++)
-        b[i].held = 0;
     PyObject *res = NULL;
     double *work = NULL;
-    for (int i = 0; i < 17; i++) {
-        if (o[i] == NULL)
-            continue;
-        int idx = i == 3 || i == 4 || i == 6 || i == 7 || i == 10 || i == 13;
-        Py_ssize_t size = i == 10 ? (Py_ssize_t)sizeof(Py_ssize_t) : 8;   /* (pivots: Py_ssize_t, np.intp) */
-        if (get_buf(o[i], &b[i], i == 16, idx ? "qlLn" : "d", size, what[i]) < 0)
-            goto out;
-    }
+    if (get_all(o, b, 17, "d-diidiiddp--iddw", what) < 0)
+        goto out;
     {
         Py_ssize_t n = LEN(b[0]), N = LEN(b[14]), kc = LEN(b[3]), km = LEN(b[6]);
         /* n = 6 nq + 3 nc, N = 3 (nq + nc): nq = (n - N) / 3 */
@@ -2109,8 +2103,7 @@ static PyObject *py_coupled_solve(PyObject *mod, PyObject *args)
     }
 out:
     PyMem_Free(work);
-    for (int i = 0; i < 17; i++)
-        release(&b[i]);
+    release_all(b, 17);
     return res;
 }
 
@@ -2129,17 +2122,10 @@ static PyObject *py_error_rhs(PyObject *mod, PyObject *args)
     o[2] = o[5] = NULL;
     static const char *what[14] = {"Y", "e", "", "acc", "v", "", "mr", "mc", "mv", "cr", "cc", "cv", "b", "rq"};
     Buf b[14];
-    for (int i = 0; i < 14; i++)
-        b[i].held = 0;
     PyObject *res = NULL;
     double *x = NULL;
-    for (int i = 0; i < 14; i++) {
-        if (o[i] == NULL)
-            continue;
-        int idx = i == 6 || i == 7 || i == 9 || i == 10;
-        if (get_buf(o[i], &b[i], i >= 12, idx ? "qlLn" : "d", 8, what[i]) < 0)
-            goto out;
-    }
+    if (get_all(o, b, 14, "dd-dd-iidiidww", what) < 0)
+        goto out;
     {
         Py_ssize_t nq = LEN(b[4]), nb = LEN(b[12]), km = LEN(b[6]), kc = LEN(b[9]);
         if (LEN(b[0]) < 6 * nq || LEN(b[1]) != 3 || LEN(b[3]) != nq || nb < nq || LEN(b[13]) != nq ||
@@ -2179,8 +2165,7 @@ static PyObject *py_error_rhs(PyObject *mod, PyObject *args)
     }
 out:
     PyMem_Free(x);
-    for (int i = 0; i < 14; i++)
-        release(&b[i]);
+    release_all(b, 14);
     return res;
 }
 
@@ -2365,15 +2350,10 @@ static PyObject *py_prolong(PyObject *mod, PyObject *args)
         return NULL;
     static const char *what[18] = {"a", "b", "nf", "t", "H", "bet", "X0c", "yc", "X0f", "yf", "ia", "ib", "ef",
                                    "ec", "beta0c", "alpha", "beta0f", "af"};
-    static const int isint[18] = {1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 0, 0, 0, 0};
     Buf B[18];
     PyObject *res = NULL;
-    int k;
-    for (k = 0; k < 18; k++)
-        B[k].held = 0;
-    for (k = 0; k < 18; k++)
-        if (get_buf(o[k], &B[k], k == 9 || k == 17, isint[k] ? "qlLn" : "d", 8, what[k]) < 0)
-            goto out;
+    if (get_all(o, B, 18, "iiiddddddwiiiidddw", what) < 0)
+        goto out;
     {
         const long long *A = IDX(B[0]), *Bn = IDX(B[1]), *NF = IDX(B[2]);
         const double *t = DBL(B[3]), *H = DBL(B[4]), *bet = DBL(B[5]), *X0c = DBL(B[6]), *yc = DBL(B[7]);
@@ -2423,8 +2403,7 @@ static PyObject *py_prolong(PyObject *mod, PyObject *args)
         res = Py_None;
     }
 out:
-    for (k = 0; k < 18; k++)
-        release(&B[k]);
+    release_all(B, 18);
     return res;
 }
 
