@@ -380,20 +380,24 @@ def test_environment_switch_and_status(monkeypatch):
     assert fast.enabled()
 
 
+def _solve_in_a_process(prefix, report):
+    """The JSON list ``report`` (an expression over fast, linalg and r) printed by a fresh interpreter that
+    runs ``prefix`` and then solves beam-slider at EI = 1e5 into r."""
+    import json
+    import subprocess
+    import sys
+    code = (prefix + "\nimport femslide, json\nfrom femslide.model import fast, linalg\n"
+            "r = femslide.solve('beam-slider', EI=1e5)\nprint(json.dumps(" + report + "))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
 def test_without_the_extension_femslide_runs_on_numpy():
     """A process in which the extension cannot be imported (as on a machine that built femslide without a
     compiler) solves on the numpy path, says so, and gets the kernel's answer to round-off."""
-    import subprocess
-    import sys
-    code = ("import sys; sys.modules['femslide.model._assembly'] = None\n"
-            "import femslide, json\n"
-            "from femslide.model import fast\n"
-            "r = femslide.solve('beam-slider', EI=1e5)\n"
-            "print(json.dumps([fast.status(), r['M_max'], r['phi']]))")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
-    assert out.returncode == 0, out.stderr
-    import json
-    status, M, phi = json.loads(out.stdout.strip().splitlines()[-1])
+    status, M, phi = _solve_in_a_process("import sys; sys.modules['femslide.model._assembly'] = None",
+                                         "[fast.status(), r['M_max'], r['phi']]")
     assert status.startswith("assembly: numpy and LAPACK (the compiled kernel is not available")
     r = femslide.solve("beam-slider", EI=1e5)
     assert abs(M / r["M_max"] - 1) <= 1e-11 and abs(phi / r["phi"] - 1) <= 1e-11
@@ -404,19 +408,10 @@ def test_a_kernel_built_from_another_source_is_not_used():
     of _assembly.c: functions missing or doing other arithmetic) is not used: femslide solves on the
     numpy path, the status line says why and how to rebuild, and the answer is the kernel's to
     round-off."""
-    import json
-    import subprocess
-    import sys
     from femslide.model import linalg
     assert femslide.model._assembly.VERSION == linalg.KERNEL_VERSION
-    code = ("import femslide.model._assembly as a; a.VERSION = a.VERSION - 1\n"
-            "import femslide, json\n"
-            "from femslide.model import fast, linalg\n"
-            "r = femslide.solve('beam-slider', EI=1e5)\n"
-            "print(json.dumps([fast.status(), linalg._kernel is None, r['M_max']]))")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
-    assert out.returncode == 0, out.stderr
-    status, off, M = json.loads(out.stdout.strip().splitlines()[-1])
+    status, off, M = _solve_in_a_process("import femslide.model._assembly as a; a.VERSION = a.VERSION - 1",
+                                         "[fast.status(), linalg._kernel is None, r['M_max']]")
     assert off and "built from another version" in status and "pip install -e ." in status
     assert abs(M / femslide.solve("beam-slider", EI=1e5)["M_max"] - 1) <= 1e-11
 
