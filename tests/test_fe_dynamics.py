@@ -592,7 +592,7 @@ def test_body_inertia_numpy_path_equals_the_scalar_path():
     """Masses.inertia has a Python loop for a few bodies and a numpy path for many: on a structure with
     three bodies (welded to a rod with rhoA, welded to each other, one on a spring hinge off its
     centroid) and random states, both give the same
-    inertia force and Jacobian entries to 1e-14 (the numpy path is what structures with more than
+    inertia force, Jacobian entries and kinetic energy to 1e-14 (the numpy path is what structures with more than
     Masses.SCALAR_BODIES bodies use)."""
     s = _three_bodies(4)
     # (the model alone: rod, a and b turn freely about "base", a mechanism whose static path
@@ -606,8 +606,11 @@ def test_body_inertia_numpy_path_equals_the_scalar_path():
         g = rng.standard_normal(2)
         m.SCALAR_BODIES = 8
         f1, (r1, c1, v1) = m.inertia(q, v, acc, 2.5, 0.7, g)
+        T1 = m.kinetic(q, v)
         m.SCALAR_BODIES = 0
         f2, (r2, c2, v2) = m.inertia(q, v, acc, 2.5, 0.7, g)
+        T2 = m.kinetic(q, v)
+        assert abs(T1 - T2) <= 1e-14 * abs(T2) and T2 > 0.0   # (the kinetic energy's two paths too)
         assert np.array_equal(r1, r2) and np.array_equal(c1, c2)
         assert np.allclose(f1, f2, rtol=1e-14, atol=1e-14) and np.allclose(v1, v2, rtol=1e-14, atol=1e-14)
     # Masses.inertia_parts: three states at once, the derivative split into its parts linear in c_acc
