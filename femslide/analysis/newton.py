@@ -17,7 +17,11 @@ that merely dips under a loose bound is not taken for convergence), or after 4 s
 caller may ask (``settle``) for a state to be accepted without another evaluation where the residual
 is contracting fast: the last step cut it by ``settle`` or more (not the first step, which may only
 project onto the constraints and a stiff rod's length), and the next step, continuing that
-contraction (a bound of quadratic convergence), brings it below tol or the round-off floor.  Steps
+contraction (a bound of quadratic convergence), brings it below tol or the round-off floor.  A
+caller may also ask (``reuse``) for chord steps: the last matrix kept while each residual is cut by
+``reuse`` or more (a time step's first matrix often carries it to convergence: a residual
+evaluation without the matrix, its assembly and its LU costs a third of a full iteration), assembled
+afresh where the contraction is slower; no convergence is predicted after a chord step.  Steps
 that would turn a rotation by more than ``max_rot`` are scaled down (a trust region for the exact but
 strongly nonlinear corotational kinematics).  Never raises: the caller reads ``info.converged`` and
 the residual history.
@@ -41,7 +45,7 @@ class NewtonInfo:
 
 
 def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_rot=0.5, fscale=None,
-           settle=None):
+           settle=None, reuse=None):
     """Newton iterations from y (modified copy returned).  Never raises: check ``info.converged``.
 
     Steps whose largest rotation increment exceeds ``max_rot`` [rad] are scaled down (a trust
@@ -62,10 +66,12 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
     finfo = None
     stalled = floor_its = 0
     floor_step = False
+    last = None   # the last matrix (reuse's chord steps)
     for it in range(1, maxit + 1):
         # after a step from a residual <= 1e-7, quadratic convergence predicts a converged state:
         # check the residual alone first, and assemble the Jacobian only if it is needed after all
-        r, A, info = model.system(y, elements, lam, control, jacobian=not prev <= 1e-7)
+        # (and so with ``reuse``, where the last matrix may do)
+        r, A, info = model.system(y, elements, lam, control, jacobian=not (prev <= 1e-7 or last is not None))
         # relative to the internal forces, floored at the round-off level of the element forces
         # (estimated with the Jacobian; a residual-only evaluation keeps the last estimate)
         rq, res_g, _ = norms(r, n_q)
@@ -82,7 +88,10 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
         # no longer measures the error, both before and after a Newton step
         if res_g <= tol and (res_f <= tol or (floor_step and res_f <= _floor(finfo, fscale))):
             return y, NewtonInfo(True, it - 1, hist, "" if res_f <= tol else "at round-off level")
-        if A is None:
+        chord = A is None and last is not None and res <= reuse * prev
+        if chord:
+            A = last   # a chord step
+        elif A is None:
             r, A, info = model.system(y, elements, lam, control)
             finfo = info
             if control is None and isinstance(A, np.ndarray):
@@ -94,6 +103,8 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
         best = min(best, res)
         if stalled >= 4 and best <= 1e-7:
             return y, NewtonInfo(True, it - 1, hist, "stagnated at round-off level")
+        if reuse is not None:
+            last = A
         try:
             step = solve_linear(A, r)   # the Newton step is -step
         except (np.linalg.LinAlgError, RuntimeError, ValueError) as exc:
@@ -105,10 +116,11 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
             step *= max_rot / big
             sq *= max_rot / big
         y -= step
-        if settle is not None and it >= 3 and res <= settle * prev and big <= max_rot:
+        if settle is not None and it >= 3 and res <= settle * prev and big <= max_rot and not chord:
             # the contraction of the last step, continued (each part at its own rate: a constraint
             # residual stuck at its own level does not follow the forces'): an upper bound of the next
-            # residual where Newton converges quadratically
+            # residual where Newton converges quadratically (not after a chord step, which converges
+            # linearly: its contraction depends on how far the matrix's state is, not on the last rate)
             nf, ng = res_f * _rate(res_f, prev_f), res_g * _rate(res_g, prev_g)
             if ng <= tol and nf <= max(tol, _floor(finfo, fscale)):
                 hist.append(max(nf, ng))
