@@ -588,6 +588,29 @@ def test_massless_slide_jump_on_a_fine_mesh():
         assert abs(a["t"] - b["t"]) < 1e-4
 
 
+def test_ground_power_of_stacked_states_equals_the_inertia_load_times_the_velocity():
+    """Masses.ground_power (the ground motion's power at a step's three stages at once, which the
+    energy balance integrates) equals, state by state, the base acceleration's load times the
+    velocity, with the load taken two ways: ground_load and the ground term of inertia() at rest
+    (with its sign: inertia's force is what the load balances), to 1e-13, on three bodies off their
+    frames' origins and a rod with rhoA."""
+    s = _three_bodies(4)
+    fs = s.freeze()
+    model = Model(fs, {"r": 4}, *static.scales(fs))
+    m = Masses(model)
+    assert m.body_d.size == 3 and m.node_dofs.size > 0
+    rng = np.random.default_rng(5)
+    Q, V = (rng.standard_normal((3, model.n_q)) for _ in range(2))
+    G = rng.standard_normal((3, 2))
+    P = m.ground_power(Q, V, G)
+    zero = np.zeros(model.n_q)
+    for i in range(3):
+        by_load = float(m.ground_load(Q[i], G[i]) @ V[i])
+        by_inertia = -float(m.inertia(Q[i], zero, zero, 0.0, 0.0, G[i])[0] @ V[i])
+        assert abs(P[i] - by_load) <= 1e-13 * (1.0 + abs(by_load))
+        assert abs(P[i] - by_inertia) <= 1e-13 * (1.0 + abs(by_load))
+
+
 def test_body_inertia_numpy_path_equals_the_scalar_path():
     """Masses.inertia has a Python loop for a few bodies and a numpy path for many: on a structure with
     three bodies (welded to a rod with rhoA, welded to each other, one on a spring hinge off its

@@ -490,13 +490,19 @@ class RadauSystem:
         Zc = (Z.T @ P_RK).T                                     # (3, n): coefficients of x, x^2, x^3
         self.previous = (self.s.t, self.h, Zc, np.concatenate([self.s.y, self.s.v]))
 
-    def work(self, Y, ground_power, loss_power):
+    def work(self, Y, loss_power=None):
         """(work of the ground motion, energy dissipated) over the step: the Radau quadrature of
-        their powers at the stages (exact for polynomials of degree 4)."""
+        their powers at the stages (exact for polynomials of degree 4); the ground's power is the
+        inertia load of its acceleration at the stages (femslide.model.mass.Masses.ground_power),
+        ``loss_power(y, v)`` the dissipated power at a state (None: nothing dissipates)."""
+        ZQ, ZV, MU = self.split(Y)
+        Q, V = self.qn + ZQ, self.s.v + ZV
         W = D = 0.0
-        for b, (t, y, v) in zip(B_RK, self.stages(Y)):
-            W += b * ground_power(y[:self.nq], v, t)
-            D += b * loss_power(y, v)
+        if self._ag3 is not None:
+            W = float(B_RK @ self.masses.ground_power(Q, V, self._ag3))
+        if loss_power is not None:
+            for i, b in enumerate(B_RK):
+                D += b * loss_power(np.concatenate([Q[i], MU[i]]), V[i])
         return W * self.h, D * self.h
 
 

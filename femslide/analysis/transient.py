@@ -270,12 +270,6 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             a += abs(float(ground.accel(t))) * g_len
         return m_max * a
 
-    def ground_power(q, v, t):
-        if ground is None:
-            return 0.0
-        g = ground.accel(t) * ground.direction / model.Lref
-        return float(np.dot(masses.ground_load(q, g), v))
-
     def loss_power(y, v):
         P = float(v @ (Csr @ v)) if Csr is not None else 0.0
         return P + (fr.power(y, v) if fr is not None else 0.0)
@@ -541,7 +535,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             if on_grid:
                 k_sample += 1
         if ground is not None or Csr is not None or fr is not None:   # (else no work, no loss)
-            dW, dD = sysm.work(Y, ground_power, loss_power)
+            dW, dD = sysm.work(Y, loss_power if Csr is not None or fr is not None else None)
             W += dW
             D += dD
         sysm.remember(Y)

@@ -287,6 +287,23 @@ class Masses:
             T += 0.5 * float(np.sum(self.body_m * (vx * vx + vy * vy) + self.body_J * td * td))
         return T
 
+    def ground_power(self, Q, V, G):
+        """The power of the base acceleration's inertia load at k states: ``ground_load(Q[i], G[i]) .
+        V[i]`` for the positions and velocities Q, V (k, n_q) and ground accelerations G (k, 2), as a
+        (k,) array (model units)."""
+        nd = self.node_dofs
+        k = nd.size // 2
+        P = -(V[:, nd[:k]] @ self.node_vals[:k]) * G[:, 0] - (V[:, nd[k:]] @ self.node_vals[k:]) * G[:, 1]
+        if self.body_d.size:
+            d, m = self.body_d, self.body_m
+            th = Q[:, d + 2]
+            c, s = np.cos(th), np.sin(th)
+            rx, ry = self.body_r[:, 0], self.body_r[:, 1]
+            px, py = c * rx - s * ry, s * rx + c * ry   # (k, bodies)
+            gx, gy = G[:, :1], G[:, 1:]
+            P -= (m * (V[:, d] * gx + V[:, d + 1] * gy + (px * gy - py * gx) * V[:, d + 2])).sum(axis=1)
+        return P
+
     def ground_load(self, q, ground):
         """Generalised inertia load (n_q,) of the base acceleration ``ground`` (2,) (model units):
         -m a_g on every mass, with its moment about a body's frame origin."""
