@@ -301,6 +301,55 @@ def test_largest_abs_is_numpys_largest_magnitude():
     assert largest_abs(np.array([1.0, -np.inf])) == np.inf
 
 
+def test_dense_eigenproblems_and_null_spaces_are_scipys_without_scipy_linalg():
+    """linalg.eigh (one matrix, or a pair with B positive definite) and linalg.null_space call LAPACK
+    as scipy.linalg.eigh and scipy.linalg.null_space do (dsyevr, dsygvd, dgesdd through the compiled
+    wrappers, without importing scipy.linalg): the same arrays, bit for bit, on random symmetric
+    problems of 1 to 90 unknowns and on rank-deficient constraint gradients (G with a row the sum of
+    two others, and G = 0: the whole space); the basis is orthonormal and G Z = 0 to round-off; B not
+    positive definite raises LinAlgError, as scipy's does."""
+    import scipy.linalg as sl
+    from femslide.model.linalg import eigh, null_space
+    rng = np.random.default_rng(11)
+    for n in (1, 4, 30, 90):
+        X, Y = rng.standard_normal((n, n)), rng.standard_normal((n, n))
+        A, B = X + X.T, Y @ Y.T + n * np.eye(n)
+        for got, ref in ((eigh(A), sl.eigh(A)), (eigh(A, B), sl.eigh(A, B))):
+            assert np.array_equal(got[0], ref[0]) and np.array_equal(got[1], ref[1])
+        w, V = eigh(A, B)
+        assert np.allclose(V.T @ B @ V, np.eye(n), atol=1e-12) and np.all(np.diff(w) >= 0.0)
+    with pytest.raises(np.linalg.LinAlgError):
+        eigh(A, -B)
+    for m, n in ((3, 10), (5, 5), (12, 40), (2, 6)):
+        G = rng.standard_normal((m, n)) if m != 2 else np.zeros((m, n))
+        if m > 2:
+            G[2] = G[0] + G[1]
+        Z = null_space(G)
+        assert np.array_equal(Z, sl.null_space(G))
+        rank = 0 if m == 2 else min(m, n) - 1   # (G = 0, or one dependent row)
+        assert Z.shape == (n, n - rank)
+        assert np.abs(G @ Z).max(initial=0.0) <= 1e-13 and np.allclose(Z.T @ Z, np.eye(Z.shape[1]), atol=1e-13)
+
+
+def test_set_operations_are_numpys_without_numpy_ma():
+    """linalg.distinct (with ``first``), member and complement give np.unique (with return_index),
+    np.isin and np.setdiff1d(np.arange(n), idx) exactly, on random integer arrays with repeats (empty
+    ones too) and on floats with a repeat."""
+    from femslide.model.linalg import complement, distinct, member
+    rng = np.random.default_rng(2)
+    for _ in range(300):
+        a = rng.integers(0, 20, rng.integers(0, 30))
+        v = rng.integers(0, 20, rng.integers(0, 6))
+        u, i = np.unique(a, return_index=True)
+        d, j = distinct(a, first=True)
+        assert np.array_equal(u, d) and np.array_equal(i, j) and np.array_equal(distinct(a), u)
+        assert np.array_equal(member(a, v), np.isin(a, v))
+        assert np.array_equal(complement(20, v), np.setdiff1d(np.arange(20), v))
+    f = rng.standard_normal(10)
+    f[3] = f[7]
+    assert np.array_equal(distinct(f), np.unique(f))
+
+
 def test_a_joints_slide_value_is_the_slide_of_its_gradient_evaluation():
     """Link.slide_value (the slide alone: history rows, watched results) is bit for bit the slide that
     Link.slide computes with its gradient and Hessian, on random states of a sliding clamp whose guide

@@ -29,24 +29,49 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import scipy.sparse as sp
 
 from femslide.errors import SolverFailure
-from femslide.model.linalg import BandMatrix, one_blas_thread
+from femslide.model.linalg import BandMatrix, distinct, eigh, load_lapack, null_space, one_blas_thread
 
 DENSE_LIMIT = 600
 
 
 def to_sparse(model, A):
     """The Jacobian of :meth:`Model.system` (dense, banded or sparse) as a scipy CSC matrix."""
+    import scipy.sparse as sp
     if isinstance(A, np.ndarray):
         return sp.csc_matrix(A)
     if isinstance(A, BandMatrix):
         rows, cols, size, band, _, _ = model._pattern(None)
-        flat, idx = np.unique(band.flat, return_index=True)
+        flat, idx = distinct(band.flat, first=True)
         vals = A.ab.T.ravel()[flat]   # (ab is the Fortran-ordered band: flat indexes its transpose)
         return sp.csc_matrix((vals, (rows[idx], cols[idx])), shape=(size, size))
     return sp.csc_matrix(A)
+
+
+def to_dense(model, A):
+    """The Jacobian of :meth:`Model.system` (dense, banded or sparse) as a dense array (A itself
+    where it is one)."""
+    if isinstance(A, np.ndarray):
+        return A
+    if isinstance(A, BandMatrix):
+        rows, cols, size, band, _, _ = model._pattern(None)
+        flat, idx = distinct(band.flat, first=True)
+        D = np.zeros((size, size))
+        D[rows[idx], cols[idx]] = A.ab.T.ravel()[flat]
+        return D
+    return A.toarray()
+
+
+def dense_tangent(model, y, elements):
+    """(K, G) of the static state (y, elements) as :func:`tangent` gives them, dense (the modes of
+    models up to DENSE_LIMIT dofs: no scipy.sparse)."""
+    _, A, _ = model.system(y, elements, 1.0)
+    elements.revert()
+    A = to_dense(model, A)
+    n_q = model.n_q
+    K = A[:n_q, :n_q]
+    return 0.5 * (K + K.T), A[n_q:, :n_q].copy()
 
 
 def tangent(model, y, elements):
@@ -64,7 +89,7 @@ def modes(model, y, elements, masses, count=6, zero_ok=False, max_free=None):
     """(frequencies_hz (k,), shapes (k, n_q)): :func:`_modes`, with OpenBLAS on one thread
     (femslide.model.linalg.one_blas_thread: its dense problems are small)."""
     if model.n_q <= DENSE_LIMIT:
-        import scipy.linalg  # noqa: F401  (loaded first: its OpenBLAS is set too)
+        load_lapack(always=True)   # (loaded first: its OpenBLAS is set too)
     with one_blas_thread():
         return _modes(model, y, elements, masses, count, zero_ok, max_free)
 
@@ -79,18 +104,15 @@ def _modes(model, y, elements, masses, count=6, zero_ok=False, max_free=None):
     may be 1e-12 of its stiffest and are solved by the stable path."""
     n_q = model.n_q
     Mr, Mc, Mv = masses.matrix(y[:n_q])
-    M = sp.csc_matrix((Mv, (Mr, Mc)), shape=(n_q, n_q))
-    if M.nnz == 0 or not np.any(Mv):
+    if not np.any(Mv):
         raise SolverFailure("no natural frequencies: nothing in the structure has mass")
-    K, G, S = tangent(model, y, elements)
     if n_q <= DENSE_LIMIT:
-        from scipy.linalg import eigh, null_space
-        Gd = G.toarray()
+        K, Gd = dense_tangent(model, y, elements)
         Z = null_space(Gd) if Gd.shape[0] else np.eye(n_q)
         if Z.shape[1] == 0:
             raise SolverFailure("no natural frequencies: the joints leave the structure no motion")
-        Kr = Z.T @ K.toarray() @ Z
-        Mrd = Z.T @ M.toarray() @ Z
+        Kr = Z.T @ K @ Z
+        Mrd = Z.T @ masses.dense(y[:n_q]) @ Z
         Kr, Mrd = 0.5 * (Kr + Kr.T), 0.5 * (Mrd + Mrd.T)
         if zero_ok:   # (a singular Kr may still pass the Cholesky factorisation by round-off)
             kw, kV = eigh(Kr)
@@ -102,14 +124,19 @@ def _modes(model, y, elements, masses, count=6, zero_ok=False, max_free=None):
             if not zero_ok:
                 raise SolverFailure("the static state is not stable (its reduced stiffness is not positive "
                                     "definite): no natural frequencies") from None
-            return _mechanism_modes(model, Z, Kr, Mrd, count)
+            # (Kr's eigenvalues all above FREE but its Cholesky factorisation failed by round-off: the
+            # mechanism path, with no direction split off, solves it from those eigenvalues)
+            return _mechanism_modes(model, Z, kw, kV, Mrd, count, max_free)
         order = np.argsort(w)[::-1]
         w, V = w[order], V[:, order]
         keep = w > 1e-14 * max(w[0], 1e-300)
         w, V = w[keep][:count], V[:, keep][:, :count]
         shapes = (Z @ V).T
     else:
+        import scipy.sparse as sp
         import scipy.sparse.linalg as spla
+        M = sp.csc_matrix((Mv, (Mr, Mc)), shape=(n_q, n_q))
+        _, _, S = tangent(model, y, elements)
         lu = spla.splu(S.tocsc(), permc_spec="COLAMD")
         n = S.shape[0]
 
@@ -157,7 +184,6 @@ def _mechanism_modes(model, Z, kw, kV, Mr, count, max_free=None):
     motions x = W b + N a with W^T K W b = omega^2 M* b, M* = W^T M W - W^T M N (N^T M N)^+ N^T M W
     (the free part a = -(N^T M N)^+ N^T M W b follows, carrying no force), solved for 1 / omega^2 as
     the stable path is.  SolverFailure when K has a negative eigenvalue (an unstable state)."""
-    from scipy.linalg import eigh
     scale = max(float(np.abs(kw).max()), 1e-300)
     if kw.min() < -FREE * scale:
         raise SolverFailure("the static state is not stable (its reduced stiffness has a negative "

@@ -47,7 +47,7 @@ import numpy as np
 from femslide.analysis.newton import newton
 from femslide.errors import SolverFailure
 from femslide.model.discrete import Model
-from femslide.model.linalg import Assembler, Factorized, kernel_function
+from femslide.model.linalg import Assembler, Factorized, complement, kernel_function, member
 from femslide.model.state import ElementState, MotionState
 
 S6 = math.sqrt(6.0)
@@ -222,7 +222,7 @@ class RadauSystem:
             return r, coo, info
         rows, cols, vals = coo
         if self._rel_pos is None or self._rel_pos[0] is not rows:
-            self._rel_pos = (rows, np.nonzero(np.isin(rows, nq + rel))[0])
+            self._rel_pos = (rows, np.nonzero(member(rows, nq + rel))[0])
         vals = vals.copy()
         vals[self._rel_pos[1]] = 0.0
         d = nq + rel
@@ -573,7 +573,7 @@ def start_multipliers(sysm: RadauSystem, s: MotionState, acc, mu_step):
                       False)[0][nq:] for k in (-1.0, 1.0)]
         gamma = (g[0] - 2.0 * r[nq:] + g[1]) / (eps * eps)
         gamma[sysm.released] = 0.0
-    light = np.setdiff1d(np.arange(nq), heavy)
+    light = complement(nq, heavy)
     M = sysm.masses.dense(q)
     G = constraint_gradient((rows, cols, vals), nq, nc)
     GT = np.zeros((nq, nc))

@@ -60,7 +60,6 @@ import math
 import time
 
 import numpy as np
-import scipy.sparse as sp
 
 from femslide.errors import BadInput, SolverFailure
 from femslide.joints.kinds import kind_of
@@ -106,6 +105,7 @@ def rotation_dampers(model, dampers, C=None):
                            f"{', '.join(model.body_index) or 'none'}")
         rows.append(model.body_dof(name) + 2)
         vals.append(float(c) / (model.Fref * model.Lref))
+    import scipy.sparse as sp
     D = sp.coo_matrix((vals, (rows, rows)), shape=(model.n_q, model.n_q))
     C = D if C is None else (C + D).tocoo()
     C.sum_duplicates()
@@ -328,6 +328,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     modal = (omega, phi, np.where(omega > 0, spec.alpha / (2.0 * om_) + spec.beta * om_ / 2.0, 0.0), stuck)
     C = None
     if spec.alpha or spec.beta:
+        import scipy.sparse as sp
+
         from femslide.analysis.modes import tangent
         K0, _, _ = tangent(model, y_s, e_s)
         r, c, v = masses.matrix(y_s[:model.n_q])

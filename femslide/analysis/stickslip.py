@@ -23,7 +23,7 @@ from femslide.analysis.radau import NEWTON_TOL, consistent_start, constraint_gra
 from femslide.errors import SolverFailure
 from femslide.joints.friction import FrictionJoint
 from femslide.joints.holds import SlideHold
-from femslide.model.linalg import add_coo, solve_linear
+from femslide.model.linalg import add_coo, complement, solve_linear
 from femslide.model.state import ElementState, MotionState
 
 
@@ -266,7 +266,7 @@ class _Light:
         self.sysm, self.model, self.v = sysm, sysm.model, v
         self.elements = elements.copy()   # the trials of this solve
         n_q = self.model.n_q
-        light = np.setdiff1d(np.arange(n_q), heavy).astype(np.intp)
+        light = complement(n_q, heavy).astype(np.intp)
         self.first = self.full(y)
         A = self.first[1]
         G = A[n_q:, light]

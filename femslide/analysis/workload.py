@@ -12,7 +12,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import scipy.sparse as sp
 
 from femslide.errors import BadInput
 
@@ -72,23 +71,20 @@ def release_frequency(model, masses, y_s, e_s, y0):
     into the modes of the frictionless structure about y_s (dense, every mode); modes with a smaller
     share (the telescopic piece's 410 kHz axial vibration in section 5.2: 0.25 %) are damped out by the
     integrator within a few steps and cost nothing."""
-    from scipy.linalg import eigh, null_space
-
-    from femslide.analysis.modes import DENSE_LIMIT, tangent
+    from femslide.analysis.modes import DENSE_LIMIT, dense_tangent
+    from femslide.model.linalg import eigh, null_space
     n_q = model.n_q
     heavy = masses.massive_dofs()
     dq = y0[:n_q] - y_s[:n_q]
     A = float(np.abs(dq[heavy]).max()) if heavy.size else 0.0
     if n_q > DENSE_LIMIT or A == 0.0:
         return None
-    K, G, _ = tangent(model, y_s, e_s)
-    r, c, v = masses.matrix(y_s[:n_q])
-    M = sp.csc_matrix((v, (r, c)), shape=(n_q, n_q)).toarray()
-    Gd = G.toarray()
+    K, Gd = dense_tangent(model, y_s, e_s)
+    M = masses.dense(y_s[:n_q])
     Z = null_space(Gd) if Gd.shape[0] else np.eye(n_q)
     if Z.shape[1] == 0:   # no motion while every joint holds (a bar on a pin and a contact)
         return None
-    Kr, Mr = Z.T @ K.toarray() @ Z, Z.T @ M @ Z
+    Kr, Mr = Z.T @ K @ Z, Z.T @ M @ Z
     try:
         w, V = eigh(0.5 * (Mr + Mr.T), 0.5 * (Kr + Kr.T))   # w = 1 / omega^2, V^T Kr V = I
     except np.linalg.LinAlgError:

@@ -9,7 +9,10 @@ LAPACK's own algorithms, dgetf2 and dgbtf2, without the cost of calling LAPACK t
 wrappers, which at these sizes is most of the solve); without the kernel they are LAPACK's dgesv
 and dgbsv, loaded from scipy's compiled wrappers without importing ``scipy.linalg`` (whose import
 costs ten times a small solve).  A band matrix keeps its factors: a second right-hand side costs a
-solve, not a factorisation.
+solve, not a factorisation.  The dense symmetric eigenproblems and null spaces of the natural modes
+(:func:`eigh`, :func:`null_space`) call LAPACK the same way, as scipy.linalg would, and the set
+operations (:func:`distinct`, :func:`member`, :func:`complement`) are numpy's without numpy.ma: a
+time history without damping or friction imports no scipy module.
 """
 from __future__ import annotations
 
@@ -144,13 +147,32 @@ class Banded:
         return BandMatrix(self, ab.reshape(self.size, self.shape[0]).T)
 
 
-def distinct(a):
+def distinct(a, first=False):
     """Sorted distinct values of an array, flattened (np.unique's result for finite values; np.unique
-    itself imports numpy.ma on its first call: 35 ms without bytecode, ~17 ms with, and ~3 MB)."""
-    a = np.sort(np.asarray(a).ravel())
-    if a.size:
-        a = a[np.concatenate(([True], a[1:] != a[:-1]))]
-    return a
+    itself imports numpy.ma on its first call: 35 ms without bytecode, ~17 ms with, and ~3 MB); with
+    ``first``, also the index of each value's first occurrence (np.unique's ``return_index``)."""
+    a = np.asarray(a).ravel()
+    order = np.argsort(a, kind="stable")
+    a = a[order]
+    keep = np.concatenate(([True], a[1:] != a[:-1])) if a.size else np.zeros(0, dtype=bool)
+    return (a[keep], order[keep]) if first else a[keep]
+
+
+def member(a, values):
+    """Whether each entry of a is among ``values`` (np.isin, without its import of numpy.ma)."""
+    v = distinct(values)
+    a = np.asarray(a)
+    if not v.size:
+        return np.zeros(a.shape, dtype=bool)
+    i = np.minimum(np.searchsorted(v, a), v.size - 1)
+    return v[i] == a
+
+
+def complement(n, idx):
+    """The indices 0 .. n-1 not in ``idx``, ascending (np.setdiff1d(np.arange(n), idx))."""
+    keep = np.ones(n, dtype=bool)
+    keep[np.asarray(idx, dtype=np.intp)] = False
+    return np.nonzero(keep)[0]
 
 
 def reverse_cuthill_mckee(rows, cols, size):
@@ -207,9 +229,11 @@ def _lapack(name):
             sp_.loader.exec_module(mod)
             mod.dgesv, mod.dgbtrf, mod.dgbtrs   # noqa: B018 - all present, else the fallback
             _FLAPACK.append(mod)
+            _OPENBLAS_SEEN[0] = -1   # (it brought scipy's OpenBLAS: one_blas_thread scans the libraries again)
         except Exception:  # noqa: BLE001 - any surprise: the documented import
             from scipy.linalg import lapack
             _FLAPACK.append(lapack)
+            _OPENBLAS_SEEN[0] = -1
     return getattr(_FLAPACK[0], name)
 
 
@@ -271,11 +295,13 @@ def one_blas_thread():
             set_(n)
 
 
-def load_lapack():
+def load_lapack(always=False):
     """Load the compiled LAPACK routines now (a few ms, the first time in a process) if the solves
-    need them (not with the compiled kernel, whose LU is its own): the FE modules call it when
-    imported, so that a timed solve does not pay for it (``import_time_s``)."""
-    if not kernel_enabled():
+    need them (not with the compiled kernel, whose LU is its own; ``always``: the eigenproblems and
+    null spaces of :func:`eigh` and :func:`null_space` do): the FE modules call it when imported, so
+    that a timed solve does not pay for it (``import_time_s``), and the natural modes before
+    :func:`one_blas_thread`, so that the OpenBLAS library loaded with them is set too."""
+    if always or not kernel_enabled():
         _lapack("dgesv")
 
 
@@ -400,6 +426,42 @@ def det_sign(A) -> float:
         odd += x < 0.0
     odd += sum(p != i for i, p in enumerate(piv.tolist()))
     return -1.0 if odd % 2 else 1.0
+
+
+def null_space(A):
+    """An orthonormal basis (n, n - rank) of the null space of the dense (m, n) matrix A: the right
+    singular vectors (LAPACK dgesdd) beyond the singular values above max(m, n) eps times the largest,
+    as scipy.linalg.null_space computes it, without importing scipy.linalg (its import was a third of a
+    short simulate's time)."""
+    A = np.asarray(A, dtype=float)
+    u, s, vt, info = _lapack("dgesdd")(A, compute_uv=1, full_matrices=1)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"SVD did not converge (LAPACK gesdd info {info})")
+    tol = float(np.amax(s, initial=0.0)) * np.finfo(float).eps * max(A.shape)
+    return vt[int(np.sum(s > tol)):, :].T.copy()
+
+
+def eigh(A, B=None):
+    """(w ascending, V) of the dense symmetric eigenproblem A v = w v, or A v = w B v with B positive
+    definite (V^T B V = I), from the lower triangles: scipy.linalg.eigh's default drivers (LAPACK
+    dsyevr, dsygvd) called as it calls them, without importing scipy.linalg.  LinAlgError where B is
+    not positive definite or the algorithm fails."""
+    A = np.asarray(A, dtype=float)
+    n = A.shape[0]
+    if n == 0:
+        return np.zeros(0), np.zeros((0, 0))
+    if B is None:
+        lw = _lapack("dsyevr_lwork")(n, lower=1)
+        if lw[-1] != 0:
+            raise np.linalg.LinAlgError(f"LAPACK dsyevr workspace query info {lw[-1]}")
+        w, v, _, _, info = _lapack("dsyevr")(A, compute_v=1, lower=1, lwork=int(lw[0]), liwork=int(lw[1]))
+    else:
+        w, v, info = _lapack("dsygvd")(A, np.asarray(B, dtype=float), itype=1, jobz="V", uplo="L")
+    if info > n:
+        raise np.linalg.LinAlgError(f"the leading minor of order {info - n} of B is not positive definite")
+    if info != 0:
+        raise np.linalg.LinAlgError(f"the symmetric eigenproblem failed (LAPACK info {info})")
+    return w, v
 
 
 def lu_factor(A):

@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from femslide.model.linalg import kernel_function
+from femslide.model.linalg import distinct, kernel_function
 
 
 class Masses:
@@ -79,7 +79,7 @@ class Masses:
     def massive_dofs(self):
         """Dofs with inertia (lumped node translations, body dofs with mass or inertia)."""
         b = [self.body_d[:, None] + np.arange(3)[None, :]] if self.body_d.size else []
-        return np.unique(np.concatenate([self.node_dofs, *[x.ravel() for x in b]])).astype(np.intp)
+        return distinct(np.concatenate([self.node_dofs, *[x.ravel() for x in b]])).astype(np.intp)
 
     # -- body kinematics -----------------------------------------------------------------------------
     def _rho(self, q):

@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from femslide.model.linalg import distinct, member
+
 POINTS = 6   # samples per local interpolation (degree 5)
 
 
@@ -39,8 +41,8 @@ def interpolate(ta, Xa, tb, breaks=(), kinks=()):
     kk = np.asarray(list(kinks), dtype=float)
     dup = np.nonzero(ta[:-1] == ta[1:])[0]
     # (two rows at one time are a switch - its left limit and the state after -: a break, listed or not)
-    br = np.unique(np.concatenate([np.asarray(list(breaks), dtype=float), ta[dup], kk]))
-    is_kink = np.isin(br, kk)
+    br = distinct(np.concatenate([np.asarray(list(breaks), dtype=float), ta[dup], kk]))
+    is_kink = member(br, kk)
     seg_a = np.searchsorted(br, ta, side="right")     # segment index of every sample
     # a row followed by another at the same time is a left limit (the state before an event's
     # switch): it belongs to the segment before
@@ -53,7 +55,7 @@ def interpolate(ta, Xa, tb, breaks=(), kinks=()):
             # (the row at the segment's closing kink, too - unless the segment has a row at that time:
             # the left limit of an event there)
             at = np.nonzero((ta == br[k]) & (seg_a == k + 1))[0]
-            idx = np.union1d(idx, at[:1])
+            idx = distinct(np.concatenate([idx, at[:1]]))
         if idx.size == 0:
             continue
         j = int(np.searchsorted(ta[idx], t))
