@@ -14,7 +14,9 @@ same load of the (shared, 2-core) machine; the absolute times drift with that lo
    then secant steps to lam = 1).  Bytecode: both run with PYTHONPYCACHEPREFIX set to a folder filled
    by a first run (this environment sets PYTHONDONTWRITEBYTECODE=1, under which an editable install
    recompiles femslide's source at every start); the same without bytecode for reference, and the bare
-   ``python -c pass`` and ``python -c "import numpy"``.
+   ``python -c pass`` and ``python -c "import numpy"``.  Context row (no target): section 5.2's time
+   history as a whole process at equal accuracy, ``femslide simulate`` of its structure file at
+   tolerance 1e-5 against a script that imports numpy and runs OpenSees Newmark at dt = 4e-3 (section 4).
 2. In process, warm: the same 9 cases through the sweep's own executor (femslide/app/sweeps.py
    ``run_serial``, a second sweep in the process) against the sum of OpenSees' analysis times (its
    stepping and secant, not the model building) of the same 9 cases, both in CPU seconds of the
@@ -97,6 +99,15 @@ for v in json.loads(sys.argv[1]):
     if r["status"] != 0:
         raise SystemExit("OpenSees failed at EI = %g" % v["EI"])
 """
+# section 5.2 at equal accuracy in a whole process (section 1's context row): OpenSees Newmark at its
+# coarsest step within 1e-6 of the peak |F2| (dt = 4e-3, section 4)
+OPENSEES_DYNAMICS = """
+import sys
+import numpy
+sys.path.insert(0, {here!r})
+from opensees_models import opensees_oscillation
+opensees_oscillation(dt=4e-3, history=False)
+"""
 
 
 def _run(cmd, env):
@@ -138,6 +149,12 @@ def whole_process(repeats, ops):
                     "femslide sweep": fs_cmd}
             if ops:
                 cmds["OpenSees script"] = os_cmd
+            if bytecode:   # (and section 5.2's time history at equal accuracy: 1e-6 of the peak |F2|)
+                cmds["femslide simulate"] = [sys.executable, "-m", "femslide", "simulate",
+                                             str(ROOT / "meshes/structures/beam-oscillation.toml"), "--set",
+                                             "simulate.tolerance=1e-5", "--json", "--quiet"]
+                if ops:
+                    cmds["OpenSees Newmark script"] = [sys.executable, "-c", OPENSEES_DYNAMICS.format(here=str(HERE))]
             if bytecode:   # fill the bytecode folder
                 for c in cmds.values():
                     _run(c, env)
@@ -166,6 +183,14 @@ def whole_process(repeats, ops):
                 row("1 whole process", f"EI sweep, {label}", best["femslide sweep"], best["OpenSees script"], ratio,
                     0.8 if bytecode else None, f"python -c pass {best['python -c pass'] * 1e3:.0f} ms, import numpy "
                     f"{numpy_ms:.0f} ms; beyond numpy {beyond:.2f}")
+                if bytecode:
+                    sim = json.loads(last["femslide simulate"].stdout)
+                    r_d = best["femslide simulate"] / best["OpenSees Newmark script"]
+                    print(f"      section 5.2 time history: ratio femslide / OpenSees {r_d:.2f}")
+                    row("1 whole process", "section 5.2 time history at equal accuracy, with bytecode",
+                        best["femslide simulate"], best["OpenSees Newmark script"], r_d, None,
+                        f"femslide simulate --set simulate.tolerance=1e-5 --json (with its error estimate "
+                        f"{sim['error_estimate']:.1e}) against OpenSees Newmark dt 4e-3 (section 4)")
             out[bytecode] = best
         return out
     finally:
