@@ -611,6 +611,28 @@ def test_ground_power_of_stacked_states_equals_the_inertia_load_times_the_veloci
         assert abs(P[i] - by_inertia) <= 1e-13 * (1.0 + abs(by_load))
 
 
+def test_modes_of_a_mechanism_whose_reduced_stiffness_fails_cholesky_by_round_off(monkeypatch):
+    """With ``zero_ok`` (a state that may be a mechanism) the modes first split off directions free of
+    stiffness by Kr's eigenvalues; where none is free but the Cholesky factorisation of Kr then fails
+    by round-off (forced here: the pair eigenproblem raises), the mechanism path solves the modes from
+    Kr's eigenpairs: the two-storey frame's lowest frequencies (its reduced stiffness's eigenvalues
+    span 1.6e7: none free), as the regular path finds them, to 1e-9."""
+    from femslide.analysis import modes as md
+    from femslide.analysis.simulate import _modes_on
+    from femslide.app import structfile
+    fs = structfile.load("meshes/structures/two-storey-frame.toml").structure.freeze()
+    model, y, elements, masses, freq, _, _ = _modes_on(fs, 8, 3)
+    plain = md.eigh
+
+    def failing(A, B=None):   # (the pair with Kr fails; the mechanism path's pair with diag(kw) does not)
+        if B is not None and np.count_nonzero(B - np.diag(np.diag(B))):
+            raise np.linalg.LinAlgError("the leading minor of order 3 of B is not positive definite")
+        return plain(A, B)
+    monkeypatch.setattr(md, "eigh", failing)
+    got, _ = md.modes(model, y, elements, masses, 3, zero_ok=True)
+    assert np.allclose(got, freq, rtol=1e-9) and got.size == freq.size == 3 and freq.min() > 1.0
+
+
 def test_body_inertia_numpy_path_equals_the_scalar_path():
     """Masses.inertia has a Python loop for a few bodies and a numpy path for many: on a structure with
     three bodies (welded to a rod with rhoA, welded to each other, one on a spring hinge off its

@@ -195,7 +195,7 @@ def _mechanism_modes(model, Z, kw, kV, Mr, count, max_free=None):
     Mnn, Mnw = N.T @ Mr @ N, N.T @ Mr @ W
     Mnn_pinv = np.linalg.pinv(0.5 * (Mnn + Mnn.T), rcond=1e-12, hermitian=True)
     mu, U = eigh(0.5 * (Mnn + Mnn.T))
-    heavy = mu > 1e-12 * max(float(np.abs(mu).max()), 1e-300)
+    heavy = mu > 1e-12 * max(float(np.abs(mu).max(initial=0.0)), 1e-300)   # (none when no direction is free)
     zero_shapes = (N @ U[:, heavy]).T                    # the free directions with mass: zero frequencies
     freq, shapes = np.zeros(int(heavy.sum())), zero_shapes
     if W.shape[1]:
