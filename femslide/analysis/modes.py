@@ -36,16 +36,21 @@ from femslide.model.linalg import BandMatrix, distinct, eigh, load_lapack, null_
 DENSE_LIMIT = 600
 
 
+def _band_entries(model, A):
+    """(rows, cols, values, size) of a banded Jacobian's pattern entries, each position once."""
+    rows, cols, size, band, _, _ = model._pattern(None)
+    flat, idx = distinct(band.flat, first=True)
+    return rows[idx], cols[idx], A.ab.T.ravel()[flat], size   # (ab is Fortran-ordered: flat indexes its transpose)
+
+
 def to_sparse(model, A):
     """The Jacobian of :meth:`Model.system` (dense, banded or sparse) as a scipy CSC matrix."""
     import scipy.sparse as sp
     if isinstance(A, np.ndarray):
         return sp.csc_matrix(A)
     if isinstance(A, BandMatrix):
-        rows, cols, size, band, _, _ = model._pattern(None)
-        flat, idx = distinct(band.flat, first=True)
-        vals = A.ab.T.ravel()[flat]   # (ab is the Fortran-ordered band: flat indexes its transpose)
-        return sp.csc_matrix((vals, (rows[idx], cols[idx])), shape=(size, size))
+        rows, cols, vals, size = _band_entries(model, A)
+        return sp.csc_matrix((vals, (rows, cols)), shape=(size, size))
     return sp.csc_matrix(A)
 
 
@@ -55,10 +60,9 @@ def to_dense(model, A):
     if isinstance(A, np.ndarray):
         return A
     if isinstance(A, BandMatrix):
-        rows, cols, size, band, _, _ = model._pattern(None)
-        flat, idx = distinct(band.flat, first=True)
+        rows, cols, vals, size = _band_entries(model, A)
         D = np.zeros((size, size))
-        D[rows[idx], cols[idx]] = A.ab.T.ravel()[flat]
+        D[rows, cols] = vals
         return D
     return A.toarray()
 
