@@ -33,6 +33,7 @@ class Spec:
     rotation_damping: dict | None = None   # {body name: c [N m s/rad]}: rotational dashpots
     turning: tuple = ()                   # bodies whose rotation rate's zeros are located (turning points)
     estimate: bool = True                 # a check run at CHECK_FACTOR * tolerance gives error_estimate
+    #                                       (beside the run where it can: femslide.analysis.forked)
     max_time: float | None = None         # the user's wall-time limit [s] of the run (None: none)
     output_interval: float | None = None  # the history's rows at multiples of this [s] (None: every step)
 

@@ -53,6 +53,13 @@ none) is the user's, beyond which the run stops cleanly (SolverFailure naming it
 kept on the exception (``exc.outcome``, written by ``--out``).
 Sliders and rollers with ``mu`` carry Coulomb friction (femslide/joints/friction.py: exact stick, events
 located in time); the static start ignores friction.
+
+Error estimate (``error_estimate``, on by default): a check run from the same start at CHECK_FACTOR
+(10) times the tolerance (:func:`_check_run`), compared with the run (:func:`_accuracy`).  It needs
+nothing of the run, so where a second CPU is there (Linux) it runs beside the run in a forked process
+(femslide.analysis.forked; ``FEMSLIDE_CHECK_RUN=serial`` keeps it after the run): the same values,
+bit for bit, for the CPU time of a check run and little wall time.  A run that fails stops its check
+run; a check run stopped by ``max_time`` stops the simulate as it would after the run.
 """
 from __future__ import annotations
 
@@ -61,6 +68,7 @@ import time
 
 import numpy as np
 
+from femslide.analysis.forked import ChildLost, Forked
 from femslide.errors import BadInput, SolverFailure
 from femslide.joints.kinds import kind_of
 from femslide.records import replace
@@ -182,16 +190,13 @@ def floors(H, cols, offsets, size, T1):
     return [FLOOR * big[u] if u is not None else 0.0 for u in unit]
 
 
-def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1, size, progress=None):
-    """The error estimate of a run (see the module docstring): a check run at CHECK_FACTOR times
-    the tolerance and its differences from the run's histories, peaks and event times, divided by
-    (steps / check steps)^ORDER_GLOBAL - 1 (the check run's error over the run's, less one).
-    Returns the result keys ``error_estimate`` (the largest relative estimate of histories and
-    peaks, or None when the check run fails) and ``accuracy`` (the parts)."""
-    from femslide.analysis.radau import ORDER
-    from femslide.analysis.transient import CHECK_FACTOR, ORDER_GLOBAL
-    from femslide.results.compare import event_difference, history_difference, peak_difference
-    tol_c = CHECK_FACTOR * spec.tolerance
+def _check_run(spec, run_at, new_friction, peaks_of, T1, progress=None):
+    """The check run of the error estimate (see the module docstring): the integration at
+    CHECK_FACTOR times the tolerance from the run's start, as what :func:`_accuracy` compares -
+    {"steps", "H" (its history), "events", "peaks", "time_s"} - or {"failed": the reason's first
+    line} when it fails; the user's time limit (``max_time``) raises.  It needs nothing of the run
+    it checks: simulate runs it beside the run where it can (femslide.analysis.forked)."""
+    from femslide.analysis.transient import CHECK_FACTOR
     t0 = time.perf_counter()
     fr_c = new_friction()
     if fr_c is not None:   # (its contacts come to rest and rebound as the run's, and its touches of a
@@ -199,19 +204,35 @@ def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1, size, prog
         fr_c.tolerance = spec.tolerance
         fr_c.resolution = 0.1 * spec.tolerance * T1
     try:
-        run_c, Hc = run_at(tol_c, fr_c, False, progress)
+        run_c, Hc = run_at(CHECK_FACTOR * spec.tolerance, fr_c, False, progress)
     except SolverFailure as exc:
         if getattr(exc, "time_limit", False):   # the user's max_time: the run stops (simulate)
             raise
-        return {"error_estimate": None,
-                "accuracy": {"check_tolerance": tol_c, "check_failed": str(exc).splitlines()[0]}}
+        return {"failed": str(exc).splitlines()[0]}
+    return {"steps": run_c.steps, "H": Hc, "events": fr_c.events if fr_c is not None else {},
+            "peaks": peaks_of(Hc, fr_c), "time_s": time.perf_counter() - t0}
+
+
+def _accuracy(spec, check, H, res, cols, T1, size):
+    """The error estimate of a run (see the module docstring) from its check run ``check``
+    (:func:`_check_run`): the differences of the check run's histories, peaks and event times from
+    the run's, divided by (steps / check steps)^ORDER_GLOBAL - 1 (the check run's error over the
+    run's, less one).  Returns the result keys ``error_estimate`` (the largest relative estimate of
+    histories and peaks, or None when the check run failed) and ``accuracy`` (the parts)."""
+    from femslide.analysis.radau import ORDER
+    from femslide.analysis.transient import CHECK_FACTOR, ORDER_GLOBAL
+    from femslide.results.compare import event_difference, history_difference, peak_difference
+    tol_c = CHECK_FACTOR * spec.tolerance
+    if "failed" in check:
+        return {"error_estimate": None, "accuracy": {"check_tolerance": tol_c, "check_failed": check["failed"]}}
+    Hc = check["H"]
     # the check run's error is (steps / check steps)^ORDER_GLOBAL times the run's; the steps grow at
     # most as the tolerance^(-1/ORDER) (the local estimate's order) when the step control follows the
     # accuracy: steps beyond that (a 32-element cantilever at 1e-5 took 6.2 times the check run's
     # steps) buy no more than that, and the estimate is not divided by more (it was 36 times low)
     ratio_max = CHECK_FACTOR ** (ORDER_GLOBAL / ORDER) - 1.0
-    ratio = min(max((res["steps"] / max(run_c.steps, 1)) ** ORDER_GLOBAL - 1.0, 0.3), ratio_max)
-    ev, ev_c = res["events"], (fr_c.events if fr_c is not None else {})
+    ratio = min(max((res["steps"] / max(check["steps"], 1)) ** ORDER_GLOBAL - 1.0, 0.3), ratio_max)
+    ev, ev_c = res["events"], check["events"]
     agree, dt = event_difference(ev, ev_c)
     times = [e["t"] for evs in ev.values() for e in evs if e["t"] > 0.0]
     if agree:
@@ -226,7 +247,7 @@ def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1, size, prog
     kinks = () if spec.ground is None or spec.ground.times is None else spec.ground.times
     hist = history_difference(H[:, 0], H[:, 1:], Hc[:, 0], Hc[:, 1:], times, windows, offsets[1:],
                               floors(H, cols, offsets, size, T1)[1:], kinks=kinks) / ratio
-    pk = peak_difference(res["peaks"], peaks_of(Hc, fr_c), peak_floors(res["peaks"]))
+    pk = peak_difference(res["peaks"], check["peaks"], peak_floors(res["peaks"]))
     # a rod's largest moment is a maximum over its nodes: its history has kinks where the maximum
     # moves from one node to another, which no interpolation follows; it is judged by its peak
     hist[[c.endswith(".M_max") for c in cols[1:]]] = 0.0
@@ -242,7 +263,7 @@ def _accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, T1, size, prog
     worst_h = int(np.argmax(hist)) if hist.size else None
     e_h = float(hist.max()) if hist.size else 0.0
     e_p = max(pk.values(), default=0.0) / ratio
-    acc = {"check_tolerance": tol_c, "check_steps": run_c.steps, "check_time_s": time.perf_counter() - t0,
+    acc = {"check_tolerance": tol_c, "check_steps": check["steps"], "check_time_s": check["time_s"],
            "histories": e_h, "worst_history": cols[1 + worst_h] if worst_h is not None and e_h > 0 else None,
            "peaks": e_p, "derivatives": max(h_acc, max(p_acc.values(), default=0.0) / ratio),
            "worst_derivative": worst_a, "events_agree": agree,
@@ -558,15 +579,23 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
             exc.outcome = outcome(part, H)
         return exc
 
-    # the progress bar (simulated time, with the time left) covers the run and its check run, which
-    # takes about CHECK_FACTOR^(-1/5) of its steps (steps ~ tolerance^(-1/5))
+    # the error estimate's check run: beside the run in a forked process where a second CPU is there
+    # (femslide.analysis.forked; the same values as after it, bit for bit), else after it
+    T1 = 1.0 / f_ref[0]
+    beside = Forked.start(lambda: _check_run(spec, run_at, new_friction, peaks_of, T1)) if spec.estimate else None
+    # the progress bar (simulated time, with the time left) covers the run and a check run after it,
+    # which takes about CHECK_FACTOR^(-1/5) of its steps (steps ~ tolerance^(-1/5))
     from femslide.analysis.transient import CHECK_FACTOR
-    share = 1.0 / (1.0 + CHECK_FACTOR ** -0.2) if spec.estimate else 1.0
+    share = 1.0 / (1.0 + CHECK_FACTOR ** -0.2) if spec.estimate and beside is None else 1.0
     t_int = time.perf_counter()
     try:
         run, H = run_at(spec.tolerance, fr, True, (lambda t: progress(share * t)) if progress else None)
-    except SolverFailure as exc:
-        raise stopped(exc) from None
+    except BaseException as exc:
+        if beside is not None:
+            beside.cancel()
+        if isinstance(exc, SolverFailure):
+            raise stopped(exc) from None
+        raise
     t_int = time.perf_counter() - t_int
     peaks = peaks_of(H, fr)
     res = {"converged": True, "steps": run.steps, "rejected_steps": run.rejected,
@@ -578,11 +607,24 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
            "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
     if run.notes:
         res["notes"] = list(run.notes)
-    check_trust(res, spec.tolerance, model.Fref * model.Lref, 2 * len(fr.touches) if fr is not None else 0)
+    try:
+        check_trust(res, spec.tolerance, model.Fref * model.Lref, 2 * len(fr.touches) if fr is not None else 0)
+    except BaseException:
+        if beside is not None:
+            beside.cancel()
+        raise
     if spec.estimate:
         try:
-            res.update(_accuracy(spec, run_at, new_friction, peaks_of, H, res, cols, 1.0 / f_ref[0], model.Lref,
-                                 (lambda t: progress(share * spec.t_end + (1.0 - share) * t)) if progress else None))
+            check = None
+            if beside is not None:
+                try:   # (a check run takes about 0.6 of the run: silent for 20 runs' time, it is stuck)
+                    check = beside.result(timeout=max(60.0, 20.0 * t_int))
+                except ChildLost:   # (killed, out of memory, stuck: the check run is made here)
+                    check = None
+            if check is None:
+                check = _check_run(spec, run_at, new_friction, peaks_of, T1,
+                                   (lambda t: progress(share * spec.t_end + (1.0 - share) * t)) if progress else None)
+            res.update(_accuracy(spec, check, H, res, cols, T1, model.Lref))
         except SolverFailure as exc:   # only the user's time limit ends the check run so (module docstring)
             raise stopped(exc, {**res, "t_reached": spec.t_end}, H) from None
     else:   # (skipped: the key is there, null)

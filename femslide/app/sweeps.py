@@ -240,7 +240,10 @@ def run_serial(scene_name, cases, todo, out_dirs):
 
 def run_pool(scene_name, cases, todo, out_dirs, jobs):
     from concurrent.futures import ProcessPoolExecutor, as_completed
-    with ProcessPoolExecutor(max_workers=jobs) as pool:
+
+    from femslide.analysis.forked import ENV
+    # (the workers fill the CPUs: a time history's check run is made after its run, in the worker)
+    with ProcessPoolExecutor(max_workers=jobs, initializer=os.environ.__setitem__, initargs=(ENV, "serial")) as pool:
         futs = {pool.submit(solve_case, scene_name, cases[i], out_dirs[i]): i for i in todo}
         try:
             for fut in as_completed(futs):
