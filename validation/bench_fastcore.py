@@ -32,7 +32,9 @@ same load of the (shared, 2-core) machine; the absolute times drift with that lo
    the reduced model's 88.92548492 N (validation/dynamic_references.py): femslide at the loosest of
    the tolerances 1e-5, 1e-6, 1e-7, 1e-8 that brings it within 1e-6 (whole simulate call; 1e-5 gives
    9.9e-7) against OpenSees Newmark at dt = 4e-3 (its coarsest step within 1e-6, refined peak; the analyze loop);
-   femslide as users run it (with its error estimate: a check run at 10x the tolerance) and without the
+   femslide as users run it (with its error estimate: a check run at 10x the tolerance, beside the run
+   in a forked process where a second CPU is there; its CPU time with the child's is printed), the
+   same with the check run after the run (``FEMSLIDE_CHECK_RUN=serial``: one CPU), and without the
    estimate (``error_estimate=False``: the same deliverable as OpenSees' run, which has none).
 5. Scaling: one Newton iteration (assembly of residual and tangent + linear solve) of a cantilever of
    N = 256 ... 65536 elements at its deformed equilibrium, per element, against OpenSees' Newton
@@ -314,14 +316,27 @@ def dynamics(repeats, ops, quick=False):
     # without the estimate: the same deliverable as OpenSees' run, which carries no error estimate (best of
     # --repeats each, interleaved: sub-second runs on a shared machine)
     # (the three interleaved in each round: the load of the machine changes between blocks of runs)
+    # (the check run runs beside the run in a forked process where a second CPU is there: its CPU time,
+    # the child's included, and the same with the check run after the run, FEMSLIDE_CHECK_RUN=serial)
     k = max(3, repeats)
     best_f, res, best_n, best_o, o = math.inf, None, math.inf, math.inf, None
+    best_s, cpu_f = math.inf, math.inf
+    from femslide.analysis.forked import ENV, parallel_allowed
+    beside = parallel_allowed()
     for _ in range(k):
-        t0 = time.perf_counter()
+        c0, t0 = os.times(), time.perf_counter()
         r = femslide.simulate(cases[0][1], tolerance=tol)
-        dt = time.perf_counter() - t0
+        dt, c1 = time.perf_counter() - t0, os.times()
         if dt < best_f:
             best_f, res = dt, r
+        cpu_f = min(cpu_f, sum(c1[:4]) - sum(c0[:4]))
+        os.environ[ENV] = "serial"
+        try:
+            t0 = time.perf_counter()
+            femslide.simulate(cases[0][1], tolerance=tol)
+            best_s = min(best_s, time.perf_counter() - t0)
+        finally:
+            del os.environ[ENV]
         t0 = time.perf_counter()
         r_n = femslide.simulate(cases[0][1], tolerance=tol, error_estimate=False)
         best_n = min(best_n, time.perf_counter() - t0)
@@ -342,6 +357,13 @@ def dynamics(repeats, ops, quick=False):
         f"{res['error_estimate']:.1e}); OpenSees dt 4e-3 error {err_o:.1e}")
     row("4 equal accuracy", "the same without femslide's error estimate (OpenSees gives none)", best_n, best_o,
         ratio_n, 1.0, f"femslide tolerance {tol:g} error {err_n:.1e}, error_estimate=False")
+    print(f"      with the check run {'beside the run (a forked process)' if beside else 'after the run'}: "
+          f"{best_f:.3f} s wall, {cpu_f:.3f} s CPU of both processes; after the run in the process: "
+          f"{best_s:.3f} s: ratio {best_s / best_o:.2f}")
+    row("4 equal accuracy", "the same with the check run after the run (FEMSLIDE_CHECK_RUN=serial, one CPU)",
+        best_s, best_o, best_s / best_o, None,
+        f"the headline row's check run {'ran beside the run (forked)' if beside else 'ran after the run'}: "
+        f"{best_f:.3f} s wall, {cpu_f:.3f} s CPU of both processes")
 
 
 # -- 5. scaling, 6. memory -------------------------------------------------------------------------------------
