@@ -12,10 +12,11 @@ have computed).
 safe: not Linux (macOS forbids fork after its system frameworks started threads, Windows has no
 fork), one usable CPU, other Python threads running (a dask worker, an application's threads: a
 child would inherit their locks, held), or ``FEMSLIDE_CHECK_RUN=serial`` in the environment (a
-sweep's worker processes set it: they already use the CPUs).  A child that dies
-without sending (killed, out of memory), or sends nothing for ``timeout`` seconds (it is then
-stopped), is reported by ``result()`` as ChildLost, and the caller computes ``fn()`` itself.  A SolverFailure of the child is raised again by ``result()`` with its
-reason, residual history and ``time_limit`` flag; any other exception as RuntimeError naming it.
+sweep's worker processes set it: they already use the CPUs).  A child that dies without sending
+(killed, out of memory), or sends nothing for ``timeout`` seconds (it is then stopped), is reported
+by ``result()`` as ChildLost, and the caller computes ``fn()`` itself.  A SolverFailure of the child
+is raised again by ``result()`` with its reason, residual history and ``time_limit`` flag; any other
+exception as RuntimeError naming it.
 """
 from __future__ import annotations
 

@@ -587,48 +587,43 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     # which takes about CHECK_FACTOR^(-1/5) of its steps (steps ~ tolerance^(-1/5))
     from femslide.analysis.transient import CHECK_FACTOR
     share = 1.0 / (1.0 + CHECK_FACTOR ** -0.2) if spec.estimate and beside is None else 1.0
-    t_int = time.perf_counter()
-    try:
-        run, H = run_at(spec.tolerance, fr, True, (lambda t: progress(share * t)) if progress else None)
-    except BaseException as exc:
-        if beside is not None:
-            beside.cancel()
-        if isinstance(exc, SolverFailure):
-            raise stopped(exc) from None
-        raise
-    t_int = time.perf_counter() - t_int
-    peaks = peaks_of(H, fr)
-    res = {"converged": True, "steps": run.steps, "rejected_steps": run.rejected,
-           "newton_iterations": run.newton_iterations, "t_end": spec.t_end,
-           "energy_balance": run.energy_balance, "energy": run.energy,
-           "events": fr.events if fr is not None else {},
-           "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of,
-           **({"frequency_sets": sets} if sets else {}), "peaks": peaks,
-           "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
-    if run.notes:
-        res["notes"] = list(run.notes)
-    try:
-        check_trust(res, spec.tolerance, model.Fref * model.Lref, 2 * len(fr.touches) if fr is not None else 0)
-    except BaseException:
-        if beside is not None:
-            beside.cancel()
-        raise
-    if spec.estimate:
+    try:   # (a child whose result is not read - the run failed, an interrupt - is stopped)
+        t_int = time.perf_counter()
         try:
-            check = None
-            if beside is not None:
-                try:   # (a check run takes about 0.6 of the run: silent for 20 runs' time, it is stuck)
-                    check = beside.result(timeout=max(60.0, 20.0 * t_int))
-                except ChildLost:   # (killed, out of memory, stuck: the check run is made here)
-                    check = None
-            if check is None:
-                check = _check_run(spec, run_at, new_friction, peaks_of, T1,
-                                   (lambda t: progress(share * spec.t_end + (1.0 - share) * t)) if progress else None)
-            res.update(_accuracy(spec, check, H, res, cols, T1, model.Lref))
-        except SolverFailure as exc:   # only the user's time limit ends the check run so (module docstring)
-            raise stopped(exc, {**res, "t_reached": spec.t_end}, H) from None
-    else:   # (skipped: the key is there, null)
-        res["error_estimate"] = None
+            run, H = run_at(spec.tolerance, fr, True, (lambda t: progress(share * t)) if progress else None)
+        except SolverFailure as exc:
+            raise stopped(exc) from None
+        t_int = time.perf_counter() - t_int
+        peaks = peaks_of(H, fr)
+        res = {"converged": True, "steps": run.steps, "rejected_steps": run.rejected,
+               "newton_iterations": run.newton_iterations, "t_end": spec.t_end,
+               "energy_balance": run.energy_balance, "energy": run.energy,
+               "events": fr.events if fr is not None else {},
+               "frequencies_hz": [float(f) for f in freq], "frequencies_of": frequencies_of,
+               **({"frequency_sets": sets} if sets else {}), "peaks": peaks,
+               "elements": {r.name: r.elements for r in fs.rods}, "integration_time_s": t_int}
+        if run.notes:
+            res["notes"] = list(run.notes)
+        check_trust(res, spec.tolerance, model.Fref * model.Lref, 2 * len(fr.touches) if fr is not None else 0)
+        if spec.estimate:
+            try:
+                check = None
+                if beside is not None:
+                    try:   # (a check run takes about 0.6 of the run: silent for 20 runs' time, it is stuck)
+                        check = beside.result(timeout=max(60.0, 20.0 * t_int))
+                    except ChildLost:   # (killed, out of memory, stuck: the check run is made here)
+                        check = None
+                if check is None:
+                    after = (lambda t: progress(share * spec.t_end + (1.0 - share) * t)) if progress else None
+                    check = _check_run(spec, run_at, new_friction, peaks_of, T1, after)
+                res.update(_accuracy(spec, check, H, res, cols, T1, model.Lref))
+            except SolverFailure as exc:   # only the user's time limit ends the check run so (module docstring)
+                raise stopped(exc, {**res, "t_reached": spec.t_end}, H) from None
+        else:   # (skipped: the key is there, null)
+            res["error_estimate"] = None
+    finally:
+        if beside is not None:
+            beside.cancel()   # (nothing once its result was read)
     if spec.turning:   # the located zeros of the bodies' rotation rates (rows of the history)
         T = H[:, 0]
         res["turning_points"] = {
