@@ -515,14 +515,25 @@ def test_drifts_peaks_and_residuals_of_a_two_storey_column(tmp_path):
     assert "drifts.floor2-floor1.dx" in m.field_data and "bodies.floor2.ax" in m.field_data
 
 
-def test_progress_covers_the_run_and_its_check_run():
+def test_progress_covers_the_run_and_its_check_run(monkeypatch):
     """The progress callback (the bar with the time left) moves monotonically over the run and then its
-    error estimate's check run, reaching t_end only at the end of both."""
-    from femslide.analysis.simulate import parse_spec, simulate
+    error estimate's check run, reaching t_end only at the end of both: with the check run after the
+    run (FEMSLIDE_CHECK_RUN=serial) half the calls are the check run's; with the check run beside the
+    run, where a child can be forked, the run takes the bar to 0.95 t_end and the child's result to
+    t_end."""
+    from femslide.analysis import forked
+    from femslide.analysis.simulate import BESIDE_SHARE, parse_spec, simulate
     f = []
     s = _chain(300.0)
+    monkeypatch.setenv(forked.ENV, "serial")
     simulate(s.freeze(), parse_spec({"t_end": 0.3}), progress=f.append)
     assert np.all(np.diff(f) >= 0) and f[-1] == pytest.approx(0.3) and 0.15 < f[len(f) // 2] < 0.3
+    monkeypatch.delenv(forked.ENV)
+    if forked.parallel_allowed():
+        f = []
+        simulate(s.freeze(), parse_spec({"t_end": 0.3}), progress=f.append)
+        assert np.all(np.diff(f) >= 0) and f[-1] == pytest.approx(0.3)
+        assert max(f[:-1]) <= BESIDE_SHARE * 0.3 * (1 + 1e-12) and f[-2] == pytest.approx(BESIDE_SHARE * 0.3)
     g = []
     simulate(s.freeze(), parse_spec({"t_end": 0.3, "error_estimate": False}), progress=g.append)
     assert np.all(np.diff(g) >= 0) and g[-1] == pytest.approx(0.3)

@@ -330,13 +330,17 @@ def dynamics(repeats, ops, quick=False):
         if dt < best_f:
             best_f, res = dt, r
         cpu_f = min(cpu_f, sum(c1[:4]) - sum(c0[:4]))
+        user = os.environ.get(ENV)
         os.environ[ENV] = "serial"
         try:
             t0 = time.perf_counter()
             femslide.simulate(cases[0][1], tolerance=tol)
             best_s = min(best_s, time.perf_counter() - t0)
         finally:
-            del os.environ[ENV]
+            if user is None:
+                del os.environ[ENV]
+            else:
+                os.environ[ENV] = user
         t0 = time.perf_counter()
         r_n = femslide.simulate(cases[0][1], tolerance=tol, error_estimate=False)
         best_n = min(best_n, time.perf_counter() - t0)

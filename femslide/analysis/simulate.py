@@ -582,12 +582,15 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     # the error estimate's check run: beside the run in a forked process where a second CPU is there
     # (femslide.analysis.forked; the same values as after it, bit for bit), else after it
     T1 = 1.0 / f_ref[0]
-    beside = Forked.start(lambda: _check_run(spec, run_at, new_friction, peaks_of, T1)) if spec.estimate else None
-    # the progress bar (simulated time, with the time left) covers the run and a check run after it,
-    # which takes about CHECK_FACTOR^(-1/5) of its steps (steps ~ tolerance^(-1/5))
-    from femslide.analysis.transient import CHECK_FACTOR
-    share = 1.0 / (1.0 + CHECK_FACTOR ** -0.2) if spec.estimate and beside is None else 1.0
+    beside = None
     try:   # (a child whose result is not read - the run failed, an interrupt - is stopped)
+        if spec.estimate:
+            beside = Forked.start(lambda: _check_run(spec, run_at, new_friction, peaks_of, T1))
+        # the progress bar (simulated time, with the time left) covers the run and a check run after it,
+        # which takes about CHECK_FACTOR^(-1/5) of its steps (steps ~ tolerance^(-1/5)); a check run
+        # beside the run ends about with it: the bar reaches t_end when its result is in
+        from femslide.analysis.transient import CHECK_FACTOR
+        share = (1.0 / (1.0 + CHECK_FACTOR ** -0.2) if beside is None else BESIDE_SHARE) if spec.estimate else 1.0
         t_int = time.perf_counter()
         try:
             run, H = run_at(spec.tolerance, fr, True, (lambda t: progress(share * t)) if progress else None)
@@ -611,7 +614,9 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
                 if beside is not None:
                     try:   # (a check run takes about 0.6 of the run: silent for 20 runs' time, it is stuck)
                         check = beside.result(timeout=max(60.0, 20.0 * t_int))
-                    except ChildLost:   # (killed, out of memory, stuck: the check run is made here)
+                        if progress:
+                            progress(spec.t_end)
+                    except ChildLost:   # (killed, out of memory, stuck, failed otherwise: made here)
                         check = None
                 if check is None:
                     after = (lambda t: progress(share * spec.t_end + (1.0 - share) * t)) if progress else None
@@ -631,6 +636,8 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
                 for k, t in run.crossings if spec.turning[k] == b] for b in spec.turning}
     return outcome(res, H)
 
+
+BESIDE_SHARE = 0.95   # of the progress bar for the run when its check run runs beside it
 
 MODES_TARGET = 2e-7    # estimated relative error the refinement of `femslide modes` aims for (below 1e-6)
 MODES_N_MAX = 1024     # elements per massive rod at most

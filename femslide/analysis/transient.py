@@ -71,6 +71,8 @@ N_FLOOR = 1e-6        # a friction joint's normal force below this share of the 
 F_MOTION_MIN = 1e-9  # floor of the motion's force scale (model units) that Newton's residual is measured against
 SETTLE = 1e-2        # a step's Newton stops where a 100x contraction, continued, predicts convergence (newton settle)
 REUSE = 0.1          # ... and takes chord steps (the step's first Newton matrix kept) while each cuts the residual 10x
+#                      (settle predicts after full steps only, which REUSE >= SETTLE leaves to slow contractions:
+#                      with chord steps a step's Newton ends on an evaluated residual)
 MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/analysis/simulate.py comes first)
 
 

@@ -238,12 +238,19 @@ def run_serial(scene_name, cases, todo, out_dirs):
         yield i, row, status
 
 
+def _serial_check_runs():
+    """A pool worker's initializer (module level: spawn and forkserver pickle it): time histories
+    make their check runs after their runs (femslide.analysis.forked), the workers already fill the
+    CPUs."""
+    from femslide.analysis.forked import ENV
+    os.environ[ENV] = "serial"
+
+
 def run_pool(scene_name, cases, todo, out_dirs, jobs):
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    from femslide.analysis.forked import ENV
     # (the workers fill the CPUs: a time history's check run is made after its run, in the worker)
-    with ProcessPoolExecutor(max_workers=jobs, initializer=os.environ.__setitem__, initargs=(ENV, "serial")) as pool:
+    with ProcessPoolExecutor(max_workers=jobs, initializer=_serial_check_runs) as pool:
         futs = {pool.submit(solve_case, scene_name, cases[i], out_dirs[i]): i for i in todo}
         try:
             for fut in as_completed(futs):

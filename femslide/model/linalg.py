@@ -434,6 +434,10 @@ def null_space(A):
     as scipy.linalg.null_space computes it, without importing scipy.linalg (its import was a third of a
     short simulate's time)."""
     A = np.asarray(A, dtype=float)
+    if A.size == 0:   # (no equations: the whole space; LAPACK refuses empty matrices)
+        return np.eye(A.shape[1])
+    if not np.all(np.isfinite(A)):
+        raise ValueError("null_space: the matrix holds NaN or inf")
     u, s, vt, info = _lapack("dgesdd")(A, compute_uv=1, full_matrices=1)
     if info != 0:
         raise np.linalg.LinAlgError(f"SVD did not converge (LAPACK gesdd info {info})")
@@ -450,6 +454,8 @@ def eigh(A, B=None):
     n = A.shape[0]
     if n == 0:
         return np.zeros(0), np.zeros((0, 0))
+    if not (np.all(np.isfinite(A)) and (B is None or np.all(np.isfinite(B)))):
+        raise ValueError("eigh: the matrices hold NaN or inf")   # (as scipy's check_finite)
     if B is None:
         lw = _lapack("dsyevr_lwork")(n, lower=1)
         if lw[-1] != 0:
