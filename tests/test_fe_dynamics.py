@@ -740,19 +740,18 @@ def test_add_coo_is_the_same_sum_for_dense_banded_and_sparse():
     import scipy.sparse as sp
 
     from femslide.model.linalg import add_coo
-    from femslide.analysis.modes import to_sparse
     model, y, a = _solved(_cantilever(64))
     _, A_band, _ = model.system(y, a)
     _, A_dense, _ = model.system(y, a, dense=True)
     assert not isinstance(A_band, np.ndarray)
-    A_sparse = to_sparse(model, A_band).tocsc()
+    A_sparse = model.to_csc(A_band)
     d = np.arange(3, model.n_q, 3)   # node translations: on the diagonal, in every pattern
     parts = [(d, d, np.full(d.size, 2.5)), (d[:10], d[:10], np.arange(10.0)), (d + 1, d + 1, np.ones(d.size))]
     expected = A_dense.copy()
     for r, c, v in parts:
         for i, j, x in zip(r, c, v):
             expected[i, j] += x
-    got = [add_coo(A_dense.copy(), *parts), to_sparse(model, add_coo(A_band, *parts)).toarray(),
+    got = [add_coo(A_dense.copy(), *parts), model.to_csc(add_coo(A_band, *parts)).toarray(),
            sp.csc_matrix(add_coo(A_sparse, *parts)).toarray()]
     for g in got:
         assert np.allclose(g, expected, rtol=0, atol=1e-12 * np.abs(expected).max())

@@ -106,14 +106,12 @@ def _border(model, A, fl, c):
         B[n] = c
         return B
     import scipy.sparse as sp
-
-    from femslide.analysis.modes import to_sparse
     col = np.zeros((n, 1))
     col[:model.n_q, 0] = fl
     rows = getattr(model, "_motion_rows", None)
     if rows is not None and rows.size:
         col[rows, 0] = model._motion_vals
-    return sp.bmat([[to_sparse(model, A), sp.csc_matrix(col)], [sp.csc_matrix(c[None, :]), None]]).tocsc()
+    return sp.bmat([[model.to_csc(A), sp.csc_matrix(col)], [sp.csc_matrix(c[None, :]), None]]).tocsc()
 
 
 class Tracer:

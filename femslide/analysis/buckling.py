@@ -37,7 +37,6 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from femslide.analysis.modes import to_sparse
 from femslide.analysis.paths import N_START, choose_path, solve_level
 from femslide.analysis.refine import prolong
 from femslide.analysis.static import Meshes, check_stiffness_range, scales
@@ -198,7 +197,7 @@ def split(model, y, es, lin_model=None):
         _, A, _ = model.system(y0, e0, 0.0)
         x, alpha, z = y0[:n_q], e0.committed, y0
         NM = lin_model.element_forces(y[:n_q], None)[0].T if model.elements is not None else None
-    S = to_sparse(model, A)
+    S = model.to_csc(A)
     KT, G = S[:n_q, :n_q], S[n_q:, :n_q]
     rows, cols, vals = [], [], []
     if model.elements is not None:

@@ -31,48 +31,16 @@ import math
 import numpy as np
 
 from femslide.errors import SolverFailure
-from femslide.model.linalg import BandMatrix, distinct, eigh, load_lapack, null_space, one_blas_thread
+from femslide.model.linalg import eigh, load_lapack, null_space, one_blas_thread
 
 DENSE_LIMIT = 600
-
-
-def _band_entries(model, A):
-    """(rows, cols, values, size) of a banded Jacobian's pattern entries, each position once."""
-    rows, cols, size, band, _, _ = model._pattern(None)
-    flat, idx = distinct(band.flat, first=True)
-    return rows[idx], cols[idx], A.ab.T.ravel()[flat], size   # (ab is Fortran-ordered: flat indexes its transpose)
-
-
-def to_sparse(model, A):
-    """The Jacobian of :meth:`Model.system` (dense, banded or sparse) as a scipy CSC matrix."""
-    import scipy.sparse as sp
-    if isinstance(A, np.ndarray):
-        return sp.csc_matrix(A)
-    if isinstance(A, BandMatrix):
-        rows, cols, vals, size = _band_entries(model, A)
-        return sp.csc_matrix((vals, (rows, cols)), shape=(size, size))
-    return sp.csc_matrix(A)
-
-
-def to_dense(model, A):
-    """The Jacobian of :meth:`Model.system` (dense, banded or sparse) as a dense array (A itself
-    where it is one)."""
-    if isinstance(A, np.ndarray):
-        return A
-    if isinstance(A, BandMatrix):
-        rows, cols, vals, size = _band_entries(model, A)
-        D = np.zeros((size, size))
-        D[rows, cols] = vals
-        return D
-    return A.toarray()
 
 
 def dense_tangent(model, y, elements):
     """(K, G) of the static state (y, elements) as :func:`tangent` gives them, dense (the modes of
     models up to DENSE_LIMIT dofs: no scipy.sparse)."""
-    _, A, _ = model.system(y, elements, 1.0)
+    _, A, _ = model.system(y, elements, 1.0, dense=True)
     elements.revert()
-    A = to_dense(model, A)
     n_q = model.n_q
     K = A[:n_q, :n_q]
     return 0.5 * (K + K.T), A[n_q:, :n_q].copy()
@@ -83,7 +51,7 @@ def tangent(model, y, elements):
     (n_c, n_q)."""
     _, A, _ = model.system(y, elements, 1.0)
     elements.revert()
-    S = to_sparse(model, A)
+    S = model.to_csc(A)
     n_q = model.n_q
     K = S[:n_q, :n_q]
     return (0.5 * (K + K.T)).tocsc(), S[n_q:, :n_q].tocsc(), S

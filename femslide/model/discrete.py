@@ -29,7 +29,7 @@ from femslide.joints.base import Carrier, ElasticSupport, Link, RotationalSpring
 from femslide.joints.kinds import kind_of
 from femslide.model import fast
 from femslide.model.frozen import Frozen, support_springs
-from femslide.model.linalg import Banded, distinct
+from femslide.model.linalg import Banded, distinct, to_csc
 from femslide.model.state import ElementState
 from femslide.model.parts import DEAD, Table
 from femslide.model.patterns import PatternCache
@@ -545,6 +545,10 @@ class Model:
 
     def _pattern(self, control):
         return self._topo.pattern(control)
+
+    def to_csc(self, A, control=None):
+        """A Jacobian of :meth:`system` as a scipy CSC matrix (``control``: its DofHold, or None)."""
+        return to_csc(A, *self._pattern(None if control is None else control.dof)[:2])
 
     def rotation_dofs(self):
         """Indices of the rotational dofs (node and body rotations) among the unknowns."""

@@ -373,6 +373,17 @@ def norms(v, k, idx=None):
             float(a[idx].max()) if idx is not None and len(idx) else 0.0)
 
 
+def to_csc(A, rows, cols):
+    """A Jacobian of :meth:`femslide.model.discrete.Model.system` (dense, banded or sparse) as a scipy CSC
+    matrix; ``rows``, ``cols``: its pattern (a band's entries, each position once)."""
+    import scipy.sparse as sp
+    if isinstance(A, BandMatrix):
+        flat, idx = distinct(A.pattern.flat, first=True)
+        # (ab is the Fortran-ordered band, Banded: flat indexes its transpose)
+        return sp.csc_matrix((A.ab.T.ravel()[flat], (rows[idx], cols[idx])), shape=(A.pattern.size,) * 2)
+    return sp.csc_matrix(A)
+
+
 def largest_abs(a) -> float:
     """max |a| over every entry of a non-empty array, as a float (NaN if one is NaN): one kernel pass
     (:func:`norms`) for a C-ordered float array, without numpy's ``max`` wrappers (a refinement level

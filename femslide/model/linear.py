@@ -24,7 +24,6 @@ import numpy as np
 
 from femslide.elements import corotational
 from femslide.model.discrete import Model, _Info
-from femslide.model.linalg import BandMatrix
 
 
 class LinearModel(Model):
@@ -43,7 +42,7 @@ class LinearModel(Model):
         if key not in lin:
             z0, es0 = self._reference(control)
             r, A, info = Model.system(self, z0, es0, 0.0, control)
-            S = _to_csc(self, A, control)
+            S = self.to_csc(A, control)
             if "elements" not in lin:
                 lin["elements"] = _element_tangents(self)
                 lin["fl"] = np.array(info["fl"])
@@ -144,16 +143,3 @@ def _element_tangents(model):
     c = es.conn
     ed = np.concatenate([3 * c[:, :1] + np.arange(3), 3 * c[:, 1:] + np.arange(3)], axis=1)
     return K, ed
-
-
-def _to_csc(model, A, control):
-    """A Jacobian of :meth:`Model.system` (dense, banded or sparse) as a scipy CSC matrix."""
-    import scipy.sparse as sp
-    if isinstance(A, np.ndarray):
-        return sp.csc_matrix(A)
-    if isinstance(A, BandMatrix):
-        rows, cols, size, band, _, _ = model._pattern(None if control is None else control.dof)
-        flat, idx = np.unique(band.flat, return_index=True)
-        # ab is the Fortran-ordered band (femslide.model.linalg.Banded): flat indexes its transpose
-        return sp.csc_matrix((A.ab.T.ravel()[flat], (rows[idx], cols[idx])), shape=(size, size))
-    return sp.csc_matrix(A)
