@@ -83,7 +83,9 @@ class Masses:
 
     # -- body kinematics -----------------------------------------------------------------------------
     def _rho(self, q):
-        th = q[self.body_d + 2]
+        """The bodies' levers from frame origin to centroid, rotated: (px, py, theta) at q (n_q,), or
+        (k, bodies) each at k states q (k, n_q)."""
+        th = q[..., self.body_d + 2]
         c, s = np.cos(th), np.sin(th)
         rx, ry = self.body_r[:, 0], self.body_r[:, 1]
         return c * rx - s * ry, s * rx + c * ry, th
@@ -296,10 +298,7 @@ class Masses:
         P = -(V[:, nd[:k]] @ self.node_vals[:k]) * G[:, 0] - (V[:, nd[k:]] @ self.node_vals[k:]) * G[:, 1]
         if self.body_d.size:
             d, m = self.body_d, self.body_m
-            th = Q[:, d + 2]
-            c, s = np.cos(th), np.sin(th)
-            rx, ry = self.body_r[:, 0], self.body_r[:, 1]
-            px, py = c * rx - s * ry, s * rx + c * ry   # (k, bodies)
+            px, py, _ = self._rho(Q)   # (k, bodies)
             gx, gy = G[:, :1], G[:, 1:]
             P -= (m * (V[:, d] * gx + V[:, d + 1] * gy + (px * gy - py * gx) * V[:, d + 2])).sum(axis=1)
         return P
