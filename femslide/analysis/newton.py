@@ -14,14 +14,10 @@ scale ``fscale``, and the force residual is measured against the smaller of the 
 (EA/P up to 1e15) cannot reach ``tol``: its force residual is then accepted below the estimated
 round-off bound of the element forces, but only when it is there both before and after a Newton step (so a residual
 that merely dips under a loose bound is not taken for convergence), or after 4 steps there.  A
-caller may ask (``settle``) for a state to be accepted without another evaluation where the residual
-is contracting fast: the last step cut it by ``settle`` or more (not the first step, which may only
-project onto the constraints and a stiff rod's length), and the next step, continuing that
-contraction (a bound of quadratic convergence), brings it below tol or the round-off floor.  A
-caller may also ask (``reuse``) for chord steps: the last matrix kept while each residual is cut by
+caller may ask (``reuse``) for chord steps: the last matrix kept while each residual is cut by
 ``reuse`` or more (a time step's first matrix often carries it to convergence: a residual
 evaluation without the matrix, its assembly and its LU costs a third of a full iteration), assembled
-afresh where the contraction is slower; no convergence is predicted after a chord step.  Steps
+afresh where the contraction is slower.  Steps
 that would turn a rotation by more than ``max_rot`` are scaled down (a trust region for the exact but
 strongly nonlinear corotational kinematics).  Never raises: the caller reads ``info.converged`` and
 the residual history.
@@ -45,24 +41,19 @@ class NewtonInfo:
 
 
 def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_rot=0.5, fscale=None,
-           settle=None, reuse=None):
+           reuse=None):
     """Newton iterations from y (modified copy returned).  Never raises: check ``info.converged``.
 
     Steps whose largest rotation increment exceeds ``max_rot`` [rad] are scaled down (a trust
     region for the corotational kinematics, which are exact but strongly nonlinear).  ``fscale``
     (model units, or None): the force residual is relative to min(1 + largest internal force,
-    fscale).  ``settle`` (a factor < 1, or None): accept the state after a step that follows a
-    contraction of the residual by this factor or more, from the third evaluation on, where the
-    contraction continued predicts convergence (the returned state is then not evaluated: its
-    elements' trial rotations are those of the state before that step - they only unwrap angles -
-    and ``info.history`` ends with the predicted residual; the reason says "predicted").
+    fscale).  ``reuse`` (a factor < 1, or None): chord steps (the module docstring).
     """
     y = y.copy()
     n_q = model.n_q
     rot = model.rotation_dofs()
     hist = []
     prev = best = math.inf
-    prev_f = prev_g = math.inf   # (the force and constraint parts of the last residual: settle's rates)
     finfo = None
     stalled = floor_its = 0
     floor_step = False
@@ -88,8 +79,7 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
         # no longer measures the error, both before and after a Newton step
         if res_g <= tol and (res_f <= tol or (floor_step and res_f <= _floor(finfo, fscale))):
             return y, NewtonInfo(True, it - 1, hist, "" if res_f <= tol else "at round-off level")
-        chord = A is None and last is not None and res <= reuse * prev
-        if chord:
+        if A is None and last is not None and res <= reuse * prev:
             A = last   # a chord step
         elif A is None:
             r, A, info = model.system(y, elements, lam, control)
@@ -116,15 +106,6 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
             step *= max_rot / big
             sq *= max_rot / big
         y -= step
-        if settle is not None and it >= 3 and res <= settle * prev and big <= max_rot and not chord:
-            # the contraction of the last step, continued (each part at its own rate: a constraint
-            # residual stuck at its own level does not follow the forces'): an upper bound of the next
-            # residual where Newton converges quadratically (not after a chord step, which converges
-            # linearly: its contraction depends on how far the matrix's state is, not on the last rate)
-            nf, ng = res_f * _rate(res_f, prev_f), res_g * _rate(res_g, prev_g)
-            if ng <= tol and nf <= max(tol, _floor(finfo, fscale)):
-                hist.append(max(nf, ng))
-                return y, NewtonInfo(True, it, hist, "predicted")
         floor_step = at_floor
         if floor_its >= 4:
             r, _, info = model.system(y, elements, lam, control, jacobian=False)
@@ -135,13 +116,8 @@ def newton(model, y, elements, lam=1.0, control=None, tol=1e-11, maxit=40, max_r
             r, _, info = model.system(y, elements, lam, control, jacobian=False)
             hist.append(float(np.abs(r).max()))
             return y, NewtonInfo(True, it, hist)
-        prev, prev_f, prev_g = res, res_f, res_g
+        prev = res
     return y, NewtonInfo(False, maxit, hist, f"no convergence in {maxit} iterations")
-
-
-def _rate(now, before):
-    """The contraction now / before of a residual part (0 for a part that is zero now)."""
-    return 0.0 if now == 0.0 else (now / before if before > 0.0 else math.inf)
 
 
 def _denominator(info, fscale):

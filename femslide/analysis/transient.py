@@ -69,10 +69,7 @@ MODE_LIVE = 0.3       # a mode vibrating above this share of the error budget is
 MODE_SHARE = 0.1      # ... its numerical damping over the run kept within this share
 N_FLOOR = 1e-6        # a friction joint's normal force below this share of the largest force scale carries nothing
 F_MOTION_MIN = 1e-9  # floor of the motion's force scale (model units) that Newton's residual is measured against
-SETTLE = 1e-2        # a step's Newton stops where a 100x contraction, continued, predicts convergence (newton settle)
-REUSE = 0.1          # ... and takes chord steps (the step's first Newton matrix kept) while each cuts the residual 10x
-#                      (settle predicts after full steps only, which REUSE >= SETTLE leaves to slow contractions:
-#                      with chord steps a step's Newton ends on an evaluated residual)
+REUSE = 0.1          # a step's Newton takes chord steps (its first matrix kept) while each cuts the residual 10x
 MAX_STEPS = 2_000_000  # safety net (the a-priori work bound of femslide/analysis/simulate.py comes first)
 
 
@@ -281,7 +278,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         unknowns, its stages) or None, and Newton's info."""
         sysm.prepare(s, h)
         Y, info = newton(sysm, sysm.predictor(), s.elements, tol=newton_tol, maxit=12,
-                         fscale=f_motion * motion_share, settle=SETTLE, reuse=REUSE)
+                         fscale=f_motion * motion_share, reuse=REUSE)
         alpha1 = s.elements.trial
         s.elements.revert()   # (every trial starts from the state's committed history)
         out.newton_iterations += info.iterations
