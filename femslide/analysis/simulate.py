@@ -133,6 +133,7 @@ ENERGY_FLOOR = 1e-2
 ENERGY_MAX = 0.1       # ... and never beyond this (a relative balance saturates near 1)
 CHATTER_SHARE = 0.5    # a run with friction events on more than this share of its steps (and over
 CHATTER_EVENTS = 100   # CHATTER_EVENTS events) fails: stick/slip chatter, not a motion
+BESIDE_SHARE = 0.95    # of the progress bar for the run when its check run runs beside it
 
 
 def check_trust(res, tolerance, unit=0.0, touches=0):
@@ -636,8 +637,6 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
                 for k, t in run.crossings if spec.turning[k] == b] for b in spec.turning}
     return outcome(res, H)
 
-
-BESIDE_SHARE = 0.95   # of the progress bar for the run when its check run runs beside it
 
 MODES_TARGET = 2e-7    # estimated relative error the refinement of `femslide modes` aims for (below 1e-6)
 MODES_N_MAX = 1024     # elements per massive rod at most
