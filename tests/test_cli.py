@@ -248,16 +248,21 @@ def test_a_structure_solve_without_files_imports_no_writer_machinery():
     assert not loaded, loaded
 
 
-def test_a_simulate_without_damping_or_friction_imports_no_scipy_modules():
+@pytest.mark.parametrize("name", ["beam-oscillation", "beam-friction"])
+def test_a_simulate_without_damping_imports_no_scipy_modules(name):
     """The time history of section 5.2's structure (no damping, no friction: its static start, modes,
     release check, integration and error estimate) loads LAPACK's compiled wrappers alone, no scipy
     package module (scipy.sparse and scipy.linalg cost ~0.2 s of a 0.6 s run and 27 MB of its peak
     memory, with bytecode: their import chain brings numpy.f2py and numpy.testing) and not numpy.ma;
-    its natural frequencies, found with them, are still reported."""
-    codes, modules = _imports_of([["simulate", str(ROOT / "meshes" / "structures" / "beam-oscillation.toml"),
+    its natural frequencies, found with them, are still reported.  So does a structure with a friction
+    joint (beam-friction: its stick/slip modes, and the mode watch's friction forces, whose stuck
+    tangent is factorised by the model's own dense or band LU, not SuperLU)."""
+    codes, modules = _imports_of([["simulate", str(ROOT / "meshes" / "structures" / f"{name}.toml"),
                                    "--json", "--set", "simulate.t_end=0.3"]], timeout=300)
     assert codes == [0]
     assert {"femslide.analysis.modes", "femslide.analysis.workload", "femslide.results.compare"} <= set(modules)
+    if name == "beam-friction":
+        assert "femslide.analysis.stickslip" in modules
     loaded = sorted(m for m in modules if (m.split(".")[0] == "scipy" and m != "scipy.linalg._flapack")
                     or m.split(".")[0:2] in (["numpy", "ma"], ["numpy", "f2py"]))
     assert not loaded, loaded

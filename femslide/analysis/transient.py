@@ -57,6 +57,7 @@ from femslide.analysis.radau import (
     consistent_start,
     start_multipliers,
 )
+from femslide.model.linalg import Factorized
 from femslide.model.state import ElementState, MotionState
 from femslide.analysis.events import locate_step
 from femslide.analysis.stickslip import SAME_INSTANT, _switch, start, switch_all
@@ -152,14 +153,13 @@ def _mode_grip(fr, stuck, y_static, elements, om, MPhi):
     amplitude over m omega_k^2, (omega_1 / omega_k)^2 of what the same force does at the lowest
     frequency (a stiff rod's axial mode at 395 kHz under a clamp carries 1e-4 of its normal force,
     and moves nothing)."""
-    import scipy.sparse.linalg as spla
-    from femslide.analysis.modes import tangent
-
     base = fr.base
     model = fr.stuck_model() if stuck else base
     every = tuple(i for i, fj in enumerate(fr.joints) if fj.friction)   # (stuck_model's locks, in order)
     y = fr.convert(y_static, fr.stuck(), every) if stuck else y_static[:model.n].copy()
-    *_, S = tangent(model, y, ElementState(elements.committed.copy()))
+    es = ElementState(elements.committed.copy())
+    _, S, _ = model.system(y, es, 1.0)   # (the tangent as the model stores it: dense, banded or sparse)
+    es.revert()
     n_q = base.n_q
     rhs = np.zeros((model.n, om.size))
     rhs[:n_q] = (MPhi * (om * om)[:, None]).T
@@ -169,9 +169,10 @@ def _mode_grip(fr, stuck, y_static, elements, om, MPhi):
         return (f"the steps do not watch the friction forces of the vibrating modes: {why}; the steps follow "
                 f"the modes' displacements only")
     try:
-        lam = spla.splu(S.tocsc()).solve(rhs)[n_q:]   # (k columns of constraint forces)
-    except RuntimeError:
+        fact = Factorized(S, overwrite=True)   # (a zero pivot: LinAlgError)
+    except np.linalg.LinAlgError:
         return off(f"the tangent with the friction joints {state} is singular (locks that share one load)")
+    lam = np.column_stack([fact.solve(b) for b in rhs.T])[n_q:]   # (k columns of constraint forces)
     locks = every if stuck else ()
     joints, rows = [], []
     for i, fj in enumerate(fr.joints):
