@@ -28,10 +28,12 @@ same load of the (shared, 2-core) machine; the absolute times drift with that lo
 4. Dynamics per step: the section 5.2 structure (meshes/structures/beam-oscillation.toml, 8 elements,
    3 s, tolerance 1e-4) and the 32-element massive cantilever (validation/massive-cantilever.toml)
    against OpenSees Newmark (validation/opensees_models.py) at dt = 1e-3: femslide's integration time
-   per step against OpenSees' analyze loop per step.  Equal accuracy: section 5.2's peak |F2| against
-   the reduced model's 88.92548492 N (validation/dynamic_references.py): femslide at the loosest of
-   the tolerances 1e-5, 1e-6, 1e-7, 1e-8 that brings it within 1e-6 (whole simulate call; 1e-5 gives
-   9.9e-7) against OpenSees Newmark at dt = 4e-3 (its coarsest step within 1e-6, refined peak; the analyze loop);
+   per step against OpenSees' analyze loop per step, and the time inside femslide's compiled kernel calls
+   alone per step (cProfile: the LU, assembly and solves that a step without any Python would still
+   make).  Equal accuracy: section 5.2's peak |F2| against the reduced model's 88.92548492 N
+   (validation/dynamic_references.py): femslide at the loosest of the tolerances 1e-5, 1e-6, 1e-7,
+   1e-8 that brings it within 1e-6 (whole simulate call; 1e-5 gives 9.9e-7) against OpenSees Newmark
+   at dt = 4e-3 (its coarsest step within 1e-6, refined peak; the analyze loop);
    femslide as users run it (with its error estimate: a check run at 10x the tolerance, beside the run
    in a forked process where a second CPU is there; its CPU time with the child's is printed), the
    same with the check run after the run (``FEMSLIDE_CHECK_RUN=serial``: one CPU), and without the
@@ -304,6 +306,15 @@ def dynamics(repeats, ops, quick=False):
             line += f", OpenSees {best_o * 1e3:.3f} ms/step: ratio {ratio:.2f}"
             row("4 dynamics per step", name, best_f, best_o, ratio, 1.0, f"femslide {res['steps']} steps")
         print(line)
+        if ops:
+            # the floor of this integrator: the time inside the compiled kernel's calls alone, per step
+            kern, calls, n = _kernel_time(path, over)
+            print(f"      of which in the compiled kernel's calls (LU, assembly, coupled solves; cProfile): "
+                  f"{kern * 1e3:.3f} ms/step ({calls:.0f} calls/step): ratio {kern / best_o:.2f} to OpenSees' "
+                  f"whole step")
+            row("4 dynamics per step", f"{name}: the compiled kernel's share alone", kern, best_o, kern / best_o,
+                None, f"{calls:.0f} kernel calls per step (cProfile, {n} steps): a Radau step's floor without "
+                      f"Python between the calls")
     if not ops:
         return
     print("   equal accuracy, section 5.2 peak |F2| within 1e-6 of the reduced model:")
@@ -368,6 +379,38 @@ def dynamics(repeats, ops, quick=False):
         best_s, best_o, best_s / best_o, None,
         f"the headline row's check run {'ran beside the run (forked)' if beside else 'ran after the run'}: "
         f"{best_f:.3f} s wall, {cpu_f:.3f} s CPU of both processes")
+
+
+def _kernel_time(path, over):
+    """(seconds per step inside the compiled kernel's calls, kernel calls per step, steps) of one
+    integration of the structure file (``femslide.analysis.transient.integrate`` alone, no error
+    estimate), by cProfile: its own time of each call of femslide.model._assembly and of LAPACK's
+    wrappers.  What a time step would cost with all its Python (Newton's logic, the stage system's
+    glue, the step control, the history rows) gone: the factorisations, assemblies and solves."""
+    import cProfile
+    import pstats
+
+    import femslide
+    from femslide.analysis import transient as sim   # (simulate imports integrate from it when it runs)
+    prof = cProfile.Profile()
+    inner = sim.integrate
+
+    def profiled(*a, **k):
+        prof.enable()
+        try:
+            return inner(*a, **k)
+        finally:
+            prof.disable()
+    sim.integrate = profiled
+    try:
+        r = femslide.simulate(path, **over, error_estimate=False)
+    finally:
+        sim.integrate = inner
+    tot = calls = 0.0
+    for (fn, _, name), (_, nc, tt, _, _) in pstats.Stats(prof).stats.items():
+        if "_assembly" in name or "_assembly" in fn or "flapack" in name:
+            tot, calls = tot + tt, calls + nc
+    return tot / r["steps"], calls / r["steps"], r["steps"]
 
 
 # -- 5. scaling, 6. memory -------------------------------------------------------------------------------------
