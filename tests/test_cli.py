@@ -248,17 +248,20 @@ def test_a_structure_solve_without_files_imports_no_writer_machinery():
     assert not loaded, loaded
 
 
-@pytest.mark.parametrize("name", ["beam-oscillation", "beam-friction"])
-def test_a_simulate_without_damping_imports_no_scipy_modules(name):
+@pytest.mark.parametrize("name, extra", [("beam-oscillation", []), ("beam-friction", []),
+                                         ("two-storey-frame", ["--set", "simulate.damping.alpha=0.4",
+                                                               "--set", "simulate.damping.beta=0.002"])])
+def test_a_simulate_imports_no_scipy_modules(name, extra):
     """The time history of section 5.2's structure (no damping, no friction: its static start, modes,
     release check, integration and error estimate) loads LAPACK's compiled wrappers alone, no scipy
     package module (scipy.sparse and scipy.linalg cost ~0.2 s of a 0.6 s run and 27 MB of its peak
     memory, with bytecode: their import chain brings numpy.f2py and numpy.testing) and not numpy.ma;
     its natural frequencies, found with them, are still reported.  So does a structure with a friction
     joint (beam-friction: its stick/slip modes, and the mode watch's friction forces, whose stuck
-    tangent is factorised by the model's own dense or band LU, not SuperLU)."""
+    tangent is factorised by the model's own dense or band LU, not SuperLU), and a structure under
+    Rayleigh damping (the two-storey frame: C = alpha M + beta K0 is a femslide.model.linalg.Coo)."""
     codes, modules = _imports_of([["simulate", str(ROOT / "meshes" / "structures" / f"{name}.toml"),
-                                   "--json", "--set", "simulate.t_end=0.3"]], timeout=300)
+                                   "--json", "--set", "simulate.t_end=0.3", *extra]], timeout=300)
     assert codes == [0]
     assert {"femslide.analysis.modes", "femslide.analysis.workload", "femslide.results.compare"} <= set(modules)
     if name == "beam-friction":

@@ -336,3 +336,30 @@ def test_a_joints_slide_value_is_the_slide_of_its_gradient_evaluation():
     for _ in range(200):
         z = rng.standard_normal(link.dofs.size)
         assert link.slide_value(z) == link.slide(z)[0]
+
+
+def test_coo_matrix_equals_scipys():
+    """femslide.model.linalg.Coo (a time history's damping matrix, without scipy) against scipy.sparse
+    as the reference: duplicates summed, C @ v, C + D, a * C and Coo.of(scipy matrix) give scipy's
+    dense matrices and products to 1e-15 of their largest value; an empty matrix is zero."""
+    import scipy.sparse as sp
+
+    from femslide.model.linalg import Coo
+    rng = np.random.default_rng(3)
+    n = 17
+    r, c = rng.integers(0, n, (2, 80))   # (with repeated positions)
+    v = rng.standard_normal(80)
+    C, S = Coo(r, c, v, n), sp.coo_matrix((v, (r, c)), shape=(n, n))
+    assert C.row.size < 80 and np.all(np.diff(C.row * n + C.col) > 0)   # (summed, row-major)
+    x = rng.standard_normal(n)
+    assert np.abs(C.toarray() - S.toarray()).max() <= 1e-15 * np.abs(S.toarray()).max()
+    assert np.abs(C @ x - S @ x).max() <= 1e-15 * np.abs(S @ x).max() * n
+    r2, c2 = rng.integers(0, n, (2, 30))
+    v2 = rng.standard_normal(30)
+    D, SD = Coo(r2, c2, v2, n), sp.coo_matrix((v2, (r2, c2)), shape=(n, n))
+    ref = (0.3 * S + SD).toarray()
+    assert np.abs((0.3 * C + D).toarray() - ref).max() <= 1e-15 * np.abs(ref).max() * 4
+    assert np.abs(Coo.of(S.tocsr()).toarray() - S.toarray()).max() <= 1e-15 * np.abs(S.toarray()).max()
+    assert Coo.of(None) is None and Coo.of(C) is C
+    E = Coo([], [], [], n)
+    assert E.data.size == 0 and not np.any(E @ x) and (E + C).toarray().tolist() == C.toarray().tolist()

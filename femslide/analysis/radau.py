@@ -47,7 +47,7 @@ import numpy as np
 from femslide.analysis.newton import newton
 from femslide.errors import SolverFailure
 from femslide.model.discrete import Model
-from femslide.model.linalg import Assembler, Factorized, complement, kernel_function, member
+from femslide.model.linalg import Assembler, Coo, Factorized, complement, kernel_function, member
 from femslide.model.state import ElementState, MotionState
 
 S6 = math.sqrt(6.0)
@@ -175,7 +175,8 @@ class RadauSystem:
         self.n_q = 3 * self.nq
         self.n = 6 * self.nq + 3 * self.nc
         self.extra = extra or []
-        self.Csr = C.tocsr() if C is not None else None
+        C = Coo.of(C)   # (the damping matrix: a Coo, or scipy's sparse matrix)
+        self.C = C
         self.Crows, self.Ccols, self.Cvals = (C.row, C.col, C.data) if C is not None else (None, None, None)
         # the three stages' mass and damping entries stacked (rows and columns offset by the stage):
         # CoupledMatrix.solve's products for all stages at once
@@ -408,9 +409,9 @@ class RadauSystem:
                 np.add(ri[:nq], F[i], out=Rv[i])
                 Rm[i] = ri[nq:]
             np.subtract(_w_times(Y[:m3].reshape(3, nq)), h * V, out=r[m3:2 * m3].reshape(3, nq))
-        if self.Csr is not None:
+        if self.C is not None:
             for i in range(3):
-                Rv[i] += self.Csr @ V[i]
+                Rv[i] += self.C @ V[i]
         for i, fe in more:
             Rv[i] += fe
         elements.trial = self.elements[2].trial
@@ -561,8 +562,8 @@ def start_multipliers(sysm: RadauSystem, s: MotionState, acc, mu_step):
     r, (rows, cols, vals), _ = sysm.model_system(np.concatenate([q, np.zeros(nc)]), es)
     ag = sysm.ground.accel(s.t) * sysm.ground.direction / m.Lref if sysm.ground is not None else None
     F = r[:nq] + sysm.masses.inertia(q, v, np.zeros(nq), 0.0, 0.0, ag)[0]
-    if sysm.Csr is not None:
-        F = F + sysm.Csr @ v
+    if sysm.C is not None:
+        F = F + sysm.C @ v
     for ex in sysm.extra:
         F = F + ex(np.concatenate([q, mu_step]), v, 0.0)[0]
     gamma = np.zeros(nc)

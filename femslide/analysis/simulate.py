@@ -71,6 +71,7 @@ import numpy as np
 from femslide.analysis.forked import ChildLost, Forked
 from femslide.errors import BadInput, SolverFailure
 from femslide.joints.kinds import kind_of
+from femslide.model.linalg import Coo
 from femslide.records import replace
 from femslide.results.outcome import Figure, Frames, Loop, ModeShapes, Outcome, Table
 from femslide.results.history import _peaks
@@ -103,9 +104,23 @@ def _fixed_mesh(fs, n):
     return replace(fs, rods=rods, derived={})
 
 
+def rayleigh_damping(model, masses, y, elements, alpha, beta):
+    """C = alpha M + beta K0 (femslide.model.linalg.Coo, model units): the mass matrix and the symmetric
+    part of the static tangent's stiffness block at the static state (y, elements) (K0 = (K + K^T) / 2:
+    elements, springs, the joints' Hessians weighted by their multipliers, turning loads)."""
+    n_q = model.n_q
+    _, (r, c, v), _ = model.system(y, elements, 1.0, None, True, dense="coo")
+    elements.revert()
+    k = (r < n_q) & (c < n_q)
+    K = Coo(np.concatenate([r[k], c[k]]), np.concatenate([c[k], r[k]]), np.concatenate([v[k], v[k]]), n_q)
+    M = Coo(*masses.matrix(y[:n_q]), n_q)
+    return alpha * M + (0.5 * beta) * K
+
+
 def rotation_dampers(model, dampers, C=None):
-    """C (scipy COO, model units, or None) plus a rotational dashpot on each named body's rotation dof:
-    ``dampers`` {body: c [N m s/rad]}, entered as c / (Fref Lref) [s] (a moment -c theta')."""
+    """C (femslide.model.linalg.Coo or scipy sparse, model units, or None) plus a rotational dashpot on
+    each named body's rotation dof: ``dampers`` {body: c [N m s/rad]}, entered as c / (Fref Lref) [s] (a
+    moment -c theta'); a Coo."""
     rows, vals = [], []
     for name, c in dampers.items():
         if name not in model.body_index:
@@ -113,11 +128,8 @@ def rotation_dampers(model, dampers, C=None):
                            f"{', '.join(model.body_index) or 'none'}")
         rows.append(model.body_dof(name) + 2)
         vals.append(float(c) / (model.Fref * model.Lref))
-    import scipy.sparse as sp
-    D = sp.coo_matrix((vals, (rows, rows)), shape=(model.n_q, model.n_q))
-    C = D if C is None else (C + D).tocoo()
-    C.sum_duplicates()
-    return C
+    D = Coo(rows, rows, vals, model.n_q)
+    return D if C is None else D + C
 
 
 UNIT = {"Fx": "N", "Fy": "N", "normal": "N", "friction": "N", "M": "N m", "M_max": "N m", "x": "m", "y": "m",
@@ -350,14 +362,7 @@ def simulate(fs, spec: Spec, name="structure", progress=None) -> Outcome:
     modal = (omega, phi, np.where(omega > 0, spec.alpha / (2.0 * om_) + spec.beta * om_ / 2.0, 0.0), stuck)
     C = None
     if spec.alpha or spec.beta:
-        import scipy.sparse as sp
-
-        from femslide.analysis.modes import tangent
-        K0, _, _ = tangent(model, y_s, e_s)
-        r, c, v = masses.matrix(y_s[:model.n_q])
-        M0 = sp.coo_matrix((v, (r, c)), shape=(model.n_q, model.n_q))
-        C = (spec.alpha * M0 + spec.beta * K0).tocoo()
-        C.sum_duplicates()
+        C = rayleigh_damping(model, masses, y_s, e_s, spec.alpha, spec.beta)
     if spec.rotation_damping and any(spec.rotation_damping.values()):
         C = rotation_dampers(model, spec.rotation_damping, C)
     f_ref = [f_pos[0], f_pos[-1]] if len(f_pos) else [1.0 / spec.t_end] * 2

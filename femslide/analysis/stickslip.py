@@ -288,8 +288,8 @@ class _Light:
             r[:m.n_q] += fe
             if jacobian:
                 A = add_coo(A, coo)
-        if sysm.Csr is not None:
-            r[:m.n_q] += sysm.Csr @ self.v
+        if sysm.C is not None:
+            r[:m.n_q] += sysm.C @ self.v
         return r, A, info
 
     def solve(self, y, maxit=30):

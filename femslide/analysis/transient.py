@@ -57,7 +57,7 @@ from femslide.analysis.radau import (
     consistent_start,
     start_multipliers,
 )
-from femslide.model.linalg import Factorized
+from femslide.model.linalg import Coo, Factorized
 from femslide.model.state import ElementState, MotionState
 from femslide.analysis.events import locate_step
 from femslide.analysis.stickslip import SAME_INSTANT, _switch, start, switch_all
@@ -212,7 +212,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     """Integrate from rest at the state (y0, elements0) (model units; the elements' history
     committed there) to ``t_end`` [s].
 
-    ``C``: damping matrix (scipy COO, model units) or None; ``ground``: a
+    ``C``: damping matrix (femslide.model.linalg.Coo or a scipy sparse matrix, model units) or None; ``ground``: a
     :class:`femslide.analysis.excitation.Ground` or None; ``observe(t, y, alpha, v, acc)`` -> a row recorded at
     every accepted step (t = 0 included; acc = q''); ``h0``: first step [s]; ``h_max``: largest step; ``q_ref``: the
     static equilibrium (default: the start), from which the displacements that scale the error are
@@ -253,7 +253,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
     J = 0.0            # of D: the energy released by jumps of massless parts at friction events
     Emax = 0.0
     bal = 0.0
-    Csr = C.tocsr() if C is not None else None
+    Cm = Coo.of(C)   # (C @ v)
     fr = friction
     # Newton's residual well below the step's error budget: relative to the internal forces and to
     # the motion's forces (the largest mass times the largest acceleration, the ground's included,
@@ -271,7 +271,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
         return m_max * a
 
     def loss_power(y, v):
-        P = float(v @ (Csr @ v)) if Csr is not None else 0.0
+        P = float(v @ (Cm @ v)) if Cm is not None else 0.0
         return P + (fr.power(y, v) if fr is not None else 0.0)
 
     def attempt(sysm, s, h):
@@ -534,8 +534,8 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
             on_grid = abs(t1 - k_sample * sample) <= 1e-9 * sample
             if on_grid:
                 k_sample += 1
-        if ground is not None or Csr is not None or fr is not None:   # (else no work, no loss)
-            dW, dD = sysm.work(Y, loss_power if Csr is not None or fr is not None else None)
+        if ground is not None or Cm is not None or fr is not None:   # (else no work, no loss)
+            dW, dD = sysm.work(Y, loss_power if Cm is not None or fr is not None else None)
             W += dW
             D += dD
         sysm.remember(Y)

@@ -175,6 +175,47 @@ def complement(n, idx):
     return np.nonzero(keep)[0]
 
 
+class Coo:
+    """A square sparse matrix as COO triplets ``row``, ``col``, ``data`` (duplicates summed, entries in
+    row-major order) of ``shape`` (n, n), without scipy: a time history's damping matrix C (model
+    units).  ``C @ v`` is one bincount; ``C + D`` and ``a * C`` give new matrices.  :meth:`of` takes
+    one of these, scipy's sparse matrices (anything with ``tocoo``) or None."""
+
+    __slots__ = ("row", "col", "data", "shape")
+
+    def __init__(self, row, col, data, n):
+        row, col = np.asarray(row, dtype=np.intp).ravel(), np.asarray(col, dtype=np.intp).ravel()
+        data = np.asarray(data, dtype=float).ravel()
+        key = row * n + col
+        u = distinct(key)
+        self.data = np.bincount(np.searchsorted(u, key), weights=data, minlength=u.size) if u.size else np.zeros(0)
+        self.row, self.col, self.shape = u // n, u % n, (n, n)
+
+    @classmethod
+    def of(cls, C):
+        """C as a Coo (None stays None)."""
+        if C is None or isinstance(C, cls):
+            return C
+        c = C.tocoo()
+        return cls(c.row, c.col, c.data, c.shape[0])
+
+    def __matmul__(self, x):
+        return np.bincount(self.row, weights=self.data * np.asarray(x, float)[self.col], minlength=self.shape[0])
+
+    def __add__(self, other):
+        other = Coo.of(other)
+        return Coo(np.concatenate([self.row, other.row]), np.concatenate([self.col, other.col]),
+                   np.concatenate([self.data, other.data]), self.shape[0])
+
+    def __rmul__(self, a):
+        return Coo(self.row, self.col, float(a) * self.data, self.shape[0])
+
+    def toarray(self):
+        A = np.zeros(self.shape)
+        A[self.row, self.col] = self.data
+        return A
+
+
 def reverse_cuthill_mckee(rows, cols, size):
     """Reverse Cuthill-McKee ordering of the symmetrised pattern (rows, cols) of a size x size matrix:
     breadth-first from a node of least degree in each connected part, neighbours by increasing
