@@ -41,15 +41,25 @@ RNG = np.random.default_rng(20260311)
 
 
 def _numpy_uses_libm():
-    """Whether numpy's arctan2 and hypot (the chord's angle and length) return libm's values here, as
-    the kernel's atan2 and hypot do.  Where numpy dispatches them to its own SIMD code (seen with numpy
-    2.4 on a CPU with AVX-512: 1 of 6 arctan2 values differs by an ulp) the numpy path can no longer be
-    the kernel's bit-for-bit oracle, and the two are compared to round-off instead (``_eq``)."""
-    import math
+    """Whether numpy's arctan2 and hypot (the chord's angle and length) return the C library's values
+    here, as the kernel's atan2 and hypot do (the C library called through ctypes: Python's own
+    math.hypot is not the C library's).  Where numpy dispatches them to its own SIMD code (seen with
+    numpy 2.4 on a CPU with AVX-512: 1 of 6 arctan2 values differs by an ulp) the numpy path can no
+    longer be the kernel's bit-for-bit oracle, and the two are compared to round-off instead
+    (``_eq``); so too where the C library cannot be loaded."""
+    import ctypes
+    import ctypes.util
+    try:
+        libm = ctypes.CDLL(ctypes.util.find_library("m") or "libm.so.6")
+        atan2, hypot = libm.atan2, libm.hypot
+    except (OSError, AttributeError, TypeError):
+        return False
+    for f in (atan2, hypot):
+        f.restype, f.argtypes = ctypes.c_double, [ctypes.c_double, ctypes.c_double]
     rng = np.random.default_rng(7)
     x, z = rng.standard_normal((2, 4096)) * 3.0
-    return (np.array_equal(np.arctan2(x, z), [math.atan2(a, b) for a, b in zip(x, z)])
-            and np.array_equal(np.hypot(x, z), [math.hypot(a, b) for a, b in zip(x, z)]))
+    return (np.array_equal(np.arctan2(x, z), [atan2(a, b) for a, b in zip(x, z)])
+            and np.array_equal(np.hypot(x, z), [hypot(a, b) for a, b in zip(x, z)]))
 
 
 BITWISE = _numpy_uses_libm()
