@@ -109,12 +109,16 @@ def rayleigh_damping(model, masses, y, elements, alpha, beta):
     part of the static tangent's stiffness block at the static state (y, elements) (K0 = (K + K^T) / 2:
     elements, springs, the joints' Hessians weighted by their multipliers, turning loads)."""
     n_q = model.n_q
-    _, (r, c, v), _ = model.system(y, elements, 1.0, None, True, dense="coo")
-    elements.revert()
-    k = (r < n_q) & (c < n_q)
-    K = Coo(np.concatenate([r[k], c[k]]), np.concatenate([c[k], r[k]]), np.concatenate([v[k], v[k]]), n_q)
-    M = Coo(*masses.matrix(y[:n_q]), n_q)
-    return alpha * M + (0.5 * beta) * K
+    r, c, v = masses.matrix(y[:n_q])
+    C = Coo(r, c, alpha * v, n_q)   # (each entry scaled, then the duplicates summed)
+    if beta:
+        _, (r, c, v), _ = model.system(y, elements, 1.0, None, True, dense="coo")
+        elements.revert()
+        k = (r < n_q) & (c < n_q)
+        K = Coo(r[k], c[k], v[k], n_q)
+        Ks = Coo(np.concatenate([K.row, K.col]), np.concatenate([K.col, K.row]), np.concatenate([K.data, K.data]), n_q)
+        C = C + (0.5 * beta) * Ks
+    return C
 
 
 def rotation_dampers(model, dampers, C=None):

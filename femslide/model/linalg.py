@@ -176,19 +176,26 @@ def complement(n, idx):
 
 
 class Coo:
-    """A square sparse matrix as COO triplets ``row``, ``col``, ``data`` (duplicates summed, entries in
-    row-major order) of ``shape`` (n, n), without scipy: a time history's damping matrix C (model
-    units).  ``C @ v`` is one bincount; ``C + D`` and ``a * C`` give new matrices.  :meth:`of` takes
-    one of these, scipy's sparse matrices (anything with ``tocoo``) or None."""
+    """A square sparse matrix as COO triplets ``row``, ``col``, ``data`` (duplicates summed in the
+    order given, zeros dropped, entries in row-major order) of ``shape`` (n, n), without scipy: a time
+    history's damping matrix C (model units).  ``C @ v`` (v a vector) is one bincount; ``C + D`` and
+    ``a * C`` give new matrices.  :meth:`of` takes one of these, a square scipy sparse matrix
+    (anything with ``tocoo``) or None.  Indices outside 0 .. n-1 are a ValueError."""
 
     __slots__ = ("row", "col", "data", "shape")
 
     def __init__(self, row, col, data, n):
         row, col = np.asarray(row, dtype=np.intp).ravel(), np.asarray(col, dtype=np.intp).ravel()
         data = np.asarray(data, dtype=float).ravel()
+        if not (row.size == col.size == data.size):
+            raise ValueError(f"Coo: row, col and data differ in length ({row.size}, {col.size}, {data.size})")
+        if row.size and (min(row.min(), col.min()) < 0 or max(row.max(), col.max()) >= n):
+            raise ValueError(f"Coo: an index outside 0 .. {n - 1}")
         key = row * n + col
         u = distinct(key)
-        self.data = np.bincount(np.searchsorted(u, key), weights=data, minlength=u.size) if u.size else np.zeros(0)
+        vals = np.bincount(np.searchsorted(u, key), weights=data, minlength=u.size) if u.size else np.zeros(0)
+        keep = vals != 0.0
+        self.data, u = vals[keep], u[keep]
         self.row, self.col, self.shape = u // n, u % n, (n, n)
 
     @classmethod
@@ -197,6 +204,8 @@ class Coo:
         if C is None or isinstance(C, cls):
             return C
         c = C.tocoo()
+        if c.shape[0] != c.shape[1]:
+            raise ValueError(f"Coo: a square matrix is needed, not {c.shape}")
         return cls(c.row, c.col, c.data, c.shape[0])
 
     def __matmul__(self, x):
@@ -204,6 +213,8 @@ class Coo:
 
     def __add__(self, other):
         other = Coo.of(other)
+        if other.shape != self.shape:
+            raise ValueError(f"Coo: shapes {self.shape} and {other.shape} differ")
         return Coo(np.concatenate([self.row, other.row]), np.concatenate([self.col, other.col]),
                    np.concatenate([self.data, other.data]), self.shape[0])
 
