@@ -309,9 +309,10 @@ def dynamics(repeats, ops, quick=False):
             line += f", OpenSees {best_o * 1e3:.3f} ms/step: ratio {ratio:.2f}"
             row("4 dynamics per step", name, best_f, best_o, ratio, 1.0, f"femslide {res['steps']} steps")
         print(line)
-        if ops:
+        floor = _kernel_time(path, over) if ops else None
+        if floor is not None:
             # the floor of this integrator: the time inside the compiled kernel's calls alone, per step
-            kern, calls, n = _kernel_time(path, over)
+            kern, calls, n = floor
             print(f"      of which in the compiled kernel's calls (LU, assembly, coupled solves; cProfile): "
                   f"{kern * 1e3:.3f} ms/step ({calls:.0f} calls/step): ratio {kern / best_o:.2f} to OpenSees' "
                   f"whole step")
@@ -387,14 +388,18 @@ def dynamics(repeats, ops, quick=False):
 def _kernel_time(path, over):
     """(seconds per step inside the compiled kernel's calls, kernel calls per step, steps) of one
     integration of the structure file (``femslide.analysis.transient.integrate`` alone, no error
-    estimate), by cProfile: its own time of each call of femslide.model._assembly and of LAPACK's
-    wrappers.  What a time step would cost with all its Python (Newton's logic, the stage system's
-    glue, the step control, the history rows) gone: the factorisations, assemblies and solves."""
+    estimate), by cProfile: its own time of each call of femslide.model._assembly (with the kernel
+    every LU, assembly and solve of a time step is one; cProfile does not see calls into scipy's
+    LAPACK wrappers, so without the kernel this is None).  What a time step would cost with all its
+    Python (Newton's logic, the stage system's glue, the step control, the history rows) gone."""
     import cProfile
     import pstats
 
     import femslide
     from femslide.analysis import transient as sim   # (simulate imports integrate from it when it runs)
+    from femslide.model.linalg import kernel_enabled
+    if not kernel_enabled():
+        return None
     prof = cProfile.Profile()
     inner = sim.integrate
 
@@ -411,7 +416,7 @@ def _kernel_time(path, over):
         sim.integrate = inner
     tot = calls = 0.0
     for (fn, _, name), (_, nc, tt, _, _) in pstats.Stats(prof).stats.items():
-        if "_assembly" in name or "_assembly" in fn or "flapack" in name:
+        if "_assembly" in name or "_assembly" in fn:
             tot, calls = tot + tt, calls + nc
     return tot / r["steps"], calls / r["steps"], r["steps"]
 
