@@ -232,6 +232,39 @@ def test_basic_forces_and_strain_energy_through_the_kernel(thermal):
         assert abs(E) > 1e-6 and abs(V1 - V0) <= 1e-14 * (abs(E) + abs(V0 - E))
 
 
+@pytest.mark.parametrize("storage", ["dense", "band"])
+def test_axial_forces_given_for_the_geometric_stiffness(storage):
+    """Model.system(..., n_geometric=N_g) (a time step's first Newton matrix): the residual and the
+    chord rotations are the model's own, and the tangent differs from the model's own by exactly the
+    initial-stress matrix of the axial forces N_g - N (corotational.geometric_terms with basic forces
+    (N_g - N, 0, 0), which is linear in them) to 1e-12 of the tangent's largest entry; the kernel equals
+    the numpy path (as ``_same``: bit for bit where numpy's arctan2 and hypot are libm's)."""
+    from femslide.model.linalg import BandMatrix as BM
+    m = _model(frame(), None if storage == "dense" else {"left": 60, "right": 50})
+    m.finalize()
+    y, es = _state(m, 0.01)
+    ne = es.committed.size
+    NM0, _ = m.element_forces(y[:m.n_q], es.committed)
+    Ng = NM0[:, 0] + 50.0 * RNG.standard_normal(ne) * np.abs(NM0[:, 0]).max()
+    own = _both(m, y, es, lam=1.0, dense="coo")
+    given = _both(m, y, es, lam=1.0, dense="coo", n_geometric=Ng)
+    (r0, A0, i0, t0), (r1, A1, i1, t1) = given
+    assert _eq(r0, r1) and _eq(t0, t1) and _eq(A0[2], A1[2]) and _eq(i0["noise"], i1["noise"])
+    for (r0, A0, _, t0), (r1, A1, _, t1) in zip(own, given):
+        assert np.array_equal(r0, r1) and np.array_equal(t0, t1)
+        rows, cols, v0 = A0
+        v1 = A1[2]
+        G = corotational.geometric_terms(m.elements, m.nodal(y[:m.n_q]).reshape(-1), es.committed,
+                                         np.stack([Ng - NM0[:, 0], np.zeros(ne), np.zeros(ne)]))
+        # (the elements' 36 entries each come first in the pattern: Model.system's order)
+        d = v1 - v0
+        assert np.abs(d[:36 * ne] - G.ravel()).max() <= 1e-12 * np.abs(v0).max()
+        assert not np.any(d[36 * ne:])
+        assert np.abs(G).max() > 1e-6 * np.abs(v0).max()   # (the forces given change the tangent)
+    _, A, _ = m.system(y, es.copy(), 1.0, n_geometric=Ng)
+    assert isinstance(A, BM) == (storage == "band")
+
+
 @pytest.mark.parametrize("storage", ["band", "sparse"])
 def test_kernel_equals_the_numpy_path_in_band_and_sparse_storage(storage, monkeypatch):
     """A fine mesh (band storage), and the same frame forced into sparse storage."""

@@ -33,6 +33,15 @@ the mass matrix), a matrix of 3 (n_q + n_c) unknowns stored dense, banded or spa
 Jacobians are.  (RADAU5's simplified Newton, a single matrix frozen at the step's start and
 decoupled into one real and one complex system, does not converge on nearly inextensible rods:
 the frozen axial stiffness EA of a rod that turns within the step swamps its bending stiffness.)
+One exception: the step's first matrix, at the predicted stages, carries in its geometric part
+(N zz^T / L of each element) the rods' axial forces at the step's start instead of the predicted
+ones.  The prediction stretches a nearly inextensible rod by an error near round-off that EA turns
+into axial forces up to 1e4 times the structure's (section 5.2, EA = 1e12 N); in the geometric
+stiffness they made the chord steps that follow contract only 5x per step, and most steps assembled
+a second matrix.  With the start's forces (exact kinematics, the step's correct axial directions) the
+chord steps converge: section 5.2 at tolerance 1e-5 takes 347 Newton iterations for its 101 steps
+instead of 533.  The residual is always the exact one, so the step's solution is unchanged to
+Newton's tolerance.
 The local error estimate is RADAU5's (the embedded order-3 formula filtered through
 [[K + lam C + lam^2 M, G^T], [G, 0]] at the step's start, lam = mu_r / h); the dense output is the
 collocation polynomial of degree 3; the energy integrals use the Radau quadrature (exact for
@@ -194,6 +203,7 @@ class RadauSystem:
         self.previous = None   # the last accepted step's collocation polynomial (the next predictor)
         self.big = None        # the coupled matrix's pattern (built at the first Jacobian)
         self._error_pattern = None   # ... and the error estimate's matrix's
+        self._n_first = None   # the axial forces of the step's first matrix (prepare)
         self._coupled = kernel_function("coupled")   # the kernel's writer of the coupled matrix, or None
         self._coupled_rhs = kernel_function("coupled_rhs")   # ... and of CoupledMatrix.solve's right-hand side
         self._coupled_solve = kernel_function("coupled_solve")   # ... or of all of CoupledMatrix.solve
@@ -209,11 +219,15 @@ class RadauSystem:
     def rotation_dofs(self):
         return self._rot
 
-    def model_system(self, y, elements, jacobian=True):
+    def model_system(self, y, elements, jacobian=True, n_geometric=None):
         """The model's residual and COO Jacobian at y (:meth:`femslide.model.discrete.Model.system`,
-        ``dense="coo"``) with the released rows (lifted contacts) replaced by mu = 0: residual mu,
-        Jacobian row the unit entry on mu (appended; the pattern stays static)."""
-        r, coo, info = self.model.system(y, elements, 1.0, None, jacobian, dense="coo")
+        ``dense="coo"``; ``n_geometric`` its argument, or None) with the released rows (lifted
+        contacts) replaced by mu = 0: residual mu, Jacobian row the unit entry on mu (appended; the
+        pattern stays static)."""
+        if n_geometric is None:
+            r, coo, info = self.model.system(y, elements, 1.0, None, jacobian, dense="coo")
+        else:
+            r, coo, info = self.model.system(y, elements, 1.0, None, jacobian, dense="coo", n_geometric=n_geometric)
         rel = self.released
         if not rel.size:
             return r, coo, info
@@ -230,12 +244,13 @@ class RadauSystem:
         return r, (np.concatenate([rows, d]), np.concatenate([cols, d]),
                    np.concatenate([vals, np.ones(rel.size)])), info
 
-    def _stage_models(self, Ys, jacobian):
+    def _stage_models(self, Ys, jacobian, n_geometric=None):
         """The model at the three stages Ys (3, n): (residuals (3, n), Jacobian values (3, nnz) in its
         pattern's order or None, {"fmax": the largest, "noise": the last stage's}, the pattern's rows and
         columns), each stage's chord rotations its trial ones: the kernel's Assembler called as
         femslide.model.fast.system calls it (Model.system's wrappers were most of a stage's cost).  For a
-        model assembled by the kernel without Python-evaluated pieces and without lifted contacts."""
+        model assembled by the kernel without Python-evaluated pieces and without lifted contacts.
+        ``n_geometric``: Model.system's."""
         m = self.model
         kern = m._assembler()
         rows, cols = m._topo.pattern(None)[:2]
@@ -246,7 +261,8 @@ class RadauSystem:
         fmax = noise = 0.0
         for i in range(3):
             f, noise = kern.assemble(Ys[i], self.elements[i].committed, alpha[i], 1.0, -1, 0.0, R[i], None, None,
-                                     None if vals is None else vals[i], None, None, None, None, None, None, None)
+                                     None if vals is None else vals[i], None, None, None, None, None, None, None,
+                                     True, n_geometric)
             self.elements[i].trial = alpha[i]
             fmax = max(fmax, f)
         if m._motion_rows.size:   # (Model.system's prescribed motions, at load factor 1)
@@ -308,6 +324,11 @@ class RadauSystem:
         self._weights = ((W2_RK / (h * h))[:, :, None], w1, None if self.Cvals is None else w1 * self.Cvals)
         vmax = float(np.abs(s.v).max(initial=0.0))
         self.noise_in = EPS * 30.0 * self.m_max * vmax / h   # round-off of M (W ZV)/h (|W| ~ 30)
+        # the rods' axial forces at the step's start, for the geometric part of the step's first Newton
+        # matrix (the module docstring; a model whose system is its own - the linear theory's - has none)
+        self._n_first = None
+        if m.elements is not None and type(m).system is Model.system:
+            self._n_first = np.ascontiguousarray(m.element_forces(self.qn, s.alpha)[0][:, 0])
 
     def _error_system(self):
         """[[K + lam C_v + lam^2 M, G^T], [G, 0]] at the step's start, lam = mu_r / h, factorised,
@@ -379,14 +400,17 @@ class RadauSystem:
         r = np.empty(self.n)
         fmax = 0.0
         vals, parts, more = [], [], []
-        direct = self._stage_models(Ys, jacobian) if self._direct and kern else None
+        ng = self._n_first if jacobian else None
+        if jacobian:
+            self._n_first = None   # (the step's later matrices are exact)
+        direct = self._stage_models(Ys, jacobian, ng) if self._direct and kern else None
         for i in range(3):
             y = Ys[i]
             if direct is not None:
                 R, jv, info, prow, pcol = direct
                 ri, coo = R[i], (prow, pcol, None if jv is None else jv[i])
             else:
-                ri, coo, info = self.model_system(y, self.elements[i], jacobian)
+                ri, coo, info = self.model_system(y, self.elements[i], jacobian, ng)
             parts.append(ri)
             ex_coo = []
             for ex in self.extra:

@@ -212,7 +212,8 @@ def evaluate(es: ElementSet, U: np.ndarray, alpha_ref: np.ndarray, tangent: bool
     return F.T, K.reshape(-1, 6, 6), NM.T, alpha, noise()
 
 
-def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent: bool = True, free=None):
+def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent: bool = True, free=None,
+                  n_geometric=None):
     """:func:`evaluate` in the layout of the model's assembly: ``x`` holds the nodal (u, v, theta)
     node after node (U.ravel(), or the model's dof vector, which starts with them).
 
@@ -224,6 +225,11 @@ def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent:
     ``free``: None, or the free basic forces (3, n) of a thermal load (:func:`free_forces`, times the
     load factor) subtracted from the elastic ones: N = k00 u_bar - N_T, M = kb t - M_T.  The tangent
     keeps its form (its geometric part carries these total forces).
+
+    ``n_geometric``: None, or axial forces (n,) that the tangent's geometric part carries instead of
+    the elements' own N (the forces stay the elements'): a time step's first Newton matrix takes those
+    of the step's start, where the predicted state's stretch of a nearly inextensible rod would put
+    its error times EA into the geometric stiffness (femslide.analysis.radau).
 
     Written for few numpy calls: with a handful of elements the cost is the number of calls, not
     their size; quantities of both ends or both components share one call as rows of (2, n) arrays.
@@ -255,7 +261,7 @@ def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent:
     # translation-rotation columns -+ rho_a w/Ln (rho_a: row sums of the bending block) and the
     # bending block itself: 11 numbers per element mapped to the 36 entries by a constant matrix
     # (the 4 of the bending block are constant: es.K_bend).
-    a_ww = (es.kappa + N * Ln) * inv * inv
+    a_ww = (es.kappa + (N if n_geometric is None else n_geometric) * Ln) * inv * inv
     b_pw = m * inv
     pp = p * p                 # (cc, ss)
     cs = p[0] * p[1]

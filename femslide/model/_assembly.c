@@ -441,14 +441,17 @@ static inline void kinematics(const double *y, const long long *d, const double 
 static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
 {
     PyObject *oy, *oaref, *oaout, *or_, *oA, *oflat, *ovals, *ofl, *oxr, *oxrv, *oxj, *oxjv, *oxf, *oxfv;
+    PyObject *ong = Py_None;
     double lam, target;
     Py_ssize_t ctrl;
     int with_elements = 1;
-    if (!PyArg_ParseTuple(args, "OOOdndOOOOOOOOOOO|p", &oy, &oaref, &oaout, &lam, &ctrl, &target, &or_, &oA, &oflat,
-                          &ovals, &ofl, &oxr, &oxrv, &oxj, &oxjv, &oxf, &oxfv, &with_elements))
+    /* ong: None, or the axial forces (ne) that the tangent's geometric part carries instead of the
+     * elements' own (corotational.element_terms' n_geometric) */
+    if (!PyArg_ParseTuple(args, "OOOdndOOOOOOOOOOO|pO", &oy, &oaref, &oaout, &lam, &ctrl, &target, &or_, &oA,
+                          &oflat, &ovals, &ofl, &oxr, &oxrv, &oxj, &oxjv, &oxf, &oxfv, &with_elements, &ong))
         return NULL;
-    Buf by, bar, bao, br, bA, bflat, bvals, bfl, bxr, bxrv, bxj, bxjv, bxf, bxfv;
-    Buf *all[] = {&by, &bar, &bao, &br, &bA, &bflat, &bvals, &bfl, &bxr, &bxrv, &bxj, &bxjv, &bxf, &bxfv};
+    Buf by, bar, bao, br, bA, bflat, bvals, bfl, bxr, bxrv, bxj, bxjv, bxf, bxfv, bng;
+    Buf *all[] = {&by, &bar, &bao, &br, &bA, &bflat, &bvals, &bfl, &bxr, &bxrv, &bxj, &bxjv, &bxf, &bxfv, &bng};
     for (size_t i = 0; i < sizeof(all) / sizeof(all[0]); i++)
         all[i]->held = 0;
     PyObject *result = NULL;
@@ -458,10 +461,16 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
         get_buf(ovals, &bvals, 1, "d", 8, "vals") < 0 || get_buf(ofl, &bfl, 1, "d", 8, "fl") < 0 ||
         get_buf(oxr, &bxr, 0, "qlL", 8, "extra r index") < 0 || get_buf(oxrv, &bxrv, 0, "d", 8, "extra r") < 0 ||
         get_buf(oxj, &bxj, 0, "qlL", 8, "extra J position") < 0 || get_buf(oxjv, &bxjv, 0, "d", 8, "extra J") < 0 ||
-        get_buf(oxf, &bxf, 0, "qlL", 8, "extra fl index") < 0 || get_buf(oxfv, &bxfv, 0, "d", 8, "extra fl") < 0)
+        get_buf(oxf, &bxf, 0, "qlL", 8, "extra fl index") < 0 || get_buf(oxfv, &bxfv, 0, "d", 8, "extra fl") < 0 ||
+        get_buf(ong, &bng, 0, "d", 8, "n_geometric") < 0)
         goto done;
     {
         const Py_ssize_t n_q = self->n_q, ne = with_elements ? self->ne : 0;
+        if (bng.held && LEN(bng) != self->ne) {
+            PyErr_SetString(PyExc_ValueError, "femslide kernel: n_geometric of the wrong size");
+            goto done;
+        }
+        const double *ng = bng.held ? DBL(bng) : NULL;
         const double *y = DBL(by);
         double *r = DBL(br);
         Py_ssize_t nr = LEN(br);
@@ -560,7 +569,7 @@ static PyObject *Assembler_assemble(Assembler *self, PyObject *args)
                 if (nz > noise) noise = nz;
             }
             double kappa = k11 + k12 + k21 + k22;
-            double a_ww = (kappa + N * Ln) * inv * inv;
+            double a_ww = (kappa + (ng ? ng[e] : N) * Ln) * inv * inv;
             double b_pw = m * inv;
             double cc = pc * pc, ss = ps * ps, cs = pc * ps;
             double b2 = 2.0 * b_pw * cs;
@@ -2470,6 +2479,6 @@ PyMODINIT_FUNC PyInit__assembly(void)
         Py_DECREF(m);
         return NULL;
     }
-    PyModule_AddIntConstant(m, "VERSION", 3);   /* femslide.model.linalg.KERNEL_VERSION: raise both with a change */
+    PyModule_AddIntConstant(m, "VERSION", 4);   /* femslide.model.linalg.KERNEL_VERSION: raise both with a change */
     return m;
 }

@@ -77,9 +77,8 @@ class _Topology:
         self.load_dofs = distinct(np.concatenate([*term_dofs, lin_dofs, *([] if free_dofs is None else [free_dofs])]
                                                 )).astype(np.intp)
         self.patterns = {}
-        # the residual is one bincount of the element forces, the loads, the terms' forces and the
-        # joints' forces and equations (Model.system), in this order; d r / d lam one of the loads
-        # and the terms' parts
+        # the residual is one bincount of the element forces, the loads, the terms' forces and the joints'
+        # forces and equations (Model.system), in this order; d r / d lam one of the loads and the terms' parts
         ip = np.intp
         con_rows = [np.arange(n_q + self.c_off[i], n_q + self.c_off[i + 1]) for i in range(len(sizes))]
         parts = [self.ebinT if self.ebinT is not None else np.zeros(0, ip), lin_dofs, *term_dofs]
@@ -644,7 +643,7 @@ class Model:
             ev(z[a:b], mu[ma:mb], rv, jv)
         return rv, fv
 
-    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False, extra=None):
+    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False, extra=None, n_geometric=None):
         """Residual and Jacobian of the equations at y.
 
         ``elements``: the elements' history (femslide.model.state.ElementState): the chord rotations
@@ -660,7 +659,8 @@ class Model:
         ``extra``: terms of the caller added in the same pass, ``(rows, values, positions, jvalues)``:
         ``values`` added to the residual entries ``rows`` and ``jvalues`` to the Jacobian entries at
         ``positions`` of its pattern (:meth:`pattern_positions`; a time step's inertia and damping);
-        None entries for parts not given.
+        None entries for parts not given.  ``n_geometric``: the elements' axial forces in the tangent's
+        geometric part, or None (their own; corotational.element_terms).
 
         With the compiled kernel (femslide.model.fast) one call evaluates everything and writes the
         residual and the Jacobian in place.  The numpy path (the kernel's oracle): one evaluation of
@@ -670,7 +670,7 @@ class Model:
         """
         if self._pack is not None:
             out = fast.system(self, self._assembler(), y, elements, lam, control, jacobian, dense, _Info(lam=lam),
-                              extra)
+                              extra, n_geometric)
             if self._motion_rows.size:
                 out[0][self._motion_rows] += out[2]["lam"] * self._motion_vals
             return out
@@ -688,7 +688,7 @@ class Model:
         info = _Info(lam=lam)
         if self.elements is not None:
             free = None if self.free_T is None else lam * self.free_T
-            F, K, _, alpha, noise = corotational.element_terms(self.elements, q, alpha_ref, jacobian, free)
+            F, K, _, alpha, noise = corotational.element_terms(self.elements, q, alpha_ref, jacobian, free, n_geometric)
             parts.append(F.ravel())
             fmax = float(np.abs(F).max())
             if jacobian:

@@ -164,11 +164,11 @@ def assembler(model, pack: Pack):
                                     pack.tdbl, pack.lin_dofs, pack.lin_vals, pack.load_dofs)
 
 
-def system(model, kern, y, elements, lam, control, jacobian, dense, info, extra=None):
+def system(model, kern, y, elements, lam, control, jacobian, dense, info, extra=None, n_geometric=None):
     """:meth:`femslide.model.discrete.Model.system` through the kernel ``kern`` (an Assembler of
     :func:`assembler`): (r, A, info) with the same meaning; ``info`` the model's _Info to fill;
     ``extra`` the caller's (rows, values, positions, jvalues), added by the kernel with the
-    Python-evaluated pieces."""
+    Python-evaluated pieces; ``n_geometric`` as Model.system's."""
     pack = model._pack
     topo = model._topo
     n_q = model.n_q
@@ -222,7 +222,7 @@ def system(model, kern, y, elements, lam, control, jacobian, dense, info, extra=
         else:
             vals = np.empty(rows.size)
     fmax, noise = kern.assemble(y, elements.committed, alpha, lam, dof, target, r, A, flat, vals, fl,
-                                xr, xrv, xj, xjv, xf, xfv)
+                                xr, xrv, xj, xjv, xf, xfv, True, n_geometric)
     if dense == "coo" and vals is not None:
         out = (rows, cols, vals)
     elif vals is not None:

@@ -23,7 +23,7 @@ import math
 import os
 import sys
 
-KERNEL_VERSION = 3   # the source's (_assembly.c's VERSION): a kernel built from another is not used
+KERNEL_VERSION = 4   # the source's (_assembly.c's VERSION): a kernel built from another is not used
 
 try:
     from femslide.model import _assembly as _kernel
