@@ -909,7 +909,20 @@ def test_a_time_steps_first_matrix_carries_the_axial_forces_of_its_start(monkeyp
     are those of the run whose every matrix is exact, to Newton's tolerance (1e-9 relative)."""
     from femslide.analysis import radau
     path = str(pathlib.Path(__file__).resolve().parents[1] / "meshes" / "structures" / "beam-oscillation.toml")
+    system, seen = radau.RadauSystem.system, []
+
+    def watched(self, Y, elements, *a, **k):   # (which matrices carried the start's forces)
+        given = self._n_first is not None
+        out = system(self, Y, elements, *a, **k)
+        if out[1] is not None:
+            seen.append(given)
+            assert self._n_first is None   # (the step's later matrices are exact)
+        return out
+    monkeypatch.setattr(radau.RadauSystem, "system", watched)
     r = femslide.simulate(path, tolerance=1e-5, error_estimate=False)
+    monkeypatch.setattr(radau.RadauSystem, "system", system)
+    # every step's first matrix carried them (the steps and the consistent start), no other
+    assert sum(seen) >= r["steps"] and len(seen) > sum(seen) and seen[0]
     prepare = radau.RadauSystem.prepare
 
     def exact(self, s, h):

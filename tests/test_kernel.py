@@ -261,8 +261,18 @@ def test_axial_forces_given_for_the_geometric_stiffness(storage):
         assert np.abs(d[:36 * ne] - G.ravel()).max() <= 1e-12 * np.abs(v0).max()
         assert not np.any(d[36 * ne:])
         assert np.abs(G).max() > 1e-6 * np.abs(v0).max()   # (the forces given change the tangent)
-    _, A, _ = m.system(y, es.copy(), 1.0, n_geometric=Ng)
-    assert isinstance(A, BM) == (storage == "band")
+    # the stored matrix itself (dense, or the LAPACK band): the same change, scattered into it
+    for on in (False, True):
+        with fast.forced(on):
+            m.finalize()
+            _, A0, _ = m.system(y, es.copy(), 1.0)
+            _, A1, _ = m.system(y, es.copy(), 1.0, n_geometric=Ng)
+        assert isinstance(A1, BM) == (storage == "band")
+        rows, cols = given[0][1][0], given[0][1][1]
+        Gd = np.zeros((m.n, m.n))
+        np.add.at(Gd, (rows[:36 * ne], cols[:36 * ne]), G.ravel())
+        D0, D1 = _dense(m, A0), _dense(m, A1)
+        assert np.abs((D1 - D0) - Gd).max() <= 1e-12 * np.abs(D0).max()
 
 
 @pytest.mark.parametrize("storage", ["band", "sparse"])

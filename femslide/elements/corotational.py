@@ -261,6 +261,10 @@ def element_terms(es: ElementSet, x: np.ndarray, alpha_ref: np.ndarray, tangent:
     # translation-rotation columns -+ rho_a w/Ln (rho_a: row sums of the bending block) and the
     # bending block itself: 11 numbers per element mapped to the 36 entries by a constant matrix
     # (the 4 of the bending block are constant: es.K_bend).
+    if n_geometric is not None:
+        n_geometric = np.asarray(n_geometric, dtype=float)
+        if n_geometric.shape != (n,):
+            raise ValueError(f"n_geometric: {n} axial forces expected, got shape {n_geometric.shape}")
     a_ww = (es.kappa + (N if n_geometric is None else n_geometric) * Ln) * inv * inv
     b_pw = m * inv
     pp = p * p                 # (cc, ss)

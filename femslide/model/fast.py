@@ -221,8 +221,9 @@ def system(model, kern, y, elements, lam, control, jacobian, dense, info, extra=
             out = BandMatrix(band, ab)
         else:
             vals = np.empty(rows.size)
+    ng = None if n_geometric is None else np.ascontiguousarray(n_geometric, dtype=float)
     fmax, noise = kern.assemble(y, elements.committed, alpha, lam, dof, target, r, A, flat, vals, fl,
-                                xr, xrv, xj, xjv, xf, xfv, True, n_geometric)
+                                xr, xrv, xj, xjv, xf, xfv, True, ng)
     if dense == "coo" and vals is not None:
         out = (rows, cols, vals)
     elif vals is not None:
