@@ -35,8 +35,9 @@ decoupled into one real and one complex system, does not converge on nearly inex
 the frozen axial stiffness EA of a rod that turns within the step swamps its bending stiffness.)
 One exception: the step's first matrix, at the predicted stages, carries in its geometric part
 (N zz^T / L of each element) the rods' axial forces at the step's start instead of the predicted
-ones (the bending moments' geometric term keeps the predicted stages' moments).  The prediction stretches a nearly inextensible rod by an error near round-off that EA turns
-into axial forces up to 1e4 times the structure's (section 5.2, EA = 1e12 N); in the geometric
+ones (the bending moments' geometric term keeps the predicted stages' moments).  The prediction
+stretches a nearly inextensible rod by an error near round-off that EA turns into axial forces up
+to 1e4 times the structure's (section 5.2, EA = 1e12 N); in the geometric
 stiffness they made the chord steps that follow contract only 5x per step, and most steps assembled
 a second matrix.  With the start's forces (exact kinematics, the step's correct axial directions) the
 chord steps converge: section 5.2 at tolerance 1e-5 takes 347 Newton iterations for its 101 steps
