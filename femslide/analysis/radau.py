@@ -37,11 +37,11 @@ One exception: the step's first matrix, at the predicted stages, carries in its 
 (N zz^T / L of each element) the rods' axial forces at the step's start instead of the predicted
 ones (the bending moments' geometric term keeps the predicted stages' moments).  The prediction
 stretches a nearly inextensible rod by an error near round-off that EA turns into axial forces up
-to 1e4 times the structure's (section 5.2, EA = 1e12 N); in the geometric
-stiffness they made the chord steps that follow contract only 5x per step, and most steps assembled
-a second matrix.  With the start's forces (exact kinematics, the step's correct axial directions) the
-chord steps converge: section 5.2 at tolerance 1e-5 takes 347 Newton iterations for its 101 steps
-instead of 533.  The residual is always the exact one, so the step's solution is unchanged to
+to 1e4 times the structure's (section 5.2, EA = 1e12 N); in the geometric stiffness they made the
+chord steps that follow contract only 5x per step, and most steps assembled a second matrix.  With
+the start's forces (exact kinematics, the step's correct axial directions) the chord steps
+converge: section 5.2 at tolerance 1e-5 takes 347 Newton iterations for its 101 steps instead of
+533.  The residual is always the exact one, so the step's solution is unchanged to
 Newton's tolerance.
 The local error estimate is RADAU5's (the embedded order-3 formula filtered through
 [[K + lam C + lam^2 M, G^T], [G, 0]] at the step's start, lam = mu_r / h); the dense output is the
