@@ -341,7 +341,8 @@ def test_a_joints_slide_value_is_the_slide_of_its_gradient_evaluation():
 def test_coo_matrix_equals_scipys():
     """femslide.model.linalg.Coo (a time history's damping matrix, without scipy) against scipy.sparse
     as the reference: duplicates summed, C @ v, C + D, a * C and Coo.of(scipy matrix) give scipy's
-    dense matrices and products to 1e-15 of their largest value; an empty matrix is zero."""
+    dense matrices and products to 1e-15 of their largest value, C.T its transpose; an empty matrix is
+    zero."""
     import scipy.sparse as sp
 
     from femslide.model.linalg import Coo
@@ -360,6 +361,7 @@ def test_coo_matrix_equals_scipys():
     ref = (0.3 * S + SD).toarray()
     assert np.abs((0.3 * C + D).toarray() - ref).max() <= 1e-15 * np.abs(ref).max() * 4
     assert np.abs(Coo.of(S.tocsr()).toarray() - S.toarray()).max() <= 1e-15 * np.abs(S.toarray()).max()
+    assert np.array_equal(C.T.toarray(), S.T.toarray())
     assert Coo.of(None) is None and Coo.of(C) is C
     E = Coo([], [], [], n)
     assert E.data.size == 0 and not np.any(E @ x) and (E + C).toarray().tolist() == C.toarray().tolist()

@@ -57,7 +57,7 @@ import numpy as np
 from femslide.analysis.newton import newton
 from femslide.errors import SolverFailure
 from femslide.model.discrete import Model
-from femslide.model.linalg import Assembler, Coo, Factorized, complement, kernel_function, member
+from femslide.model.linalg import Assembler, Coo, Factorized, complement, coo_mv, kernel_function, member
 from femslide.model.state import ElementState, MotionState
 
 S6 = math.sqrt(6.0)
@@ -106,11 +106,6 @@ def _w_times(Z):
     that order, as the kernel sums it (numpy's matmul may fuse or reorder the products)."""
     W = W_RK
     return (W[:, 0:1] * Z[0] + W[:, 1:2] * Z[1]) + W[:, 2:3] * Z[2]
-
-
-def _coo_mv(rows, cols, vals, x, n):
-    """(rows, cols, vals) @ x for a COO matrix of n rows (duplicates summed)."""
-    return np.bincount(rows, weights=vals * x[cols], minlength=n)
 
 
 class CoupledMatrix:
@@ -225,10 +220,7 @@ class RadauSystem:
         ``dense="coo"``; ``n_geometric`` its argument, or None) with the released rows (lifted
         contacts) replaced by mu = 0: residual mu, Jacobian row the unit entry on mu (appended; the
         pattern stays static)."""
-        if n_geometric is None:
-            r, coo, info = self.model.system(y, elements, 1.0, None, jacobian, dense="coo")
-        else:
-            r, coo, info = self.model.system(y, elements, 1.0, None, jacobian, dense="coo", n_geometric=n_geometric)
+        r, coo, info = self.model.system(y, elements, 1.0, None, jacobian, dense="coo", n_geometric=n_geometric)
         rel = self.released
         if not rel.size:
             return r, coo, info
@@ -487,7 +479,7 @@ class RadauSystem:
             ZEq, ZEv = ((E_RK[0] * Z[:, 0] + E_RK[1] * Z[:, 1]) + E_RK[2] * Z[:, 2]) / h   # (E ZQ, E ZV) / h
             rq = self.s.v + ZEq
             b = np.zeros(nq + self.nc)
-            b[:nq] = (_coo_mv(*Mp, self.s.acc + ZEv, nq) + _coo_mv(*Cp, rq, nq)) + lam * _coo_mv(*Mp, rq, nq)
+            b[:nq] = (coo_mv(*Mp, self.s.acc + ZEv, nq) + coo_mv(*Cp, rq, nq)) + lam * coo_mv(*Mp, rq, nq)
         eq = fact.solve(b)[:nq]
         return eq, lam * eq - rq
 

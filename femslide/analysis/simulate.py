@@ -115,9 +115,8 @@ def rayleigh_damping(model, masses, y, elements, alpha, beta):
         _, (r, c, v), _ = model.system(y, elements, 1.0, None, True, dense="coo")
         elements.revert()
         k = (r < n_q) & (c < n_q)
-        K = Coo(r[k], c[k], v[k], n_q)
-        Ks = Coo(np.concatenate([K.row, K.col]), np.concatenate([K.col, K.row]), np.concatenate([K.data, K.data]), n_q)
-        C = C + (0.5 * beta) * Ks
+        K = Coo(r[k], c[k], v[k], n_q)   # (its duplicates summed first, as scipy did: the same C bit for bit)
+        C = C + (0.5 * beta) * (K + K.T)
     return C
 
 

@@ -266,7 +266,7 @@ class _Light:
         self.sysm, self.model, self.v = sysm, sysm.model, v
         self.elements = elements.copy()   # the trials of this solve
         n_q = self.model.n_q
-        light = complement(n_q, heavy).astype(np.intp)
+        light = complement(n_q, heavy)
         self.first = self.full(y)
         A = self.first[1]
         G = A[n_q:, light]

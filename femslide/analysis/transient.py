@@ -53,11 +53,10 @@ from femslide.analysis.radau import (
     SAFETY,
     START_STEP,
     RadauSystem,
-    _coo_mv,
     consistent_start,
     start_multipliers,
 )
-from femslide.model.linalg import Coo, Factorized
+from femslide.model.linalg import Coo, Factorized, coo_mv
 from femslide.model.state import ElementState, MotionState
 from femslide.analysis.events import locate_step
 from femslide.analysis.stickslip import SAME_INSTANT, _switch, start, switch_all
@@ -128,7 +127,7 @@ def _mode_guard(modal, masses, q_static, heavy, fr=None, y_static=None, elements
     keep = om > 0.0
     om, Phi, zeta = om[keep], Phi[keep], zeta[keep]
     r, c, v = masses.matrix(q_static)
-    MPhi = np.array([_coo_mv(r, c, v, phi, q_static.size) for phi in Phi])
+    MPhi = np.array([coo_mv(r, c, v, phi, q_static.size) for phi in Phi])
     mm = np.einsum("kn,kn->k", MPhi, Phi)
     grip = note = None
     if fr is not None and y_static is not None:

@@ -175,11 +175,16 @@ def complement(n, idx):
     return np.nonzero(keep)[0]
 
 
+def coo_mv(rows, cols, vals, x, n):
+    """(rows, cols, vals) @ x for a COO matrix of n rows (duplicates summed): one bincount."""
+    return np.bincount(rows, weights=vals * x[cols], minlength=n)
+
+
 class Coo:
     """A square sparse matrix as COO triplets ``row``, ``col``, ``data`` (duplicates summed in the
     order given, zeros dropped, entries in row-major order) of ``shape`` (n, n), without scipy: a time
-    history's damping matrix C (model units).  ``C @ v`` (v a vector) is one bincount; ``C + D`` and
-    ``a * C`` give new matrices.  :meth:`of` takes one of these, a square scipy sparse matrix
+    history's damping matrix C (model units).  ``C @ v`` (v a vector) is one bincount (:func:`coo_mv`);
+    ``C + D``, ``a * C`` and ``C.T`` give new matrices.  :meth:`of` takes one of these, a square scipy sparse matrix
     (anything with ``tocoo``) or None.  Indices outside 0 .. n-1 are a ValueError."""
 
     __slots__ = ("row", "col", "data", "shape")
@@ -209,7 +214,11 @@ class Coo:
         return cls(c.row, c.col, c.data, c.shape[0])
 
     def __matmul__(self, x):
-        return np.bincount(self.row, weights=self.data * np.asarray(x, float)[self.col], minlength=self.shape[0])
+        return coo_mv(self.row, self.col, self.data, np.asarray(x, float), self.shape[0])
+
+    @property
+    def T(self):
+        return Coo(self.col, self.row, self.data, self.shape[0])
 
     def __add__(self, other):
         other = Coo.of(other)

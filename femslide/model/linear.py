@@ -77,10 +77,12 @@ class LinearModel(Model):
         return out
 
     # -- the model's interface ------------------------------------------------------------------------
-    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False, extra=None):
+    def system(self, y, elements, lam=1.0, control=None, jacobian=True, dense=False, extra=None, n_geometric=None):
         """Residual and Jacobian of the linear equations (same interface and storage as
         :meth:`Model.system`; the Jacobian is the same at every state but for the caller's ``extra``
-        terms, added as there)."""
+        terms, added as there; it carries no state's axial forces, so ``n_geometric`` must be None)."""
+        if n_geometric is not None:
+            raise ValueError("LinearModel.system: the linear theory's tangent takes no n_geometric")
         S, fl, _ = self._parts(control)
         r = S @ y
         n_q = self.n_q
