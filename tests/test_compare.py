@@ -56,7 +56,7 @@ def test_untrustworthy_runs_fail():
     converged with energy_balance 1.01 and 947 events)."""
     import pytest
 
-    from femslide.analysis.simulate import check_trust
+    from femslide.analysis.accuracy import check_trust
     from femslide.errors import SolverFailure
     ok = {"energy_balance": 1e-7, "events": {"iso": [{"t": 0.0, "kind": "stick"}] * 130}, "steps": 2000}
     check_trust(ok, 1e-6)

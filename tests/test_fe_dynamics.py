@@ -499,8 +499,9 @@ def test_massive_rod_steps_are_not_rejected_for_its_unresolved_modes():
     """Section 5.2 with a massive 64-element rod (rhoA = 10 kg/m: rod modes up to ~1e5 Hz): the rod
     modes the step cannot resolve (omega h > 1, put on their quasi-static response by the L-stable
     steps) do not set the step (RADAU5's estimate is filtered through the step's matrix), so few
-    steps are rejected (measured 6 of 48), and the energy balance stays within 3 tolerance
-    (measured 9e-7 at 1e-6)."""
+    steps are rejected (measured 6 of 48 when written; 0 of 2796 in session 17), and the energy
+    balance stays within 3 tolerance (measured 3.4e-7 at 1e-6).  (Its error estimate, 3.6e-4 with the
+    peak of reactions.A1.Fy the worst, is above 3 tolerance: its result says so in its notes.)"""
     res = femslide.simulate("meshes/structures/beam-oscillation.toml",
                             **{"right.rhoA": 10.0, "right.elements": 64, "simulate.t_end": 1.0})
     assert res["rejected_steps"] < 0.25 * res["steps"]
@@ -760,7 +761,7 @@ def test_add_coo_is_the_same_sum_for_dense_banded_and_sparse():
 
 @pytest.mark.parametrize("tol,periods", [(1e-4, 2), (1e-6, 2), (1e-6, 20)])
 def test_error_estimate_is_honest_on_the_exact_cosine(tol, periods):
-    """error_estimate (a check run at 10 x tolerance, femslide.analysis.simulate._accuracy) of the
+    """error_estimate (a check run at 10 x tolerance, femslide.analysis.accuracy.estimate_error) of the
     block on a spring released from 7 cm against the exact cosine: the actual largest error of the
     slide history, relative to its amplitude, within 3x of the estimate either way (measured
     0.84 .. 1.21 of it over tolerance 1e-3 .. 1e-8, 2 and 20 periods), and within 3 tolerance."""
@@ -777,23 +778,44 @@ def test_error_estimate_is_honest_on_the_exact_cosine(tol, periods):
     assert acc["within_promise"] and "notes" not in res.values
 
 
-def test_a_run_less_accurate_than_asked_says_so():
+def test_a_run_estimated_less_accurate_than_asked_says_so():
     """A run whose error_estimate is above 3 x tolerance (the promise of ``tolerance``) says so:
-    ``accuracy.within_promise`` false and a note naming the worst history.  The 32-element massive
-    cantilever (validation/massive-cantilever.toml) at tolerance 1e-5 over 0.3 s: its steps damp
-    the 60 and 100 Hz bending modes, which carry ~1e-4 of the clamp's reactions.  The estimate is
-    honest: its clamp shear Fy differs from a run at tolerance 1e-9 by more than 3 x tolerance
-    (measured 2.9e-4 of its largest value, the estimate 3.8e-4) and by less than 3 x the estimate."""
+    ``accuracy.within_promise`` false and a note naming the worst history or peak.  The 32-element
+    massive cantilever (validation/massive-cantilever.toml) at tolerance 1e-5 over 0.3 s: its steps
+    damp bending vibrations that carry a share of the clamp's reactions.  The run is indeed less
+    accurate than asked: its clamp shear Fy differs from a run at tolerance 1e-9 by more than 3 x
+    tolerance (measured 2.9e-4 of its largest value), and that reference is itself converged to
+    well within 3e-5 (a run at 1e-10 agrees to 1e-5; measured 5.6e-6)."""
     path = str(pathlib.Path(__file__).resolve().parents[1] / "validation" / "massive-cantilever.toml")
     res = femslide.simulate(path, tolerance=1e-5, t_end=0.3, output_interval=1e-3)
-    ref = femslide.simulate(path, tolerance=1e-9, t_end=0.3, output_interval=1e-3, error_estimate=False)
     acc = res["accuracy"]
-    assert acc["within_promise"] is False and res["error_estimate"] > 3e-5
+    assert acc["within_promise"] is False
     (note,) = [n for n in res["notes"] if "error_estimate" in n]
-    assert "less accurate than asked" in note and acc["worst_history"] in note
-    fy, fy_ref = (np.asarray(r.history["reactions.clamp.Fy"]) for r in (res, ref))
-    err = np.abs(fy - fy_ref).max() / np.abs(fy_ref).max()
-    assert 3e-5 < err < 3 * res["error_estimate"]
+    assert "less accurate than asked" in note
+    assert (acc["worst_history"] or acc["worst_peak"]) in note
+    refs = [femslide.simulate(path, tolerance=t, t_end=0.3, output_interval=1e-3, error_estimate=False)
+            for t in (1e-9, 1e-10)]
+    fy, fy9, fy10 = (np.asarray(r.history["reactions.clamp.Fy"]) for r in [res] + refs)
+    scale = np.abs(fy10).max()
+    assert np.abs(fy9 - fy10).max() / scale < 1e-5
+    assert np.abs(fy - fy9).max() / scale > 3e-5
+
+
+def test_promise_note_is_said_only_when_the_estimate_is_above_three_tolerances():
+    """promise_note (femslide.analysis.accuracy): within 3 x tolerance, ``within_promise`` is true and
+    nothing is said; above, it is false and the sentence names the worst history (or the worst peak
+    when the peaks' estimate is the larger); no estimate (the check run failed), nothing at all."""
+    from femslide.analysis.accuracy import promise_note
+    acc = {"histories": 2e-6, "worst_history": "reactions.A.Fx", "peaks": 1e-6, "worst_peak": "rods.r.M_max"}
+    res = {"error_estimate": 2.9e-6, "accuracy": dict(acc)}
+    assert promise_note(res, 1e-6) is None and res["accuracy"]["within_promise"] is True
+    res = {"error_estimate": 3.1e-6, "accuracy": dict(acc)}
+    note = promise_note(res, 1e-6)
+    assert res["accuracy"]["within_promise"] is False and "history reactions.A.Fx" in note
+    res = {"error_estimate": 5e-6, "accuracy": {**acc, "peaks": 5e-6}}
+    assert "peak rods.r.M_max" in promise_note(res, 1e-6)
+    res = {"error_estimate": None, "accuracy": {"check_tolerance": 1e-5, "check_failed": "why"}}
+    assert promise_note(res, 1e-6) is None and "within_promise" not in res["accuracy"]
 
 
 def test_error_estimate_off_and_bad_value():

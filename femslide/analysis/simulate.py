@@ -56,8 +56,8 @@ located in time); the static start ignores friction.
 
 Error estimate (``error_estimate``, on by default): a check run from the same start at CHECK_FACTOR (10)
 times the tolerance (:func:`_check_run`), compared with the run
-(femslide.analysis.accuracy.estimate_error, which also says whether the run kept the promise of its
-tolerance). It needs nothing of the run, so where a second CPU is there (Linux) it runs beside the run
+(femslide.analysis.accuracy.estimate_error; promise_note says whether the estimate is within the promise
+of the tolerance). It needs nothing of the run, so where a second CPU is there (Linux) it runs beside the run
 in a forked process (femslide.analysis.forked; ``FEMSLIDE_CHECK_RUN=serial`` keeps it after the run):
 the same values, bit for bit, for the CPU time of a check run and little wall time. A run that fails
 stops its check run; a check run stopped by ``max_time`` stops the simulate as it would after the run.
@@ -69,8 +69,7 @@ import time
 
 import numpy as np
 
-from femslide.analysis.accuracy import (  # noqa: F401  (check_trust and the floors: also imported from here)
-    FLOOR, UNIT, check_trust, estimate_error, floors, peak_floors, promise_note)
+from femslide.analysis.accuracy import check_trust, estimate_error, promise_note
 from femslide.analysis.forked import ChildLost, Forked
 from femslide.errors import BadInput, SolverFailure
 from femslide.joints.kinds import kind_of

@@ -135,6 +135,7 @@ def run(v: dict, friction: bool, progress=None) -> Outcome:
         "energy_balance": res["energy_balance"],
         "error_estimate": res.get("error_estimate"),
         "accuracy": res.get("accuracy"),
+        **({"notes": res["notes"]} if res.get("notes") else {}),
         "energy": res["energy"],
         "frequencies_hz": res["frequencies_hz"],
         "frequencies_of": res["frequencies_of"],
