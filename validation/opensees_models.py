@@ -364,7 +364,7 @@ def opensees_oscillation(dt=1e-3, t_end=3.0, rotation=-0.01, penalty=1e9, axial=
 def opensees_massive_cantilever(n=32, dt=1e-3, t_end=3.0, EI=10.0, EA=1e7, rhoA=1.0, L=1.0, amplitude=1.0,
                                 frequency=1.0, tol=1e-12, axis=(1.0, 0.0), direction=(0.0, 1.0), tip_mass=0.0,
                                 tip_inertia=0.0, transf="Corotational", integrator=("Newmark", 0.5, 0.25),
-                                history=False, eigen=0):
+                                history=False, eigen=0, reactions=False):
     """validation/massive-cantilever.toml (defaults) or meshes/structures/cantilever-tip-mass.toml
     (``axis=(0, 1)``, ``direction=(1, 0)``, ``tip_mass``, ``tip_inertia``) in OpenSees: a cantilever of
     ``n`` equal ``elasticBeamColumn`` elements (EI [N m^2], EA [N], geometric transformation
@@ -389,7 +389,10 @@ def opensees_massive_cantilever(n=32, dt=1e-3, t_end=3.0, EI=10.0, EA=1e7, rhoA=
     building); with ``eigen`` > 0 the first ``eigen`` natural frequencies ``frequencies_hz`` [Hz] of the
     model before the transient (``eigen -fullGenLapack``: the mass matrix is singular on the massless
     rotations); with ``history`` the arrays ``t`` [s] and ``tip_u``, ``tip_v`` [m] (the free end's
-    displacement relative to the base along x and y) at t = 0 and at every step's end."""
+    displacement relative to the base along x and y) at t = 0 and at every step's end; with
+    ``reactions`` (and ``history``) also ``reaction`` (steps + 1, 3): the clamp's reaction (Fx, Fy [N],
+    M [N m], global axes, OpenSees' ``nodeReaction`` after ``reactions``: the force of the support on
+    the rod) at the same times."""
     import numpy as np
     import openseespy.opensees as ops
     t_build = time.perf_counter()
@@ -427,6 +430,7 @@ def opensees_massive_cantilever(n=32, dt=1e-3, t_end=3.0, EI=10.0, EA=1e7, rhoA=
     iters, vmax, status = 0, 0.0, 0
     t = np.zeros(steps + 1)
     tip = np.zeros((steps + 1, 2))
+    reac = np.zeros((steps + 1, 3))
     k = 0
     t0 = time.perf_counter()
     for k in range(1, steps + 1):
@@ -439,6 +443,9 @@ def opensees_massive_cantilever(n=32, dt=1e-3, t_end=3.0, EI=10.0, EA=1e7, rhoA=
         vmax = max(vmax, abs(-ay * u[0] + ax * u[1]))
         if history:
             t[k], tip[k] = ops.getTime(), u[:2]
+            if reactions:
+                ops.reactions()
+                reac[k] = ops.nodeReaction(1)[:3]
     dt_an = time.perf_counter() - t0
     ops.wipe()
     out = {"status": int(status), "steps": steps, "newton_iterations": iters, "analysis_s": dt_an,
@@ -447,4 +454,6 @@ def opensees_massive_cantilever(n=32, dt=1e-3, t_end=3.0, EI=10.0, EA=1e7, rhoA=
         out["frequencies_hz"] = freq
     if history:
         out.update(t=t[:k + 1], tip_u=tip[:k + 1, 0], tip_v=tip[:k + 1, 1])
+        if reactions:
+            out["reaction"] = reac[:k + 1]
     return out
