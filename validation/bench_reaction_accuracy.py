@@ -1,7 +1,7 @@
 """The accuracy of a time history's reactions against the tolerance asked: error against run time where
 vibrations too fast for the steps carry a share of a reaction.  A script, not a test.
 
-    python validation/bench_reaction_accuracy.py        # ~1 min; needs openseespy for its reference
+    python validation/bench_reaction_accuracy.py        # ~10 s; needs openseespy for its reference
 
 Case: validation/massive-cantilever.toml (32 elements, rhoA = 1 kg/m, EI = 10 N m^2, EA = 1e7 N,
 clamped, base shaken across it at 1 Hz from rest) over its first 0.3 s.  Its bending modes at 60-210
