@@ -390,11 +390,12 @@ def opensees_massive_cantilever(n=32, dt=1e-3, t_end=3.0, EI=10.0, EA=1e7, rhoA=
     model before the transient (``eigen -fullGenLapack``: the mass matrix is singular on the massless
     rotations); with ``history`` the arrays ``t`` [s] and ``tip_u``, ``tip_v`` [m] (the free end's
     displacement relative to the base along x and y) at t = 0 and at every step's end; with
-    ``reactions`` (and ``history``) also ``reaction`` (steps + 1, 3): the clamp's reaction (Fx, Fy [N],
+    ``reactions`` (which implies ``history``) also ``reaction`` (steps + 1, 3): the clamp's reaction (Fx, Fy [N],
     M [N m], global axes, OpenSees' ``nodeReaction`` after ``reactions``: the force of the support on
     the rod) at the same times."""
     import numpy as np
     import openseespy.opensees as ops
+    history = history or reactions
     t_build = time.perf_counter()
     ops.wipe()
     ops.logFile(os.devnull, "-noEcho")

@@ -156,9 +156,8 @@ def _mode_grip(fr, stuck, y_static, elements, om, MPhi):
     model = fr.stuck_model() if stuck else base
     every = tuple(i for i, fj in enumerate(fr.joints) if fj.friction)   # (stuck_model's locks, in order)
     y = fr.convert(y_static, fr.stuck(), every) if stuck else y_static[:model.n].copy()
-    es = ElementState(elements.committed.copy())
-    _, S, _ = model.system(y, es, 1.0)   # (the tangent as the model stores it: dense, banded or sparse)
-    es.revert()
+    # (the tangent as the model stores it: dense, banded or sparse; the trial rotations are a copy's)
+    _, S, _ = model.system(y, ElementState(elements.committed.copy()), 1.0)
     n_q = base.n_q
     rhs = np.zeros((model.n, om.size))
     rhs[:n_q] = (MPhi * (om * om)[:, None]).T
@@ -289,7 +288,7 @@ def integrate(model, masses, y0, elements0, t_end, tolerance, C=None, ground=Non
 
     h_s = START_STEP * h
     if fr is None:
-        sysm = RadauSystem(model, masses, C, ground)
+        sysm = RadauSystem(model, masses, Cm, ground)
         s = consistent_start(sysm, s, h_s)
     else:
         if not fr.tolerance:
